@@ -1,0 +1,1 @@
+"""Continuum: a control plane for ROS-based robot software on the edge-cloud continuum."""

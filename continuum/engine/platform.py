@@ -1,0 +1,205 @@
+"""Platforms: the processors a DAG is scheduled on and the network between them.
+
+This is the ``continuum.platform/v1`` contract. Moving an edge's data between two different processors
+takes ``latency + data / bandwidth``; on the same processor it takes 0; a bandwidth of ``None`` means
+transfers are free. Links are undirected. When ``route`` is set (cluster platforms), a pair of processors
+without a direct link uses the shortest path by latency and that path's bottleneck bandwidth, as the
+thesis does with OSPF (3.3.2); otherwise such a pair uses the platform defaults.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from .dag import Task, TaskGraph
+from .errors import InputError
+
+FORMAT = "continuum.platform/v1"
+
+
+@dataclass(frozen=True)
+class Processor:
+    id: str
+    cls: str = "cpu"
+    #: Speed factor for class costs: a class cost ``c`` takes ``c / speed`` here (related machines).
+    #: A cost given for this processor's id is taken as measured, unscaled.
+    speed: float = 1.0
+
+
+@dataclass(frozen=True)
+class Link:
+    src: str
+    dst: str
+    bandwidth: float | None
+    latency: float = 0.0
+
+
+@dataclass
+class Platform:
+    processors: list[Processor]
+    bandwidth: float | None = 1.0
+    latency: float = 0.0
+    links: list[Link] = field(default_factory=list)
+    route: bool = False
+
+    def __post_init__(self) -> None:
+        if not self.processors:
+            raise InputError("a platform needs at least one processor", "processors")
+        ids = [p.id for p in self.processors]
+        dup = {i for i in ids if ids.count(i) > 1}
+        if dup:
+            raise InputError(f"duplicate processor id {sorted(dup)[0]!r}", "processors")
+        for p in self.processors:
+            if not (p.speed > 0 and math.isfinite(p.speed)):
+                raise InputError(f"processor {p.id!r} has invalid speed {p.speed!r}", "processors")
+        _check_bandwidth(self.bandwidth, "platform")
+        known = set(ids)
+        for link in self.links:
+            for end in (link.src, link.dst):
+                if end not in known:
+                    raise InputError(f"link {link.src}-{link.dst} refers to unknown processor {end!r}", "links")
+            _check_bandwidth(link.bandwidth, f"link {link.src}-{link.dst}")
+        self.index = {p.id: i for i, p in enumerate(self.processors)}
+        self._matrices: tuple[list[list[float]], list[list[float]]] | None = None
+
+    # ---- construction -------------------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Platform:
+        if not isinstance(data, Mapping):
+            raise InputError("a platform document must be a JSON object")
+        fmt = data.get("format", FORMAT)
+        if fmt != FORMAT:
+            raise InputError(f"unsupported format {fmt!r}, expected {FORMAT!r}", "format")
+        procs = []
+        for i, raw in enumerate(data.get("processors") or []):
+            if not isinstance(raw, Mapping) or not raw.get("id"):
+                raise InputError(f"processors[{i}] needs an 'id'", "processors")
+            procs.append(Processor(str(raw["id"]), str(raw.get("class", "cpu")), float(raw.get("speed", 1.0))))
+        links = []
+        for i, raw in enumerate(data.get("links") or []):
+            if not isinstance(raw, Mapping) or "src" not in raw or "dst" not in raw:
+                raise InputError(f"links[{i}] needs 'src' and 'dst'", "links")
+            links.append(
+                Link(str(raw["src"]), str(raw["dst"]), raw.get("bandwidth"), float(raw.get("latency", 0.0)))
+            )
+        return cls(
+            procs,
+            bandwidth=data.get("bandwidth", 1.0),
+            latency=float(data.get("latency", 0.0)),
+            links=links,
+            route=bool(data.get("route", False)),
+        )
+
+    @classmethod
+    def homogeneous(cls, cpus: int = 1, gpus: int = 0, **kwargs: Any) -> Platform:
+        """``cpus`` processors of class ``cpu`` and ``gpus`` of class ``gpu`` (the ``--cpus/--gpus`` flags)."""
+        if cpus < 0 or gpus < 0 or cpus + gpus == 0:
+            raise InputError("need at least one processor (--cpus/--gpus)", "processors")
+        procs = [Processor(f"cpu{i}", "cpu") for i in range(cpus)]
+        procs += [Processor(f"gpu{i}", "gpu") for i in range(gpus)]
+        return cls(procs, **kwargs)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "format": FORMAT,
+            "processors": [{"id": p.id, "class": p.cls, "speed": p.speed} for p in self.processors],
+            "bandwidth": self.bandwidth,
+            "latency": self.latency,
+            "links": [
+                {"src": lk.src, "dst": lk.dst, "bandwidth": lk.bandwidth, "latency": lk.latency} for lk in self.links
+            ],
+            "route": self.route,
+        }
+
+    # ---- costs --------------------------------------------------------------------------------
+    def cost(self, task: Task, proc: Processor) -> float | None:
+        """Execution time of ``task`` on ``proc``; ``None`` when ``proc`` cannot run it."""
+        c = task.cost.get(proc.id)
+        if c is not None:
+            return c
+        c = task.cost.get(proc.cls)
+        return None if c is None else c / proc.speed
+
+    def cost_table(self, dag: TaskGraph) -> dict[str, list[tuple[int, float]]]:
+        """Per task, the (processor index, time) pairs it can run on; rejects tasks nothing can run."""
+        table: dict[str, list[tuple[int, float]]] = {}
+        for task in dag.tasks.values():
+            row = []
+            for i, proc in enumerate(self.processors):
+                c = self.cost(task, proc)
+                if c is not None:
+                    row.append((i, c))
+            if not row:
+                keys = ", ".join(sorted(task.cost))
+                raise InputError(f"task {task.id!r} cannot run on any processor (its costs name {keys})", "tasks")
+            table[task.id] = row
+        return table
+
+    def comm_matrices(self) -> tuple[list[list[float]], list[list[float]]]:
+        """(latency, 1/bandwidth) between every pair of processors, 0 on the diagonal."""
+        if self._matrices is None:
+            self._matrices = self._build_matrices()
+        return self._matrices
+
+    def comm_time(self, src: str, dst: str, data: float) -> float:
+        lat, inv = self.comm_matrices()
+        i, j = self.index[src], self.index[dst]
+        return lat[i][j] + data * inv[i][j]
+
+    def mean_comm(self) -> tuple[float, float]:
+        """Mean latency and mean 1/bandwidth over ordered pairs of distinct processors.
+
+        Transfer time is linear in the data size, so ``mean_lat + data * mean_inv`` is exactly the mean
+        transfer time over those pairs: the average communication cost c-bar of HEFT (Eq. 2.1).
+        """
+        n = len(self.processors)
+        if n < 2:
+            return 0.0, 0.0
+        lat, inv = self.comm_matrices()
+        pairs = n * (n - 1)
+        return sum(map(sum, lat)) / pairs, sum(map(sum, inv)) / pairs
+
+    def _build_matrices(self) -> tuple[list[list[float]], list[list[float]]]:
+        n = len(self.processors)
+        d_lat = self.latency if self.bandwidth is not None else 0.0
+        d_inv = 0.0 if self.bandwidth is None else 1.0 / self.bandwidth
+        lat = [[0.0 if i == j else d_lat for j in range(n)] for i in range(n)]
+        inv = [[0.0 if i == j else d_inv for j in range(n)] for i in range(n)]
+        if self.route and self.links:
+            self._fill_routes(lat, inv)
+        for link in self.links:  # a direct link always wins
+            i, j = self.index[link.src], self.index[link.dst]
+            if i == j:
+                continue
+            li, iv = (0.0, 0.0) if link.bandwidth is None else (link.latency, 1.0 / link.bandwidth)
+            lat[i][j] = lat[j][i] = li
+            inv[i][j] = inv[j][i] = iv
+        return lat, inv
+
+    def _fill_routes(self, lat: list[list[float]], inv: list[list[float]]) -> None:
+        import networkx as nx
+
+        g = nx.Graph()
+        g.add_nodes_from(range(len(self.processors)))
+        for link in self.links:
+            i, j = self.index[link.src], self.index[link.dst]
+            bw = math.inf if link.bandwidth is None else link.bandwidth
+            g.add_edge(i, j, latency=link.latency, bandwidth=bw)
+        for i, paths in nx.all_pairs_dijkstra_path(g, weight="latency"):
+            for j, path in paths.items():
+                if i == j:
+                    continue
+                hops = list(zip(path, path[1:]))
+                lat[i][j] = sum(g.edges[a, b]["latency"] for a, b in hops)
+                bottleneck = min(g.edges[a, b]["bandwidth"] for a, b in hops)
+                inv[i][j] = 0.0 if bottleneck == math.inf else 1.0 / bottleneck
+
+
+def _check_bandwidth(bw: Any, where: str) -> None:
+    if bw is None:
+        return
+    if isinstance(bw, bool) or not isinstance(bw, (int, float)) or not (bw > 0 and math.isfinite(bw)):
+        raise InputError(f"{where} has invalid bandwidth {bw!r} (a positive number or null)", "bandwidth")
