@@ -111,7 +111,9 @@ def heft(
                 s = max(ready, finishes[p][-1]) if finishes[p] else ready
             if s + w < best_f:
                 best_p, best_s, best_f = p, s, s + w
-        at = bisect_right(starts[best_p], best_s)
+        # Intervals ending by the new start go before it; this keeps starts and finishes both sorted,
+        # zero-length tasks included.
+        at = bisect_right(finishes[best_p], best_s)
         starts[best_p].insert(at, best_s)
         finishes[best_p].insert(at, best_f)
         placed_proc[tid], placed_start[tid], placed_finish[tid] = best_p, best_s, best_f
@@ -123,13 +125,10 @@ def heft(
         if progress and (len(order) % step == 0 or len(order) == total):
             progress(len(order), total)
 
-    assignments = [
-        Assignment(tid, names[placed_proc[tid]], placed_start[tid], placed_finish[tid]) for tid in order
-    ]
+    assignments = [Assignment(tid, names[placed_proc[tid]], placed_start[tid], placed_finish[tid]) for tid in order]
     return Schedule(
         "heft",
         assignments,
         ranks=ranks,
         params={"rank_mode": rank_mode, "insertion": insertion},
     )
-

@@ -10,7 +10,7 @@ thesis does with OSPF (3.3.2); otherwise such a pair uses the platform defaults.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -82,9 +82,7 @@ class Platform:
         for i, raw in enumerate(data.get("links") or []):
             if not isinstance(raw, Mapping) or "src" not in raw or "dst" not in raw:
                 raise InputError(f"links[{i}] needs 'src' and 'dst'", "links")
-            links.append(
-                Link(str(raw["src"]), str(raw["dst"]), raw.get("bandwidth"), float(raw.get("latency", 0.0)))
-            )
+            links.append(Link(str(raw["src"]), str(raw["dst"]), raw.get("bandwidth"), float(raw.get("latency", 0.0))))
         return cls(
             procs,
             bandwidth=data.get("bandwidth", 1.0),

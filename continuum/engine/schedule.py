@@ -71,8 +71,9 @@ class Schedule:
             raise InputError(f"unsupported format {data.get('format')!r}, expected {FORMAT!r}", "format")
         try:
             assignments = [
-                Assignment(str(a["task"]), str(a["processor"]), float(a["start"]), float(a["finish"]),
-                           int(a.get("frame", 0)))
+                Assignment(
+                    str(a["task"]), str(a["processor"]), float(a["start"]), float(a["finish"]), int(a.get("frame", 0))
+                )
                 for a in data.get("assignments", [])
             ]
         except (KeyError, TypeError, ValueError) as exc:
@@ -118,8 +119,11 @@ class Schedule:
                 p = table.get((e.src, cur.frame))
                 if p is None:
                     continue
-                arrival = p.finish + (platform.comm_time(p.processor, cur.processor, e.data)
-                                      if p.processor in platform.index and cur.processor in platform.index else 0.0)
+                arrival = p.finish + (
+                    platform.comm_time(p.processor, cur.processor, e.data)
+                    if p.processor in platform.index and cur.processor in platform.index
+                    else 0.0
+                )
                 if abs(arrival - cur.start) <= EPS * max(1.0, cur.start):
                     nxt = p
                     break

@@ -1,0 +1,114 @@
+"""Clusters of compute nodes and the network links between them (``continuum.cluster/v1``)."""
+
+from django.core.validators import MinValueValidator
+from django.db import models
+
+from apps.tenancy.models import FleetOwned
+from continuum.engine.platform import Link as EngineLink
+from continuum.engine.platform import Platform, Processor
+
+
+class Cluster(FleetOwned):
+    name = models.CharField(max_length=100)
+    description = models.TextField(blank=True)
+    kubeconfig = models.TextField(
+        blank=True, help_text="kubeconfig (YAML) of this cluster's Kubernetes API; empty for a model-only cluster"
+    )
+    kube_context = models.CharField(max_length=200, blank=True)
+    namespace = models.CharField(max_length=63, default="continuum")
+    default_bandwidth_mbps = models.FloatField(
+        null=True,
+        blank=True,
+        validators=[MinValueValidator(0.001)],
+        help_text="bandwidth between nodes with no link path; empty means free transfers",
+    )
+    default_latency_ms = models.FloatField(default=0.0, validators=[MinValueValidator(0.0)])
+    last_synced = models.DateTimeField(null=True, blank=True)
+    created = models.DateTimeField(auto_now_add=True)
+
+    class Meta:
+        ordering = ["name"]
+        constraints = [models.UniqueConstraint(fields=["fleet", "name"], name="unique_cluster_name_per_fleet")]
+
+    def __str__(self) -> str:
+        return self.name
+
+    def to_platform(self, ready_only: bool = True) -> Platform:
+        """The engine's view of this cluster: one processor per (Ready) node, times in ms, data in Mbit.
+
+        A link of B Mbit/s moves B/1000 Mbit per ms; nodes without a direct link use the shortest path.
+        """
+        nodes = self.nodes.all()
+        if ready_only:
+            nodes = nodes.filter(status=ComputeNode.Status.READY)
+        procs = [Processor(n.name, n.processor_class, n.speed) for n in nodes.order_by("name")]
+        names = {p.id for p in procs}
+        links = [
+            EngineLink(lk.src.name, lk.dst.name, lk.bandwidth_mbps / 1000.0, lk.latency_ms)
+            for lk in self.links.select_related("src", "dst")
+            if lk.src.name in names and lk.dst.name in names
+        ]
+        bw = None if self.default_bandwidth_mbps is None else self.default_bandwidth_mbps / 1000.0
+        return Platform(procs, bandwidth=bw, latency=self.default_latency_ms, links=links, route=True)
+
+
+class ComputeNode(models.Model):
+    class Arch(models.TextChoices):
+        AMD64 = "amd64"
+        ARM64 = "arm64"
+        RISCV64 = "riscv64"
+
+    class Status(models.TextChoices):
+        READY = "Ready"
+        NOT_READY = "NotReady"
+        UNKNOWN = "Unknown"
+
+    class Criticality(models.TextChoices):
+        A = "A"
+        B = "B"
+        C = "C"
+        D = "D"
+
+    cluster = models.ForeignKey(Cluster, on_delete=models.CASCADE, related_name="nodes")
+    name = models.CharField(max_length=253)
+    arch = models.CharField(max_length=16, choices=Arch.choices, default=Arch.AMD64)
+    cpu = models.FloatField(default=1.0, validators=[MinValueValidator(0.0)], help_text="CPU cores")
+    memory_mib = models.PositiveIntegerField(default=1024)
+    storage_mib = models.PositiveIntegerField(default=0)
+    accelerators = models.JSONField(default=list, blank=True, help_text='e.g. ["igpu"]')
+    processor_class = models.CharField(
+        max_length=32, default="cpu", help_text="class that DAG task costs name (cpu, gpu, ...)"
+    )
+    speed = models.FloatField(default=1.0, validators=[MinValueValidator(0.001)], help_text="class cost / speed")
+    rt = models.BooleanField(default=False, help_text="real-time capable")
+    criticality = models.CharField(max_length=1, choices=Criticality.choices, blank=True)
+    rt_threshold = models.FloatField(null=True, blank=True, help_text="admissible RT utilization (M x 0.95)")
+    labels = models.JSONField(default=dict, blank=True)
+    taints = models.JSONField(default=list, blank=True, help_text='[{"key", "value", "effect"}]')
+    status = models.CharField(max_length=16, choices=Status.choices, default=Status.READY)
+
+    class Meta:
+        ordering = ["cluster", "name"]
+        constraints = [models.UniqueConstraint(fields=["cluster", "name"], name="unique_node_name_per_cluster")]
+
+    def __str__(self) -> str:
+        return self.name
+
+    @property
+    def fleet_id(self) -> int:
+        return self.cluster.fleet_id
+
+
+class Link(models.Model):
+    cluster = models.ForeignKey(Cluster, on_delete=models.CASCADE, related_name="links")
+    src = models.ForeignKey(ComputeNode, on_delete=models.CASCADE, related_name="+")
+    dst = models.ForeignKey(ComputeNode, on_delete=models.CASCADE, related_name="+")
+    bandwidth_mbps = models.FloatField(validators=[MinValueValidator(0.001)])
+    latency_ms = models.FloatField(default=0.0, validators=[MinValueValidator(0.0)])
+
+    class Meta:
+        ordering = ["cluster", "src__name", "dst__name"]
+        constraints = [models.UniqueConstraint(fields=["src", "dst"], name="unique_link")]
+
+    def __str__(self) -> str:
+        return f"{self.src}-{self.dst}"

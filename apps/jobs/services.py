@@ -1,0 +1,27 @@
+"""Starting jobs: record the job, then hand it to Celery once the record is committed."""
+
+from django.conf import settings
+from django.db import transaction
+
+from apps.tenancy.models import Fleet
+
+from .models import Job
+from .registry import HANDLERS
+
+
+def start_job(kind: str, fleet: Fleet, arguments: dict, user=None) -> Job:
+    if kind not in HANDLERS:
+        raise ValueError(f"unknown job kind {kind!r}")
+    job = Job.objects.create(
+        kind=kind, fleet=fleet, arguments=arguments, created_by=user if user and user.is_authenticated else None
+    )
+    from .tasks import run_job
+
+    if settings.CELERY_TASK_ALWAYS_EAGER:
+        # The quick start (no broker) runs the job right here, in this process and transaction.
+        run_job.apply(args=(str(job.pk),))
+        job.refresh_from_db()
+    else:
+        # A worker may only see the job once its record is committed.
+        transaction.on_commit(lambda: run_job.delay(str(job.pk)))
+    return job

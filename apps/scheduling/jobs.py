@@ -1,0 +1,38 @@
+"""Job handlers of the scheduling app."""
+
+from django.db import transaction
+
+from apps.clusters.models import Cluster
+from apps.jobs.registry import job_kind
+from apps.workloads.models import Application
+from continuum.engine import algorithms
+from continuum.engine.errors import InputError
+from continuum.engine.platform import Platform
+
+from .models import Schedule
+
+
+@job_kind("schedule")
+def schedule_application(job, progress) -> tuple[dict, str]:
+    """Arguments: application, algorithm, params, and either cluster (id) or platform (a document)."""
+    args = job.arguments
+    application = Application.objects.get(pk=args["application"], fleet=job.fleet)
+    cluster = None
+    if args.get("cluster") is not None:
+        cluster = Cluster.objects.get(pk=args["cluster"], fleet=job.fleet)
+        platform = cluster.to_platform()
+        if not platform.processors:
+            raise InputError(f"cluster {cluster.name!r} has no Ready node")
+    else:
+        platform = Platform.from_dict(args["platform"])
+    progress(1, "ranking tasks")
+    dag = application.graph
+
+    def report(done: int, total: int) -> None:
+        progress(95 * done / max(total, 1), f"placed {done}/{total} tasks")
+
+    result = algorithms.run(args["algorithm"], dag, platform, progress=report, **(args.get("params") or {}))
+    progress(97, "storing the schedule")
+    with transaction.atomic():
+        row = Schedule.store(result, application=application, platform=platform, cluster=cluster, job=job)
+    return {"schedule": row.pk, "makespan": row.makespan}, f"/api/v1/schedules/{row.pk}/"

@@ -1,0 +1,88 @@
+"""Stored schedules: one row per assignment, with its Kubernetes placement status."""
+
+from django.db import models
+
+from apps.tenancy.models import FleetOwned
+from continuum.engine.platform import Platform
+from continuum.engine.schedule import Assignment as EngineAssignment
+from continuum.engine.schedule import Schedule as EngineSchedule
+
+
+class Schedule(FleetOwned):
+    application = models.ForeignKey("workloads.Application", on_delete=models.CASCADE, related_name="schedules")
+    cluster = models.ForeignKey(
+        "clusters.Cluster", null=True, blank=True, on_delete=models.SET_NULL, related_name="schedules"
+    )
+    job = models.OneToOneField("jobs.Job", null=True, blank=True, on_delete=models.SET_NULL, related_name="schedule")
+    platform = models.JSONField(help_text="the platform scheduled on, as continuum.platform/v1")
+    algorithm = models.CharField(max_length=50)
+    params = models.JSONField(default=dict, blank=True)
+    makespan = models.FloatField()
+    ranks = models.JSONField(default=dict, blank=True)
+    metrics = models.JSONField(default=dict, blank=True)
+    created = models.DateTimeField(auto_now_add=True)
+
+    class Meta:
+        ordering = ["-created"]
+
+    def __str__(self) -> str:
+        return f"{self.algorithm} schedule of {self.application}"
+
+    @classmethod
+    def store(cls, result: EngineSchedule, *, application, platform: Platform, cluster=None, job=None) -> "Schedule":
+        """Persist an engine schedule (replacing the one an earlier attempt of ``job`` stored)."""
+        if job is not None:
+            cls.objects.filter(job=job).delete()
+        row = cls.objects.create(
+            fleet_id=application.fleet_id,
+            application=application,
+            cluster=cluster,
+            job=job,
+            platform=platform.to_dict(),
+            algorithm=result.algorithm,
+            params=result.params,
+            makespan=result.makespan,
+            ranks=result.ranks,
+            metrics=result.metrics,
+        )
+        Assignment.objects.bulk_create(
+            Assignment(schedule=row, task=a.task, frame=a.frame, processor=a.processor, start=a.start, finish=a.finish)
+            for a in result.assignments
+        )
+        return row
+
+    def to_engine(self) -> EngineSchedule:
+        return EngineSchedule(
+            self.algorithm,
+            [EngineAssignment(a.task, a.processor, a.start, a.finish, a.frame) for a in self.assignments.all()],
+            ranks=self.ranks,
+            params=self.params,
+            metrics=self.metrics,
+        )
+
+    def engine_platform(self) -> Platform:
+        return Platform.from_dict(self.platform)
+
+
+class Assignment(models.Model):
+    class Placement(models.TextChoices):
+        NOT_PUSHED = "not_pushed"
+        BOUND = "bound"
+        FAILED = "failed"
+
+    schedule = models.ForeignKey(Schedule, on_delete=models.CASCADE, related_name="assignments")
+    task = models.CharField(max_length=200)
+    frame = models.PositiveIntegerField(default=0)
+    processor = models.CharField(max_length=253)
+    start = models.FloatField()
+    finish = models.FloatField()
+    placement = models.CharField(max_length=16, choices=Placement.choices, default=Placement.NOT_PUSHED)
+    placement_message = models.CharField(max_length=500, blank=True)
+    pod_name = models.CharField(max_length=253, blank=True)
+
+    class Meta:
+        ordering = ["start", "processor", "task"]
+        constraints = [models.UniqueConstraint(fields=["schedule", "task", "frame"], name="unique_assignment")]
+
+    def __str__(self) -> str:
+        return f"{self.task}@{self.processor}"

@@ -1,0 +1,34 @@
+"""Applications: DAGs of tasks stored in the ``continuum.dag/v1`` shape."""
+
+from django.conf import settings
+from django.db import models
+
+from apps.tenancy.models import FleetOwned
+from continuum.engine.dag import TaskGraph
+
+
+class Application(FleetOwned):
+    name = models.CharField(max_length=200)
+    description = models.TextField(blank=True)
+    dag = models.JSONField(help_text="the DAG as continuum.dag/v1")
+    source_format = models.CharField(max_length=32, default="continuum")
+    task_count = models.PositiveIntegerField(default=0, editable=False)
+    edge_count = models.PositiveIntegerField(default=0, editable=False)
+    created_by = models.ForeignKey(settings.AUTH_USER_MODEL, null=True, blank=True, on_delete=models.SET_NULL)
+    created = models.DateTimeField(auto_now_add=True)
+    updated = models.DateTimeField(auto_now=True)
+
+    class Meta:
+        ordering = ["-created"]
+
+    def __str__(self) -> str:
+        return self.name
+
+    @property
+    def graph(self) -> TaskGraph:
+        return TaskGraph.from_dict(self.dag)
+
+    def set_graph(self, graph: TaskGraph) -> None:
+        self.dag = graph.to_dict()
+        self.task_count = len(graph.tasks)
+        self.edge_count = len(graph.edges)

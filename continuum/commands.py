@@ -1,0 +1,71 @@
+"""What every Continuum management command shares: file reading, --json output, exit status 2 on bad input."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from django.core.management.base import BaseCommand, CommandError
+
+from continuum.engine.errors import InputError
+
+
+class EngineCommand(BaseCommand):
+    """Subclasses implement :meth:`run` returning a JSON-able dict and :meth:`summary` for humans."""
+
+    def add_arguments(self, parser) -> None:
+        parser.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+
+    def handle(self, *args: Any, **options: Any) -> None:
+        try:
+            result = self.run(**options)
+        except InputError as exc:
+            raise CommandError(_one_line(str(exc)), returncode=2) from exc
+        except OSError as exc:
+            raise CommandError(_one_line(f"{exc.filename or ''}: {exc.strerror or exc}"), returncode=2) from exc
+        if options["json"]:
+            self.stdout.write(json.dumps(result, indent=2))
+        else:
+            self.stdout.write(self.summary(result))
+
+    def run(self, **options: Any) -> dict:
+        raise NotImplementedError
+
+    def summary(self, result: dict) -> str:
+        return json.dumps(result, indent=2)
+
+    # ---- helpers ------------------------------------------------------------------------------
+    @staticmethod
+    def read_text(path: str) -> str:
+        p = Path(path)
+        if not p.is_file():
+            raise InputError(f"{path}: no such file")
+        try:
+            return p.read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            raise InputError(f"{path}: not UTF-8 text (byte {exc.start})") from exc
+
+    def read_json(self, path: str) -> Any:
+        try:
+            return json.loads(self.read_text(path))
+        except json.JSONDecodeError as exc:
+            raise InputError(f"{path}: malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}") from exc
+
+    def progress_printer(self, label: str):
+        """A progress callback that draws on stderr when it is a terminal."""
+        if not sys.stderr.isatty():
+            return None
+
+        def show(done: int, total: int) -> None:
+            sys.stderr.write(f"\r{label}: {done}/{total} ({100 * done // max(total, 1)}%)")
+            if done >= total:
+                sys.stderr.write("\n")
+            sys.stderr.flush()
+
+        return show
+
+
+def _one_line(message: str) -> str:
+    return " ".join(message.split())
