@@ -153,7 +153,7 @@ class TaskGraph:
         while True:
             nxt = next(e.src for e in pred[path[-1]] if e.src in left)
             if nxt in index:
-                cycle = path[index[nxt] :] + [nxt]
+                cycle = [*path[index[nxt] :], nxt]
                 return list(reversed(cycle))
             index[nxt] = len(path)
             path.append(nxt)

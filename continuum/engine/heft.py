@@ -55,9 +55,8 @@ def upward_ranks(
 
 def earliest_slot(starts: list[float], finishes: list[float], ready: float, duration: float) -> float:
     """Earliest start >= ``ready`` of an idle gap of ``duration`` among sorted busy intervals."""
-    k = bisect_right(finishes, ready)
     s = ready
-    for k in range(k, len(starts)):
+    for k in range(bisect_right(finishes, ready), len(starts)):
         if s + duration <= starts[k]:
             return s
         if finishes[k] > s:

@@ -9,6 +9,7 @@ thesis does with OSPF (3.3.2); otherwise such a pair uses the platform defaults.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -190,7 +191,7 @@ class Platform:
             for j, path in paths.items():
                 if i == j:
                     continue
-                hops = list(zip(path, path[1:]))
+                hops = list(itertools.pairwise(path))
                 lat[i][j] = sum(g.edges[a, b]["latency"] for a, b in hops)
                 bottleneck = min(g.edges[a, b]["bandwidth"] for a, b in hops)
                 inv[i][j] = 0.0 if bottleneck == math.inf else 1.0 / bottleneck

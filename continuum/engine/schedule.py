@@ -7,6 +7,7 @@ gateway, so there is exactly one representation of a placement.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -109,7 +110,7 @@ class Schedule:
         pred = dag.predecessors()
         prev_on_proc: dict[tuple[str, int], Assignment] = {}
         for row in self.by_processor().values():
-            for before, after in zip(row, row[1:]):
+            for before, after in itertools.pairwise(row):
                 prev_on_proc[(after.task, after.frame)] = before
         cur = max(self.assignments, key=lambda a: a.finish)
         path = [(cur.task, cur.frame)]
@@ -175,7 +176,7 @@ class Schedule:
                         f"before its input arrives at {ready}"
                     )
         for proc, row in self.by_processor().items():
-            for before, after in zip(row, row[1:]):
+            for before, after in itertools.pairwise(row):
                 if after.start + EPS * max(1.0, before.finish) < before.finish:
                     problems.append(
                         f"{before.task!r} and {after.task!r} overlap on {proc!r} "
