@@ -46,7 +46,15 @@ class Schedule(FleetOwned):
             metrics=result.metrics,
         )
         Assignment.objects.bulk_create(
-            Assignment(schedule=row, task=a.task, frame=a.frame, processor=a.processor, start=a.start, finish=a.finish)
+            Assignment(
+                schedule=row,
+                task=a.task,
+                frame=a.frame,
+                processor=a.processor,
+                start=a.start,
+                finish=a.finish,
+                niceness=a.niceness,
+            )
             for a in result.assignments
         )
         return row
@@ -54,7 +62,10 @@ class Schedule(FleetOwned):
     def to_engine(self) -> EngineSchedule:
         return EngineSchedule(
             self.algorithm,
-            [EngineAssignment(a.task, a.processor, a.start, a.finish, a.frame) for a in self.assignments.all()],
+            [
+                EngineAssignment(a.task, a.processor, a.start, a.finish, a.frame, a.niceness)
+                for a in self.assignments.all()
+            ],
             ranks=self.ranks,
             params=self.params,
             metrics=self.metrics,
@@ -76,6 +87,7 @@ class Assignment(models.Model):
     processor = models.CharField(max_length=253)
     start = models.FloatField()
     finish = models.FloatField()
+    niceness = models.SmallIntegerField(null=True, blank=True)
     placement = models.CharField(max_length=16, choices=Placement.choices, default=Placement.NOT_PUSHED)
     placement_message = models.CharField(max_length=500, blank=True)
     pod_name = models.CharField(max_length=253, blank=True)

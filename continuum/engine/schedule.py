@@ -28,15 +28,20 @@ class Assignment:
     start: float
     finish: float
     frame: int = 0
+    #: Linux niceness the task's process runs with (HEFT4K, Eq. 3.16); ``None`` when not set.
+    niceness: int | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        doc = {
             "task": self.task,
             "frame": self.frame,
             "processor": self.processor,
             "start": self.start,
             "finish": self.finish,
         }
+        if self.niceness is not None:
+            doc["niceness"] = self.niceness
+        return doc
 
 
 @dataclass
@@ -73,7 +78,12 @@ class Schedule:
         try:
             assignments = [
                 Assignment(
-                    str(a["task"]), str(a["processor"]), float(a["start"]), float(a["finish"]), int(a.get("frame", 0))
+                    str(a["task"]),
+                    str(a["processor"]),
+                    float(a["start"]),
+                    float(a["finish"]),
+                    int(a.get("frame", 0)),
+                    None if a.get("niceness") is None else int(a["niceness"]),
                 )
                 for a in data.get("assignments", [])
             ]
