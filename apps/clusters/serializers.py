@@ -1,0 +1,173 @@
+from django.db import transaction
+from rest_framework import serializers
+
+from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer
+from apps.tenancy.scoping import visible_fleets
+
+from .models import Cluster, ComputeNode, Link
+
+
+class ClusterSerializer(FleetOwnedSerializer):
+    node_count = serializers.IntegerField(source="nodes.count", read_only=True)
+    kubeconfig = serializers.CharField(
+        write_only=True, required=False, allow_blank=True, style={"base_template": "textarea.html"}
+    )
+    has_kubeconfig = serializers.SerializerMethodField()
+
+    class Meta:
+        model = Cluster
+        fields = [
+            "id",
+            "fleet",
+            "name",
+            "description",
+            "kubeconfig",
+            "has_kubeconfig",
+            "kube_context",
+            "namespace",
+            "default_bandwidth_mbps",
+            "default_latency_ms",
+            "node_count",
+            "last_synced",
+            "created",
+        ]
+        read_only_fields = ["last_synced", "created"]
+
+    def get_has_kubeconfig(self, obj) -> bool:
+        return bool(obj.kubeconfig)
+
+
+class VisibleClusterField(serializers.PrimaryKeyRelatedField):
+    def get_queryset(self):
+        return Cluster.objects.filter(fleet__in=visible_fleets(self.context["request"]))
+
+
+class ComputeNodeSerializer(serializers.ModelSerializer):
+    cluster = VisibleClusterField()
+
+    class Meta:
+        model = ComputeNode
+        fields = [
+            "id",
+            "cluster",
+            "name",
+            "arch",
+            "cpu",
+            "memory_mib",
+            "storage_mib",
+            "accelerators",
+            "processor_class",
+            "speed",
+            "rt",
+            "criticality",
+            "rt_threshold",
+            "labels",
+            "taints",
+            "status",
+        ]
+
+    def validate_taints(self, value):
+        if not isinstance(value, list) or not all(
+            isinstance(t, dict) and t.get("key") and t.get("effect") for t in value
+        ):
+            raise serializers.ValidationError('a list of {"key", "value", "effect"} objects')
+        return value
+
+    def validate_labels(self, value):
+        if not isinstance(value, dict) or not all(isinstance(v, str) for v in value.values()):
+            raise serializers.ValidationError("a map of label name to string value")
+        return value
+
+
+class LinkSerializer(serializers.ModelSerializer):
+    cluster = VisibleClusterField()
+
+    class Meta:
+        model = Link
+        fields = ["id", "cluster", "src", "dst", "bandwidth_mbps", "latency_ms"]
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        cluster = attrs.get("cluster") or self.instance.cluster
+        for end in ("src", "dst"):
+            node = attrs.get(end) or getattr(self.instance, end, None)
+            if node is not None and node.cluster_id != cluster.pk:
+                raise serializers.ValidationError({end: [f"node {node.name!r} is not in cluster {cluster.name!r}"]})
+        if attrs.get("src") and attrs.get("src") == attrs.get("dst"):
+            raise serializers.ValidationError({"dst": ["a link joins two different nodes"]})
+        return attrs
+
+
+class ClusterDocumentNodeSerializer(serializers.Serializer):
+    """One node of a ``continuum.cluster/v1`` document."""
+
+    name = serializers.CharField(max_length=253)
+    arch = serializers.ChoiceField(ComputeNode.Arch.choices, default=ComputeNode.Arch.AMD64)
+    cpu = serializers.FloatField(min_value=0, default=1.0)
+    memory_mib = serializers.IntegerField(min_value=0, default=1024)
+    storage_mib = serializers.IntegerField(min_value=0, default=0)
+    accelerators = serializers.ListField(child=serializers.CharField(), default=list)
+    processor_class = serializers.CharField(default="cpu", source="class", required=False)
+    speed = serializers.FloatField(min_value=0.001, default=1.0)
+    rt = serializers.BooleanField(default=False)
+    criticality = serializers.ChoiceField(ComputeNode.Criticality.choices, required=False, allow_blank=True)
+    rt_threshold = serializers.FloatField(min_value=0, required=False, allow_null=True)
+    labels = serializers.DictField(child=serializers.CharField(allow_blank=True), default=dict)
+    taints = serializers.ListField(child=serializers.DictField(), default=list)
+
+
+class ClusterDocumentLinkSerializer(serializers.Serializer):
+    src = serializers.CharField()
+    dst = serializers.CharField()
+    bandwidth_mbps = serializers.FloatField(min_value=0.001)
+    latency_ms = serializers.FloatField(min_value=0, default=0.0)
+
+
+class ClusterImportSerializer(DefaultFleetMixin, serializers.Serializer):
+    """A ``continuum.cluster/v1`` document that creates a cluster with its nodes and links at once."""
+
+    fleet = FleetField(required=False)
+    name = serializers.CharField(max_length=100)
+    description = serializers.CharField(required=False, allow_blank=True, default="")
+    kubeconfig = serializers.CharField(required=False, allow_blank=True, default="")
+    nodes = ClusterDocumentNodeSerializer(many=True, allow_empty=False)
+    links = ClusterDocumentLinkSerializer(many=True, default=list)
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        names = [n["name"] for n in attrs["nodes"]]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise serializers.ValidationError({"nodes": [f"duplicate node name {dup[0]!r}"]})
+        for i, link in enumerate(attrs["links"]):
+            for end in ("src", "dst"):
+                if link[end] not in names:
+                    raise serializers.ValidationError({"links": [f"links[{i}] refers to unknown node {link[end]!r}"]})
+        if Cluster.objects.filter(fleet=attrs["fleet"], name=attrs["name"]).exists():
+            raise serializers.ValidationError(
+                {"name": [f"fleet {attrs['fleet'].slug!r} already has cluster {attrs['name']!r}"]}
+            )
+        return attrs
+
+    @transaction.atomic
+    def create(self, validated):
+        cluster = Cluster.objects.create(
+            fleet=validated["fleet"],
+            name=validated["name"],
+            description=validated["description"],
+            kubeconfig=validated["kubeconfig"],
+        )
+        nodes = {}
+        for raw in validated["nodes"]:
+            raw = dict(raw)
+            raw["processor_class"] = raw.pop("class", "cpu")
+            nodes[raw["name"]] = ComputeNode.objects.create(cluster=cluster, **raw)
+        for link in validated["links"]:
+            Link.objects.create(
+                cluster=cluster,
+                src=nodes[link["src"]],
+                dst=nodes[link["dst"]],
+                bandwidth_mbps=link["bandwidth_mbps"],
+                latency_ms=link["latency_ms"],
+            )
+        return cluster

@@ -1,0 +1,39 @@
+from drf_spectacular.utils import extend_schema
+from rest_framework import mixins, status, viewsets
+from rest_framework.decorators import action
+from rest_framework.response import Response
+
+from apps.jobs.serializers import JobSerializer
+from apps.jobs.services import start_job
+from apps.tenancy.api import FleetScopedMixin
+
+from .models import Schedule
+from .serializers import ScheduleListSerializer, ScheduleSerializer
+
+
+class ScheduleViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
+    """Stored schedules (created by scheduling jobs) and their push to Kubernetes."""
+
+    queryset = Schedule.objects.select_related("fleet")
+    filterset_fields = ["application", "cluster", "algorithm"]
+    ordering_fields = ["created", "makespan"]
+
+    def get_queryset(self):
+        qs = super().get_queryset()
+        return qs.prefetch_related("assignments") if self.action == "retrieve" else qs
+
+    def get_serializer_class(self):
+        return ScheduleListSerializer if self.action == "list" else ScheduleSerializer
+
+    @extend_schema(request=None, responses={202: JobSerializer})
+    @action(detail=True, methods=["post"])
+    def push(self, request, pk=None):
+        """Start a job that creates one pod per task in the cluster's Kubernetes API, bound to its node."""
+        schedule = self.get_object()
+        if schedule.cluster is None or not schedule.cluster.kubeconfig:
+            return Response(
+                {"cluster": ["this schedule's cluster has no Kubernetes API configured"]},
+                status=status.HTTP_400_BAD_REQUEST,
+            )
+        job = start_job("push_schedule", schedule.fleet, {"schedule": schedule.pk}, request.user)
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)

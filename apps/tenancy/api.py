@@ -1,0 +1,81 @@
+"""API building blocks shared by every app: fleet scoping, the fleet field, engine errors as HTTP 400."""
+
+from django.db.models import QuerySet
+from rest_framework import mixins, serializers, viewsets
+from rest_framework.exceptions import ValidationError
+from rest_framework.views import exception_handler as drf_exception_handler
+
+from continuum.engine.errors import InputError
+
+from .models import Fleet, FleetToken
+from .scoping import visible_fleets
+
+
+def exception_handler(exc, context):
+    """Engine input errors become 400s that name the field and the offending element."""
+    if isinstance(exc, InputError):
+        exc = ValidationError({exc.field or "non_field_errors": [str(exc)]})
+    return drf_exception_handler(exc, context)
+
+
+class FleetField(serializers.SlugRelatedField):
+    """The owning fleet by slug, limited to the fleets the caller may see (others are "not found")."""
+
+    def __init__(self, **kwargs):
+        kwargs.setdefault("slug_field", "slug")
+        super().__init__(**kwargs)
+
+    def get_queryset(self) -> QuerySet[Fleet]:
+        return visible_fleets(self.context["request"])
+
+
+class DefaultFleetMixin:
+    """``fleet`` defaults to the token's fleet, or to the caller's only fleet."""
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        if self.instance is None and "fleet" not in attrs:
+            attrs["fleet"] = default_fleet(self.context["request"])
+        return attrs
+
+
+class FleetOwnedSerializer(DefaultFleetMixin, serializers.ModelSerializer):
+    fleet = FleetField(required=False)
+
+
+def default_fleet(request) -> Fleet:
+    if isinstance(request.auth, FleetToken):
+        return request.auth.fleet
+    fleets = list(visible_fleets(request)[:2])
+    if len(fleets) == 1:
+        return fleets[0]
+    raise ValidationError({"fleet": ["name the fleet (slug): you belong to several or none"]})
+
+
+class FleetScopedMixin:
+    """Limit a viewset's queryset to the caller's fleets; objects of other fleets answer 404."""
+
+    #: Lookup path from the model to its fleet.
+    fleet_lookup = "fleet"
+
+    def get_queryset(self):
+        qs = super().get_queryset()
+        return qs.filter(**{f"{self.fleet_lookup}__in": visible_fleets(self.request)})
+
+
+class FleetSerializer(serializers.ModelSerializer):
+    class Meta:
+        model = Fleet
+        fields = ["id", "name", "slug", "description", "created"]
+        read_only_fields = ["slug", "created"]
+
+
+class FleetViewSet(mixins.ListModelMixin, mixins.RetrieveModelMixin, viewsets.GenericViewSet):
+    """The fleets the caller belongs to (fleets are created by administrators)."""
+
+    serializer_class = FleetSerializer
+    queryset = Fleet.objects.all()
+    search_fields = ["name", "slug"]
+
+    def get_queryset(self):
+        return visible_fleets(self.request)

@@ -1,0 +1,53 @@
+from drf_spectacular.utils import extend_schema
+from rest_framework import parsers, status, viewsets
+from rest_framework.decorators import action
+from rest_framework.response import Response
+
+from apps.jobs.serializers import JobSerializer
+from apps.jobs.services import start_job
+from apps.scheduling.serializers import ScheduleRequestSerializer
+from apps.tenancy.api import FleetScopedMixin
+
+from .models import Application
+from .serializers import ApplicationImportSerializer, ApplicationListSerializer, ApplicationSerializer
+
+
+class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
+    queryset = Application.objects.select_related("fleet")
+    filterset_fields = ["fleet__slug", "source_format"]
+    search_fields = ["name", "description"]
+    ordering_fields = ["name", "created", "task_count"]
+
+    def get_serializer_class(self):
+        return ApplicationListSerializer if self.action == "list" else ApplicationSerializer
+
+    @extend_schema(request={"multipart/form-data": ApplicationImportSerializer}, responses={201: ApplicationSerializer})
+    @action(
+        detail=False, methods=["post"], url_path="import", parser_classes=[parsers.MultiPartParser, parsers.FormParser]
+    )
+    def import_file(self, request):
+        """Create an application from an uploaded DAG file (continuum JSON, WfCommons WfFormat 1.5, ...)."""
+        serializer = ApplicationImportSerializer(data=request.data, context=self.get_serializer_context())
+        serializer.is_valid(raise_exception=True)
+        app = serializer.save()
+        return Response(
+            ApplicationSerializer(app, context=self.get_serializer_context()).data, status=status.HTTP_201_CREATED
+        )
+
+    @extend_schema(request=ScheduleRequestSerializer, responses={202: JobSerializer})
+    @action(detail=True, methods=["post"])
+    def schedule(self, request, pk=None):
+        """Start a scheduling job; its result links to the stored schedule."""
+        app = self.get_object()
+        serializer = ScheduleRequestSerializer(data=request.data, context=self.get_serializer_context())
+        serializer.is_valid(raise_exception=True)
+        data = serializer.validated_data
+        if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
+            return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
+        arguments = {"application": app.pk, "algorithm": data["algorithm"], "params": data["params"]}
+        if data.get("cluster") is not None:
+            arguments["cluster"] = data["cluster"].pk
+        else:
+            arguments["platform"] = data["platform"]
+        job = start_job("schedule", app.fleet, arguments, request.user)
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)

@@ -1,0 +1,31 @@
+from django.contrib import admin
+from django.contrib.auth import views as auth_views
+from django.urls import include, path
+from drf_spectacular.views import SpectacularAPIView, SpectacularRedocView, SpectacularSwaggerView
+from rest_framework.routers import DefaultRouter
+
+from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
+from apps.jobs.api import JobViewSet
+from apps.scheduling.api import ScheduleViewSet
+from apps.tenancy.api import FleetViewSet
+from apps.workloads.api import ApplicationViewSet
+
+router = DefaultRouter()
+router.register("fleets", FleetViewSet)
+router.register("clusters", ClusterViewSet)
+router.register("nodes", ComputeNodeViewSet)
+router.register("links", LinkViewSet)
+router.register("applications", ApplicationViewSet)
+router.register("schedules", ScheduleViewSet)
+router.register("jobs", JobViewSet)
+
+urlpatterns = [
+    path("api/v1/", include((router.urls, "api"))),
+    path("api/schema/", SpectacularAPIView.as_view(), name="schema"),
+    path("api/docs/", SpectacularSwaggerView.as_view(url_name="schema"), name="api-docs"),
+    path("api/redoc/", SpectacularRedocView.as_view(url_name="schema"), name="api-redoc"),
+    path("admin/", admin.site.urls),
+    path("login/", auth_views.LoginView.as_view(), name="login"),
+    path("logout/", auth_views.LogoutView.as_view(), name="logout"),
+    path("", include("apps.dashboard.urls")),
+]

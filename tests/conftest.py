@@ -1,0 +1,90 @@
+"""Fixtures shared by the test suite: fleets, users, tokens and API clients."""
+
+import json
+from pathlib import Path
+
+import pytest
+from rest_framework.test import APIClient
+
+DATA = Path(__file__).resolve().parent / "data"
+
+
+@pytest.fixture
+def data_dir() -> Path:
+    return DATA
+
+
+@pytest.fixture
+def load_json():
+    return lambda name: json.loads((DATA / name).read_text())
+
+
+@pytest.fixture
+def fleets(db):
+    from apps.tenancy.models import Fleet
+
+    return Fleet.objects.create(name="Alpha robots"), Fleet.objects.create(name="Beta robots")
+
+
+@pytest.fixture
+def fleet(fleets):
+    return fleets[0]
+
+
+@pytest.fixture
+def operator(db, fleet, django_user_model):
+    user = django_user_model.objects.create_user("operator", password="operator-pass-123")
+    fleet.members.add(user)
+    return user
+
+
+@pytest.fixture
+def fleet_token(fleet, django_user_model):
+    from apps.tenancy.models import FleetToken
+
+    robot = django_user_model.objects.create_user(f"{fleet.slug}-robot")
+    return FleetToken.objects.create(fleet=fleet, user=robot, description="test robot")
+
+
+@pytest.fixture
+def api(fleet_token) -> APIClient:
+    """An API client authenticated with the first fleet's token."""
+    client = APIClient()
+    client.credentials(HTTP_AUTHORIZATION=f"Token {fleet_token.key}")
+    return client
+
+
+@pytest.fixture
+def other_api(fleets, django_user_model) -> APIClient:
+    """An API client authenticated with the second fleet's token."""
+    from apps.tenancy.models import FleetToken
+
+    robot = django_user_model.objects.create_user("beta-robot")
+    token = FleetToken.objects.create(fleet=fleets[1], user=robot)
+    client = APIClient()
+    client.credentials(HTTP_AUTHORIZATION=f"Token {token.key}")
+    return client
+
+
+CLUSTER_DOC = {
+    "format": "continuum.cluster/v1",
+    "nodes": [
+        {"name": f"node{i}", "arch": "amd64", "cpu": 4, "memory_mib": 8192, "labels": {"zone": "edge"}}
+        for i in range(4)
+    ],
+    "links": [{"src": f"node{i}", "dst": f"node{i + 1}", "bandwidth_mbps": 1000, "latency_ms": 0.5} for i in range(3)],
+}
+
+
+@pytest.fixture
+def cluster_doc():
+    return json.loads(json.dumps(CLUSTER_DOC))
+
+
+@pytest.fixture
+def cluster(api, cluster_doc):
+    from apps.clusters.models import Cluster
+
+    response = api.post("/api/v1/clusters/import/", {"name": "edge", **cluster_doc}, format="json")
+    assert response.status_code == 201, response.data
+    return Cluster.objects.get(pk=response.data["id"])
