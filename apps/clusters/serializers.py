@@ -107,7 +107,7 @@ class ClusterDocumentNodeSerializer(serializers.Serializer):
     memory_mib = serializers.IntegerField(min_value=0, default=1024)
     storage_mib = serializers.IntegerField(min_value=0, default=0)
     accelerators = serializers.ListField(child=serializers.CharField(), default=list)
-    processor_class = serializers.CharField(default="cpu", source="class", required=False)
+    processor_class = serializers.CharField(default="cpu", help_text="class that DAG task costs name")
     speed = serializers.FloatField(min_value=0.001, default=1.0)
     rt = serializers.BooleanField(default=False)
     criticality = serializers.ChoiceField(ComputeNode.Criticality.choices, required=False, allow_blank=True)
@@ -130,6 +130,8 @@ class ClusterImportSerializer(DefaultFleetMixin, serializers.Serializer):
     name = serializers.CharField(max_length=100)
     description = serializers.CharField(required=False, allow_blank=True, default="")
     kubeconfig = serializers.CharField(required=False, allow_blank=True, default="")
+    kube_context = serializers.CharField(required=False, allow_blank=True, default="")
+    namespace = serializers.CharField(required=False, max_length=63, default="continuum")
     nodes = ClusterDocumentNodeSerializer(many=True, allow_empty=False)
     links = ClusterDocumentLinkSerializer(many=True, default=list)
 
@@ -155,12 +157,11 @@ class ClusterImportSerializer(DefaultFleetMixin, serializers.Serializer):
             fleet=validated["fleet"],
             name=validated["name"],
             description=validated["description"],
-            kubeconfig=validated["kubeconfig"],
+            kubeconfig=validated["kubeconfig"], kube_context=validated["kube_context"],
+            namespace=validated["namespace"],
         )
         nodes = {}
         for raw in validated["nodes"]:
-            raw = dict(raw)
-            raw["processor_class"] = raw.pop("class", "cpu")
             nodes[raw["name"]] = ComputeNode.objects.create(cluster=cluster, **raw)
         for link in validated["links"]:
             Link.objects.create(
