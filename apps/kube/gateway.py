@@ -1,9 +1,13 @@
 """Kubernetes gateway: read a cluster's nodes and push a schedule's placements as bound pods.
 
-Continuum is the scheduler of the pods it creates: each pod names ``settings.CONTINUUM_SCHEDULER_NAME`` as
-its ``schedulerName`` (so kube-scheduler leaves it alone) and is bound to the node the schedule chose
-through the Binding API (``pods/binding``), exactly as a scheduler extension would do. Everything here is
-idempotent: syncing twice or pushing twice leaves the cluster and the database as the first call did.
+"HEFT on Kubernetes" (thesis §3.3.2, spec 02 §7.1/§7.3): only the mapping of a schedule is pushed, one pod
+per task pinned to its node; precedence is left to the tasks' publish/subscribe communication. Continuum is
+the scheduler of the pods it creates: each pod names ``settings.CONTINUUM_SCHEDULER_NAME`` as its
+``schedulerName`` (so kube-scheduler leaves it alone) and is bound to the chosen node through the Binding
+API (``pods/binding``), like the bind phase of a secondary scheduler (spec 03 §4.4). Following spec 02
+§7.3: pods use the host network (ROS nodes talk across machines), carry no CPU limits (CFS quotas would
+override niceness) and are created in decreasing rank order. Everything here is idempotent: syncing or
+pushing twice leaves the cluster and the database as the first call did.
 """
 
 from __future__ import annotations
@@ -210,7 +214,8 @@ def pod_name(schedule: Schedule, task: str, frame: int) -> str:
     return f"{app}-{_dns_part(task, 24)}-{frame}-{digest}"
 
 
-def pod_manifest(schedule: Schedule, assignment: Assignment, name: str) -> client.V1Pod:
+def pod_manifest(schedule: Schedule, assignment: Assignment, name: str, *, host_network: bool = True) -> client.V1Pod:
+    """The pod of one assignment: no ``nodeName`` (the binding sets it), Continuum's scheduler name."""
     labels = {
         **MANAGED_BY,
         f"{PREFIX}/schedule": str(schedule.pk),
@@ -224,6 +229,8 @@ def pod_manifest(schedule: Schedule, assignment: Assignment, name: str) -> clien
         f"{PREFIX}/start": repr(assignment.start),
         f"{PREFIX}/finish": repr(assignment.finish),
     }
+    if assignment.task in (schedule.ranks or {}):
+        annotations[f"{PREFIX}/rank"] = repr(schedule.ranks[assignment.task])
     if assignment.niceness is not None:
         # Hook for the niceness wrapper (HEFT4K): it reads this annotation and runs the task under `nice`.
         annotations[f"{PREFIX}/niceness"] = str(assignment.niceness)
@@ -239,6 +246,7 @@ def pod_manifest(schedule: Schedule, assignment: Assignment, name: str) -> clien
         spec=client.V1PodSpec(
             scheduler_name=settings.CONTINUUM_SCHEDULER_NAME,
             restart_policy="Never",
+            host_network=host_network,
             containers=[client.V1Container(name="task", image=settings.CONTINUUM_POD_IMAGE, env=env)],
         ),
     )
@@ -354,7 +362,9 @@ def push_schedule(schedule: Schedule, progress: Progress | None = None) -> dict:
     if cluster is None:
         raise KubeError(f"schedule {schedule.pk} was computed on a platform document, not on a cluster")
     api_client = api_client_for(cluster)
-    assignments = list(schedule.assignments.all())
+    ranks = schedule.ranks or {}
+    # Highest upward rank first (spec 02 §7.3); ties by start time, then task id, for a stable order.
+    assignments = sorted(schedule.assignments.all(), key=lambda a: (-ranks.get(a.task, 0.0), a.start, a.task, a.frame))
     names = {a.pk: pod_name(schedule, a.task, a.frame) for a in assignments}
     outcomes: dict[int, Outcome] = {}
     with api_client:

@@ -160,11 +160,17 @@ def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube
         assert pod.spec.node_name == a.processor
         assert pod.spec.scheduler_name == settings.CONTINUUM_SCHEDULER_NAME
         assert pod.spec.containers[0].image == settings.CONTINUUM_POD_IMAGE
+        assert pod.spec.host_network is True and not pod.spec.containers[0].resources.limits
+        assert float(pod.metadata.annotations["continuum.io/rank"]) == pytest.approx(schedule.ranks[a.task])
         assert pod.metadata.labels["continuum.io/schedule"] == str(schedule.pk)
         assert pod.metadata.labels["continuum.io/application"] == str(schedule.application_id)
         assert pod.metadata.annotations["continuum.io/task"] == a.task
         assert (pod.metadata.annotations.get("continuum.io/niceness")) == (None if a.pk != first.pk else "5")
     assert len({a.pod_name for a in schedule.assignments.all()}) == len(assignments)
+    # Created (and bound, one after the other) in decreasing rank order: the source first, the sink last.
+    created = sorted(pods.values(), key=lambda p: int(p.metadata.resource_version))
+    assert created[0].metadata.annotations["continuum.io/task"] == "source"
+    assert created[-1].metadata.annotations["continuum.io/task"] == "sink"
     # The ids that sanitize alike still get distinct pods.
     planners = [a.pod_name for a in schedule.assignments.filter(task__in=["path.planner", "Path_Planner"])]
     assert len(set(planners)) == 2 and all(n.startswith("nav-stack-2-path-planner-0-") for n in planners)
