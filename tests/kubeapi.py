@@ -7,6 +7,7 @@ flags below rest on. The binary comes from ``scripts/build-kube-apiserver.sh`` (
 
 from __future__ import annotations
 
+import atexit
 import base64
 import os
 import secrets
@@ -99,6 +100,8 @@ class KubeAPIServer:
 
     def start(self, attempts: int = 3) -> KubeAPIServer:
         began = time.monotonic()
+        # A safety net if the session ends without its fixture tear-down (stop() is idempotent).
+        atexit.register(self.stop)
         self._write_credentials()
         last: Exception | None = None
         # Free ports are picked before the servers bind them; a port taken in between fails the start,
