@@ -340,8 +340,10 @@ class Pusher:
                     return Outcome(True, f"bound to {node}")
                 return Outcome(False, f"binding refused: {describe(exc)}")
             return Outcome(False, f"binding refused: {describe(exc)}")
+        answer = response.data  # read it all, so the connection goes back to the pool
+        response.release_conn()
         if response.status != 201:
-            return Outcome(False, f"binding refused: HTTP {response.status} {response.data[:200]!r}")
+            return Outcome(False, f"binding refused: HTTP {response.status} {answer[:200]!r}")
         return Outcome(True, f"bound to {node}")
 
 
