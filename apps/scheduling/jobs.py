@@ -1,5 +1,6 @@
 """Job handlers of the scheduling app."""
 
+from django.conf import settings
 from django.db import transaction
 
 from apps.clusters.models import Cluster
@@ -10,6 +11,14 @@ from continuum.engine.errors import InputError
 from continuum.engine.platform import Platform
 
 from .models import Schedule
+
+
+def with_defaults(algorithm: str, params: dict) -> dict:
+    """The algorithm's parameters with the deployment's defaults for readings the thesis leaves open."""
+    params = dict(params)
+    if algorithm == "heft":
+        params.setdefault("rank_mode", settings.CONTINUUM_HEFT_RANK_MODE)
+    return params
 
 
 @job_kind("schedule")
@@ -31,7 +40,8 @@ def schedule_application(job, progress) -> tuple[dict, str]:
     def report(done: int, total: int) -> None:
         progress(95 * done / max(total, 1), f"placed {done}/{total} tasks")
 
-    result = algorithms.run(args["algorithm"], dag, platform, progress=report, **(args.get("params") or {}))
+    params = with_defaults(args["algorithm"], args.get("params") or {})
+    result = algorithms.run(args["algorithm"], dag, platform, progress=report, **params)
     progress(97, "storing the schedule")
     with transaction.atomic():
         row = Schedule.store(result, application=application, platform=platform, cluster=cluster, job=job)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from apps.scheduling.jobs import with_defaults
 from continuum.commands import EngineCommand
 from continuum.engine import algorithms
 from continuum.engine.errors import InputError
@@ -36,6 +37,7 @@ class Command(EngineCommand):
         else:
             platform = Platform.homogeneous(options["cpus"] if options["cpus"] is not None else 1, options["gpus"])
         params = {k: options[k] for k in ("rank_mode", "frames", "fps", "batch") if options[k] is not None}
+        params = with_defaults(options["algorithm"], params)
         progress = self.progress_printer("scheduling")
         schedule = algorithms.run(options["algorithm"], dag, platform, progress=progress, **params)
         return schedule.to_dict()
