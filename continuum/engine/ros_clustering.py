@@ -301,9 +301,11 @@ def split_heavy_nodes(
     max_share: float | None,
     max_memory_mib: float | None,
 ) -> list[str]:
-    """The resource tie-breaker (Figs. 3.22-3.23): pull the heaviest ROS node (CPU, then memory; ties: the
-    one whose removal keeps the most bandwidth inside, then name) out of every over-large cluster into a
-    container of its own, one by one, until no cluster exceeds the share or memory cap. Returns the names."""
+    """The resource tie-breaker (Figs. 3.22-3.23): pull the heaviest ROS node out of every over-large cluster
+    into a container of its own, one by one, until no cluster exceeds the share or memory cap. "Heaviest" is
+    by memory then CPU over the memory cap, by CPU then memory over the share cap; ties go to the node whose
+    departure costs the least bandwidth (the communication cost is unavoidable, so keep it small), then to
+    the first name. Returns the split nodes in order."""
     if max_share is not None and not (0 < max_share <= 1):
         raise InputError(f"max cluster share must lie in (0, 1], got {max_share!r}", "max_cluster_share")
     if max_memory_mib is not None and not (max_memory_mib > 0):
@@ -311,25 +313,33 @@ def split_heavy_nodes(
     total = sum(len(ms) for ms in groups.values())
     split: list[str] = []
 
-    def too_big(ms: list[str]) -> bool:
+    def too_big(ms: list[str]) -> str | None:
+        """Which cap the cluster breaks ("memory" first, then "share"), if any."""
         if len(ms) <= 1:
-            return False
+            return None
+        if max_memory_mib is not None and _demand(graph, ms)[1] > max_memory_mib:
+            return "memory"
         if max_share is not None and len(ms) > max_share * total:
-            return True
-        return max_memory_mib is not None and _demand(graph, ms)[1] > max_memory_mib
+            return "share"
+        return None
 
     changed = True
     while changed:
         changed = False
         for name in sorted(groups, key=natural_key):
             ms = groups[name]
-            if not too_big(ms):
+            broken = too_big(ms)
+            if broken is None:
                 continue
 
             def cut(v: str, ms: list[str] = ms) -> float:
                 return sum(weights.get(pair(v, u), 0.0) for u in ms if u != v)
 
-            heaviest = min(ms, key=lambda v: (-graph.nodes[v].cpu, -graph.nodes[v].memory_mib, cut(v), natural_key(v)))
+            def weight(v: str, broken: str = broken) -> tuple[float, float]:
+                cpu, mem = graph.nodes[v].cpu, graph.nodes[v].memory_mib
+                return (mem, cpu) if broken == "memory" else (cpu, mem)
+
+            heaviest = min(ms, key=lambda v: (-weight(v)[0], -weight(v)[1], cut(v), natural_key(v)))
             ms.remove(heaviest)
             groups[heaviest if heaviest not in groups else f"{heaviest}#split"] = [heaviest]
             split.append(heaviest)
