@@ -18,9 +18,7 @@ class Command(EngineCommand):
         super().add_arguments(parser)
         parser.add_argument("containers", help="continuum.containers/v1 file (or cluster_ros --json output)")
         parser.add_argument("--cluster", required=True, help="continuum.cluster/v1 file")
-        parser.add_argument(
-            "--policy", default="superclustering", help=f"one of {', '.join([*POLICIES, *ALIASES])}"
-        )
+        parser.add_argument("--policy", default="superclustering", help=f"one of {', '.join([*POLICIES, *ALIASES])}")
         parser.add_argument("--graph", default=None, help="ROS graph: container bandwidth by Definition 3.2.1")
         parser.add_argument("--weights", default=None, help="scoring weights, e.g. bandwidth=1,node_affinity=1")
         parser.add_argument("--seed", type=int, default=0, help="tie-break seed of the default-Kubernetes policy")
