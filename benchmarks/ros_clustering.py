@@ -133,8 +133,8 @@ def placement_kairos() -> None:
         ours = sc.metrics["node_traffic"][node] * 8 / 1e6
         base = k8s[0].metrics["node_traffic"][node] * 8 / 1e6
         print(f"{node:<8}{ours:>9.2f}{base:>10.2f}   {' | '.join(thesis.get(node, []))}")
-    print("thesis total outgoing (mission): %.2f Mbps; MCB peak 6.46 Mbps Wi-Fi + 5.23 Mbps Ethernet" %
-          sum(r[4] for r in TABLE_4_27 if r[0] == "mission"))  # fmt: skip
+    mission_total = sum(r[4] for r in TABLE_4_27 if r[0] == "mission")
+    print(f"thesis total outgoing (mission): {mission_total:.2f} Mbps; MCB peak 6.46 Mbps Wi-Fi + 5.23 Mbps Ethernet")
 
 
 def placement_autoware(n: int = 6) -> None:
