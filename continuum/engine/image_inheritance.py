@@ -394,14 +394,14 @@ def _dockerfile(
         f"# Platforms: {', '.join('linux/' + p for p in im.platforms) or 'none (a package exists on no target)'}",
     ]
     for c in im.copies:
-        lines.append(f"FROM {ref(c)} AS {c}")
+        lines.append(f"FROM {ref(c)} AS stage-{c}")
     lines.append(f"FROM {ref(im.parent) if im.parent else distro_image}")
     lines.append(f'LABEL io.continuum.image.kind="{im.kind}" io.continuum.image.owners="{",".join(im.owners)}"')
     for c in im.copies:
         # Copy exactly the files the parent's packages installed (its dpkg manifest); the dpkg database
         # itself is not merged, so apt in this image does not know about them.
         lines.append(
-            f"RUN --mount=type=bind,from={c},source=/,target=/mnt/{c} \\\n"
+            f"RUN --mount=type=bind,from=stage-{c},source=/,target=/mnt/{c} \\\n"
             f"    sed 's|^/||' /mnt/{c}/opt/continuum/{c}.files \\\n"
             f"    | tar -C /mnt/{c} --no-recursion --ignore-failed-read -cf - -T - | tar -C / -xpf - \\\n"
             f"    && mkdir -p /opt/continuum && cp /mnt/{c}/opt/continuum/{c}.files /opt/continuum/"

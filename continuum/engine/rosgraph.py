@@ -732,14 +732,14 @@ def _dot_tokens(text: str) -> list[tuple[str, str, int]]:
         value = m.group()
         if kind == "html":
             value, end = _dot_html(text, pos, line)
-            tokens.append(("id", value, line))
+            tokens.append(("str", value, line))
             line += text.count("\n", pos, end)
             pos = end
             at_line_start = False
             continue
         if kind == "string":
             # Adjacent "a" + "b" concatenation is DOT syntax too.
-            tokens.append(("id", value[1:-1].replace('\\"', '"'), line))
+            tokens.append(("str", value[1:-1].replace('\\"', '"'), line))
         elif kind in ("id", "edgeop", "punct"):
             tokens.append((kind, value, line))
         line += value.count("\n")
@@ -786,8 +786,10 @@ class _DotParser:
         return tok[0] == "id" and tok[1].lower() == word
 
     def expect(self, kind: str, value: str | None = None) -> tuple[str, str, int]:
+        """The next token, which must be of ``kind`` ("id" also accepts quoted and HTML strings)."""
         tok = self.next()
-        if tok[0] != kind or (value is not None and tok[1] != value):
+        kind_ok = tok[0] in ("id", "str") if kind == "id" else tok[0] == kind
+        if not kind_ok or (value is not None and tok[1] != value):
             want = value or kind
             got = tok[1] or "end of file"
             raise InputError(f"line {tok[2]}: expected {want!r}, got {got!r}", "dot")
@@ -802,7 +804,7 @@ class _DotParser:
             raise InputError(f"line {head[2]}: expected 'graph' or 'digraph', got {head[1] or 'end of file'!r}", "dot")
         self.directed = head[1].lower() == "digraph"
         name = ""
-        if self.peek()[0] == "id":
+        if self.peek()[0] in ("id", "str"):
             name = self.next()[1]
         self.expect("punct", "{")
         self.stmt_list({}, {})
@@ -833,7 +835,7 @@ class _DotParser:
                 elif tok[1].lower() == "edge":
                     edge_defaults.update(attrs)
                 continue
-            if tok[0] == "id" and self.peek(1)[:2] == ("punct", "=") and not self.is_kw(tok, "subgraph"):
+            if tok[0] in ("id", "str") and self.peek(1)[:2] == ("punct", "=") and not self.is_kw(tok, "subgraph"):
                 self.next()
                 self.next()
                 self.expect("id")  # graph attribute: ignored
@@ -845,13 +847,15 @@ class _DotParser:
         if self.is_kw(tok, "subgraph") or tok[:2] == ("punct", "{"):
             if self.is_kw(tok, "subgraph"):
                 self.next()
-                if self.peek()[0] == "id":
+                if self.peek()[0] in ("id", "str"):
                     self.next()
             self.expect("punct", "{")
             ids = self.stmt_list(node_defaults, edge_defaults)
             self.expect("punct", "}")
             return ids, True, tok[2]
-        if tok[0] != "id" or tok[1].lower() in self.KEYWORDS:
+        if tok[0] == "str":
+            pass  # a quoted id is never a keyword: "node" -> "edge" is fine
+        elif tok[0] != "id" or tok[1].lower() in self.KEYWORDS:
             raise InputError(f"line {tok[2]}: expected a node id, got {tok[1] or 'end of file'!r}", "dot")
         self.next()
         if self.peek()[:2] == ("punct", ":"):  # port (and compass point): irrelevant here

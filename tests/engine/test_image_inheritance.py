@@ -36,8 +36,8 @@ def test_fig_3_24_regions_parents_and_multi_stage():
     assert kinds["c2"] == ("container", ("e",), "d", ("b",))
     assert kinds["c3"] == ("container", ("f",), "d", ())
     c2 = plan.dockerfiles["c2"]
-    assert "FROM continuum/b:latest AS b" in c2 and "FROM continuum/d:latest\n" in c2
-    assert "--mount=type=bind,from=b" in c2 and "/opt/continuum/b.files" in c2
+    assert "FROM continuum/b:latest AS stage-b" in c2 and "FROM continuum/d:latest\n" in c2
+    assert "--mount=type=bind,from=stage-b" in c2 and "/opt/continuum/b.files" in c2
     assert "ros-humble-e" in c2
     assert "/opt/continuum/b.files" in plan.dockerfiles["b"]  # the parent records what it installed
     assert plan.dockerfiles["base"].splitlines()[3] == "FROM ros:humble-ros-base"

@@ -233,6 +233,8 @@ def test_dot_parser_handles_chains_subgraph_edges_ports_and_html():
     pairs = {(e["src"], e["dst"]) for e in parsed["edges"]}
     assert pairs == {("a", "b"), ("a", "c"), ("b", "d"), ("c", "d")}
     assert parsed["nodes"]["e"]["label"] == "<b>E</b>"
+    quoted = from_dot('digraph { "node" -> "edge" [label="/t"]; }')
+    assert set(quoted.nodes) == {"node", "edge"} and quoted.topics["/t"].publishers == ("node",)
 
 
 @pytest.mark.parametrize(
