@@ -164,7 +164,8 @@ def container_bandwidth(graph: RosGraph, groups: Mapping[str, Sequence[str]], mo
 def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Workload:
     """Read a ``continuum.containers/v1`` document (the ``cluster_ros --json`` output is accepted too).
 
-    ``{"containers": [{"name", "nodes": [ROS nodes], "cpu", "memory_mib", "storage_mib", "priority",
+    ``{"containers": [{"name", "nodes": [ROS nodes], "cpu", "memory_mib", "storage_mib", "priority" (or
+    "priority_class", a key of the top-level "priority_classes": {name: value}),
     "archs": [...], "node": "mcb", "node_selector": {...}, "affinity": {"required": [expr],
     "preferred": [{"weight": w, "match": [expr]}]}, "tolerations": [...]}],
     "archs": [default platforms], "bandwidth": [{"a", "b", "bytes_per_s"}]}`` where ``expr`` is
@@ -181,7 +182,12 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
     if not isinstance(raw, list) or not raw:
         raise InputError("'containers' must be a non-empty list", "containers")
     default_archs = _archs(doc.get("archs", list(DEFAULT_PLATFORMS)), "containers document")
-    containers = [_parse_container(i, c, default_archs, graph) for i, c in enumerate(raw)]
+    classes = doc.get("priority_classes") or {}
+    if not isinstance(classes, Mapping) or not all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in classes.values()
+    ):
+        raise InputError("'priority_classes' must map class names to numbers", "priority_classes")
+    containers = [_parse_container(i, c, default_archs, graph, classes) for i, c in enumerate(raw)]
     bandwidth: dict[tuple[str, str], float] = {}
     if graph is not None:
         groups = {c.name: c.nodes for c in containers if c.nodes}
@@ -240,7 +246,13 @@ def _expressions(raw: Any, where: str) -> tuple[Requirement, ...]:
     return tuple(out)
 
 
-def _parse_container(index: int, raw: Any, default_archs: tuple[str, ...], graph: RosGraph | None) -> ContainerSpec:
+def _parse_container(
+    index: int,
+    raw: Any,
+    default_archs: tuple[str, ...],
+    graph: RosGraph | None,
+    classes: Mapping[str, float],
+) -> ContainerSpec:
     if not isinstance(raw, Mapping):
         raise InputError(f"containers[{index}] must be an object", "containers")
     name = raw.get("name")
@@ -265,6 +277,11 @@ def _parse_container(index: int, raw: Any, default_archs: tuple[str, ...], graph
         else:
             values[key] = 0.0
     priority = raw.get("priority", 0)
+    if raw.get("priority_class") is not None:
+        if raw["priority_class"] not in classes:
+            known = ", ".join(sorted(classes)) or "none declared"
+            raise InputError(f"{where} has unknown priority_class {raw['priority_class']!r} ({known})", "containers")
+        priority = classes[raw["priority_class"]]
     if isinstance(priority, bool) or not isinstance(priority, (int, float)) or not math.isfinite(priority):
         raise InputError(f"{where} has invalid priority {priority!r}", "containers")
     selector = raw.get("node_selector") or {}

@@ -70,6 +70,22 @@ def test_fig_3_28_with_the_spec_correction(variant):
     assert plan.metrics["inter_node_bandwidth"] == 1 + 1 + 3  # C1-C4, C1-C2, C2-C3 cross the nodes
 
 
+def test_priority_classes_order_the_queue():
+    wl = load_workload(
+        {
+            "priority_classes": {"robot-critical": 1000, "best-effort": 0},
+            "containers": [
+                {"name": "ui", "priority_class": "best-effort"},
+                {"name": "drv", "priority_class": "robot-critical"},
+            ],
+        }
+    )
+    plan = superclustering(wl, Cluster.from_dict({"nodes": [{"name": "n"}]}))
+    assert [d.item for d in plan.decisions] == ["drv", "ui"]
+    with pytest.raises(InputError, match="unknown priority_class 'gold'"):
+        load_workload({"containers": [{"name": "x", "priority_class": "gold"}]})
+
+
 def test_contract_shape_and_verdict_per_node():
     wl, cl = fig_3_28()
     doc = superclustering(wl, cl).to_dict()
