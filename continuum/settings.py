@@ -57,6 +57,7 @@ INSTALLED_APPS = [
     "apps.jobs",
     "apps.scheduling",
     "apps.kube",
+    "apps.containers",
     "apps.dashboard",
 ]
 
