@@ -39,7 +39,11 @@ def to_html(fig: go.Figure, div_id: str | None = None) -> str:
         full_html=False,
         include_plotlyjs=False,
         div_id=div_id,
-        config={"displaylogo": False, "responsive": True},
+        config={
+            "displaylogo": False,
+            "responsive": True,
+            "modeBarButtonsToRemove": ["select2d", "lasso2d", "autoScale2d", "toggleSpikelines"],
+        },
     )
 
 
@@ -87,18 +91,26 @@ def gantt_figure(
         fig.add_trace(_gantt_trace(highlighted, "critical path", CRITICAL_COLOUR, len(frames) > 1, unit))
     makespan = schedule.makespan
     if schedule.assignments:
-        fig.add_vline(
+        fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
+        # The label sits above the plot area, where it cannot hide a bar.
+        fig.add_annotation(
             x=makespan,
-            line={"dash": "dash", "color": "#52606d", "width": 1},
-            annotation_text=f"makespan {_fmt(makespan)}",
-            annotation_position="top left",
-            annotation_font={"size": 12, "color": "#52606d"},
+            y=1,
+            xref="x",
+            yref="paper",
+            xanchor="right",
+            yanchor="bottom",
+            showarrow=False,
+            text=f"makespan {_fmt(makespan)}",
+            font={"size": 12, "color": "#323f4b"},
         )
-    _base_layout(fig, height=max(220, 110 + 44 * len(rows)))
+    _base_layout(fig, height=max(260, 150 + 44 * len(rows)))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
         bargap=0.25,
-        legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "right", "x": 1},
+        # Legend top left, makespan label above the line: the mode bar keeps the top right corner.
+        legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "left", "x": 0},
+        margin={"l": 10, "r": 20, "t": 84, "b": 10},
         uniformtext={"minsize": 9, "mode": "hide"},
     )
     fig.update_xaxes(
@@ -158,27 +170,60 @@ def dag_levels(dag: TaskGraph) -> dict[str, int]:
     return level
 
 
-def dag_layout(dag: TaskGraph) -> dict[str, tuple[float, float]]:
-    """(x, y) per task: x is the level; within a level tasks are centred and ordered by the mean
-    position of their predecessors (one barycentre pass), which removes most edge crossings."""
+def dag_layout(dag: TaskGraph, sweeps: int = 2) -> dict[str, tuple[float, float]]:
+    """(x, y) per task: x is the topological level; within a level tasks are centred and ordered by the
+    barycentre heuristic (Sugiyama): alternate sweeps sort each level by the mean position of its
+    neighbours in the previous level, down then up, which removes many edge crossings (``sweeps=0`` keeps
+    the input order)."""
     level = dag_levels(dag)
     pred = dag.predecessors()
+    succ = dag.successors()
     layers: dict[int, list[str]] = {}
     for t in dag.topological_order():
         layers.setdefault(level[t], []).append(t)
-    pos: dict[str, tuple[float, float]] = {}
-    for lv in sorted(layers):
+    index = {t: float(i) for members in layers.values() for i, t in enumerate(members)}
+
+    def reorder(lv: int, neighbours: dict, end: str) -> None:
         members = layers[lv]
-        if lv > 0:
-            order = {t: i for i, t in enumerate(members)}
-            members = sorted(
-                members,
-                key=lambda t: (fmean(pos[e.src][1] for e in pred[t]) if pred[t] else 0.0, order[t]),
-            )
-        n = len(members)
-        for i, t in enumerate(members):
-            pos[t] = (float(lv), (n - 1) / 2.0 - i)
-    return pos
+        key = {
+            t: (fmean(index[getattr(e, end)] for e in neighbours[t]) if neighbours[t] else index[t], i)
+            for i, t in enumerate(members)
+        }
+        layers[lv] = sorted(members, key=key.__getitem__)
+        for i, t in enumerate(layers[lv]):
+            index[t] = float(i) - (len(members) - 1) / 2.0
+
+    for t_members in layers.values():
+        for i, t in enumerate(t_members):
+            index[t] = float(i) - (len(t_members) - 1) / 2.0
+    order = sorted(layers)
+    for _ in range(sweeps):
+        for lv in order[1:]:
+            reorder(lv, pred, "src")
+        for lv in reversed(order[:-1]):
+            reorder(lv, succ, "dst")
+    if sweeps:
+        for lv in order[1:]:
+            reorder(lv, pred, "src")
+    # y grows upwards in Plotly: negate so the first task of a level is drawn on top.
+    return {t: (float(level[t]), -index[t]) for t in dag.tasks}
+
+
+def _cost_colours(values: list[float]) -> tuple[list[float], dict]:
+    """Marker colours for task costs: linear, or log10 when costs span more than 20x (a real workflow's
+    long tasks would otherwise wash every short one out to white)."""
+    scale = [[0.0, "#c6dbef"], [0.5, "#4292c6"], [1.0, "#08306b"]]
+    positive = [v for v in values if v > 0]
+    if len(positive) == len(values) and positive and max(positive) / min(positive) > 20:
+        lo, hi = math.floor(math.log10(min(positive))), math.ceil(math.log10(max(positive)))
+        ticks = list(range(lo, hi + 1))
+        labels = [_fmt(10.0**k) if k < 3 else f"{10 ** (k - 3):g}k" if k < 6 else f"1e{k}" for k in ticks]
+        return [math.log10(v) for v in values], {
+            "colorscale": scale,
+            "colorbar_tickvals": ticks,
+            "colorbar_ticktext": labels,
+        }
+    return values, {"colorscale": scale}
 
 
 def dag_figure(dag: TaskGraph) -> go.Figure:
@@ -225,6 +270,11 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
     )
     tasks = list(dag.tasks.values())
     mean_cost = [fmean(t.cost.values()) for t in tasks]
+    colours, colour_opts = _cost_colours(mean_cost)
+    colorbar = {"title": {"text": f"mean cost ({unit})", "side": "right"}, "thickness": 12}
+    if "colorbar_tickvals" in colour_opts:
+        colorbar["tickvals"] = colour_opts["colorbar_tickvals"]
+        colorbar["ticktext"] = colour_opts["colorbar_ticktext"]
     hover = []
     for t in tasks:
         costs = "<br>".join(f"  {k}: {_fmt(v)} {unit}" for k, v in sorted(t.cost.items()))
@@ -244,11 +294,10 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
             textposition="top center",
             marker={
                 "size": 18 if labelled else 12,
-                "color": mean_cost,
-                "colorscale": "Blues",
-                "cmin": 0,
+                "color": colours,
+                "colorscale": colour_opts["colorscale"],
                 "showscale": True,
-                "colorbar": {"title": {"text": f"mean cost ({unit})", "side": "right"}, "thickness": 12},
+                "colorbar": colorbar,
                 "symbol": ["diamond" if t.critical else "circle" for t in tasks],
                 "line": {"color": "#1f2933", "width": 1},
             },
@@ -291,7 +340,9 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
         zeroline=False,
         range=[-0.5, width_levels - 0.5],
     )
-    fig.update_yaxes(visible=False, showgrid=False, zeroline=False)
+    ys = [y for _, y in pos.values()]
+    pad = 0.8 if labelled else 0.5  # room for the labels above the top row
+    fig.update_yaxes(visible=False, showgrid=False, zeroline=False, range=[min(ys) - 0.5, max(ys) + pad])
     return fig
 
 

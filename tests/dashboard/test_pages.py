@@ -502,3 +502,48 @@ def test_figure_html_leaves_plotly_js_out():
     assert '<div id="g"' in html and "Plotly.newPlot" in html
     assert "<script src" not in html and "cdn" not in html.lower()
     assert len(html) < 100_000  # the 4.8 MB library is not inlined
+
+
+def crossings(dag, pos) -> int:
+    """Pairs of drawn edges that cross (edges sharing a task do not count)."""
+
+    def side(a, b, c) -> int:
+        v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        return (v > 1e-9) - (v < -1e-9)
+
+    segs = [(pos[e.src], pos[e.dst]) for e in dag.edges]
+    count = 0
+    for i, (p1, p2) in enumerate(segs):
+        for p3, p4 in segs[i + 1 :]:
+            if len({p1, p2, p3, p4}) == 4 and side(p1, p2, p3) * side(p1, p2, p4) < 0:
+                count += side(p3, p4, p1) * side(p3, p4, p2) < 0
+    return count
+
+
+def test_barycentre_sweeps_remove_crossings():
+    dag, _, _ = topcuoglu()
+    assert crossings(dag, charts.dag_layout(dag, sweeps=0)) == 5  # tasks in input order
+    assert crossings(dag, charts.dag_layout(dag)) == 1
+
+
+def test_wide_cost_ranges_get_a_log_colour_scale():
+    from continuum.engine.formats import load_dag
+
+    montage = load_dag((DATA / "montage-chameleon-2mass-005d-001.json").read_bytes())
+    bar = next(t for t in charts.dag_figure(montage).data if t.name == "tasks").marker.colorbar
+    assert list(bar.ticktext) == ["10", "100", "1k", "10k", "100k"]
+    dag, _, _ = topcuoglu()  # costs 5..21: linear
+    assert next(t for t in charts.dag_figure(dag).data if t.name == "tasks").marker.colorbar.ticktext is None
+
+
+def test_num_filter_trims_zeros_but_keeps_precision():
+    from apps.dashboard.templatetags.dashboard import num
+
+    assert [num(0.5), num(1000.0), num(54026.0021), num(-0.0001), num(None), num("x")] == [
+        "0.5",
+        "1000",
+        "54026.002",
+        "0",
+        "—",
+        "x",
+    ]
