@@ -1,0 +1,446 @@
+"""Plotly figures drawn from engine objects (TaskGraph, Schedule, Platform), with no Django in them.
+
+The dashboard renders them with :func:`to_html`, which leaves plotly.js out: the page loads it from
+``static/vendor/plotly.min.js`` (no CDN).
+
+- :func:`gantt_figure`: one row per processor, one horizontal bar per assignment. Bars are ``go.Bar`` with
+  ``base=start`` and ``x=duration`` on a numeric axis; ``px.timeline`` would force a date axis and make
+  model-time bars zero-wide. The critical path is a separate trace with its own colour and legend entry.
+- :func:`dag_figure`: the DAG in layers by topological level (left to right), edges as lines.
+- :func:`network_figure`: a cluster's nodes (coloured by status) and the links between them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from statistics import fmean
+
+import plotly.graph_objects as go
+
+from continuum.engine.dag import TaskGraph
+from continuum.engine.platform import Platform
+from continuum.engine.schedule import Assignment, Schedule
+
+TASK_COLOUR = "#4c78a8"
+CRITICAL_COLOUR = "#e4572e"
+STATUS_COLOURS = {"Ready": "#2e9e5b", "NotReady": "#d64545", "Unknown": "#9aa1a9"}
+CLASS_SYMBOLS = {"cpu": "circle", "gpu": "square", "fpga": "diamond"}
+EDGE_COLOUR = "#9aa5b1"
+FONT = {"family": "system-ui, -apple-system, Segoe UI, Roboto, sans-serif", "size": 13, "color": "#1f2933"}
+#: Above these sizes labels and arrow heads would only clutter the picture; hover still tells everything.
+MAX_LABELLED_TASKS = 40
+MAX_ARROWS = 150
+
+
+def to_html(fig: go.Figure, div_id: str | None = None) -> str:
+    """The figure as a ``<div>`` plus the script that draws it; plotly.js itself comes from static files."""
+    return fig.to_html(
+        full_html=False,
+        include_plotlyjs=False,
+        div_id=div_id,
+        config={
+            "displaylogo": False,
+            "responsive": True,
+            "modeBarButtonsToRemove": ["select2d", "lasso2d", "autoScale2d", "toggleSpikelines"],
+        },
+    )
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.6g}"
+
+
+def _base_layout(fig: go.Figure, height: int) -> None:
+    fig.update_layout(
+        height=height,
+        margin={"l": 10, "r": 10, "t": 40, "b": 10},
+        font=FONT,
+        plot_bgcolor="white",
+        paper_bgcolor="white",
+        hoverlabel={"bgcolor": "white", "font": FONT},
+    )
+
+
+# ---- Gantt chart ------------------------------------------------------------------------------------
+def gantt_figure(
+    schedule: Schedule,
+    platform: Platform | None = None,
+    dag: TaskGraph | None = None,
+    critical: Iterable[tuple[str, int]] | None = None,
+    time_unit: str | None = None,
+) -> go.Figure:
+    """A Gantt chart of ``schedule``: one row per processor (in platform order, idle ones included).
+
+    ``critical`` is the set of (task, frame) pairs to highlight; by default it is the schedule's critical
+    path, computed when both ``dag`` and ``platform`` are given.
+    """
+    if critical is None:
+        critical = schedule.critical_path(dag, platform) if dag is not None and platform is not None else []
+    on_path = set(critical)
+    unit = time_unit or (dag.time_unit if dag is not None else "")
+    rows = [p.id for p in platform.processors] if platform is not None else []
+    rows += sorted({a.processor for a in schedule.assignments} - set(rows))
+    frames = {a.frame for a in schedule.assignments}
+
+    normal = [a for a in schedule.assignments if (a.task, a.frame) not in on_path]
+    highlighted = [a for a in schedule.assignments if (a.task, a.frame) in on_path]
+    fig = go.Figure()
+    fig.add_trace(_gantt_trace(normal, "task", TASK_COLOUR, len(frames) > 1, unit))
+    if highlighted:
+        fig.add_trace(_gantt_trace(highlighted, "critical path", CRITICAL_COLOUR, len(frames) > 1, unit))
+    makespan = schedule.makespan
+    if schedule.assignments:
+        fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
+        # The label sits above the plot area, where it cannot hide a bar.
+        fig.add_annotation(
+            x=makespan,
+            y=1,
+            xref="x",
+            yref="paper",
+            xanchor="right",
+            yanchor="bottom",
+            showarrow=False,
+            text=f"makespan {_fmt(makespan)}",
+            font={"size": 12, "color": "#323f4b"},
+        )
+    _base_layout(fig, height=max(260, 150 + 44 * len(rows)))
+    fig.update_layout(
+        barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
+        bargap=0.25,
+        # Legend top left, makespan label above the line: the mode bar keeps the top right corner.
+        legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "left", "x": 0},
+        margin={"l": 10, "r": 20, "t": 84, "b": 10},
+        uniformtext={"minsize": 9, "mode": "hide"},
+    )
+    fig.update_xaxes(
+        type="linear",
+        title_text=f"time ({unit})" if unit else "time",
+        range=[0, makespan * 1.03 if makespan > 0 else 1],
+        showgrid=True,
+        gridcolor="#e4e7eb",
+        zeroline=False,
+        rangemode="tozero",
+    )
+    fig.update_yaxes(
+        type="category",
+        categoryorder="array",
+        categoryarray=rows,
+        autorange="reversed",
+        title_text="processor",
+        showgrid=False,
+    )
+    return fig
+
+
+def _gantt_trace(assignments: list[Assignment], name: str, colour: str, show_frame: bool, unit: str) -> go.Bar:
+    label = (lambda a: f"{a.task} [{a.frame}]") if show_frame else (lambda a: a.task)
+    suffix = f" {unit}" if unit else ""
+    return go.Bar(
+        name=name,
+        orientation="h",
+        y=[a.processor for a in assignments],
+        base=[a.start for a in assignments],
+        x=[a.finish - a.start for a in assignments],
+        text=[label(a) for a in assignments],
+        textposition="inside",
+        insidetextanchor="middle",
+        textfont={"color": "white"},
+        marker={"color": colour, "line": {"color": "white", "width": 1}},
+        customdata=[[a.task, a.frame, a.processor, a.start, a.finish] for a in assignments],
+        hovertemplate=(
+            "<b>%{customdata[0]}</b> (frame %{customdata[1]})<br>"
+            "processor: %{customdata[2]}<br>"
+            f"start: %{{customdata[3]:.6~g}}{suffix}<br>"
+            f"finish: %{{customdata[4]:.6~g}}{suffix}<br>"
+            f"duration: %{{x:.6~g}}{suffix}"
+            f"<extra>{name}</extra>"
+        ),
+        showlegend=True,
+    )
+
+
+# ---- DAG ----------------------------------------------------------------------------------------------
+def dag_levels(dag: TaskGraph) -> dict[str, int]:
+    """Topological level of every task: 0 for entry tasks, else one more than its deepest predecessor."""
+    pred = dag.predecessors()
+    level: dict[str, int] = {}
+    for t in dag.topological_order():
+        level[t] = max((level[e.src] + 1 for e in pred[t]), default=0)
+    return level
+
+
+def dag_layout(dag: TaskGraph, sweeps: int = 2) -> dict[str, tuple[float, float]]:
+    """(x, y) per task: x is the topological level; within a level tasks are centred and ordered by the
+    barycentre heuristic (Sugiyama): alternate sweeps sort each level by the mean position of its
+    neighbours in the previous level, down then up, which removes many edge crossings (``sweeps=0`` keeps
+    the input order)."""
+    level = dag_levels(dag)
+    pred = dag.predecessors()
+    succ = dag.successors()
+    layers: dict[int, list[str]] = {}
+    for t in dag.topological_order():
+        layers.setdefault(level[t], []).append(t)
+    index = {t: float(i) for members in layers.values() for i, t in enumerate(members)}
+
+    def reorder(lv: int, neighbours: dict, end: str) -> None:
+        members = layers[lv]
+        key = {
+            t: (fmean(index[getattr(e, end)] for e in neighbours[t]) if neighbours[t] else index[t], i)
+            for i, t in enumerate(members)
+        }
+        layers[lv] = sorted(members, key=key.__getitem__)
+        for i, t in enumerate(layers[lv]):
+            index[t] = float(i) - (len(members) - 1) / 2.0
+
+    for t_members in layers.values():
+        for i, t in enumerate(t_members):
+            index[t] = float(i) - (len(t_members) - 1) / 2.0
+    order = sorted(layers)
+    for _ in range(sweeps):
+        for lv in order[1:]:
+            reorder(lv, pred, "src")
+        for lv in reversed(order[:-1]):
+            reorder(lv, succ, "dst")
+    if sweeps:
+        for lv in order[1:]:
+            reorder(lv, pred, "src")
+    # y grows upwards in Plotly: negate so the first task of a level is drawn on top.
+    return {t: (float(level[t]), -index[t]) for t in dag.tasks}
+
+
+def _cost_colours(values: list[float]) -> tuple[list[float], dict]:
+    """Marker colours for task costs: linear, or log10 when costs span more than 20x (a real workflow's
+    long tasks would otherwise wash every short one out to white)."""
+    scale = [[0.0, "#c6dbef"], [0.5, "#4292c6"], [1.0, "#08306b"]]
+    positive = [v for v in values if v > 0]
+    if len(positive) == len(values) and positive and max(positive) / min(positive) > 20:
+        lo, hi = math.floor(math.log10(min(positive))), math.ceil(math.log10(max(positive)))
+        ticks = list(range(lo, hi + 1))
+        labels = [_fmt(10.0**k) if k < 3 else f"{10 ** (k - 3):g}k" if k < 6 else f"1e{k}" for k in ticks]
+        return [math.log10(v) for v in values], {
+            "colorscale": scale,
+            "colorbar_tickvals": ticks,
+            "colorbar_ticktext": labels,
+        }
+    return values, {"colorscale": scale}
+
+
+def dag_figure(dag: TaskGraph) -> go.Figure:
+    """The DAG drawn in layers by topological level; hover shows a task's costs or an edge's data."""
+    pos = dag_layout(dag)
+    succ_count = {t: len(es) for t, es in dag.successors().items()}
+    pred_count = {t: len(es) for t, es in dag.predecessors().items()}
+    unit = dag.time_unit
+
+    edge_x: list[float | None] = []
+    edge_y: list[float | None] = []
+    mid_x, mid_y, mid_text = [], [], []
+    for e in dag.edges:
+        (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
+        edge_x += [x0, x1, None]
+        edge_y += [y0, y1, None]
+        mid_x.append((x0 + x1) / 2)
+        mid_y.append((y0 + y1) / 2)
+        mid_text.append(f"<b>{e.src} → {e.dst}</b><br>data: {_fmt(e.data)}")
+
+    fig = go.Figure()
+    fig.add_trace(
+        go.Scatter(
+            x=edge_x,
+            y=edge_y,
+            mode="lines",
+            line={"color": EDGE_COLOUR, "width": 1.2},
+            hoverinfo="skip",
+            name="edges",
+            showlegend=False,
+        )
+    )
+    fig.add_trace(
+        go.Scatter(
+            x=mid_x,
+            y=mid_y,
+            mode="markers",
+            marker={"size": 10, "color": EDGE_COLOUR, "opacity": 0},
+            hovertext=mid_text,
+            hoverinfo="text",
+            name="edge data",
+            showlegend=False,
+        )
+    )
+    tasks = list(dag.tasks.values())
+    mean_cost = [fmean(t.cost.values()) for t in tasks]
+    colours, colour_opts = _cost_colours(mean_cost)
+    colorbar = {"title": {"text": f"mean cost ({unit})", "side": "right"}, "thickness": 12}
+    if "colorbar_tickvals" in colour_opts:
+        colorbar["tickvals"] = colour_opts["colorbar_tickvals"]
+        colorbar["ticktext"] = colour_opts["colorbar_ticktext"]
+    hover = []
+    for t in tasks:
+        costs = "<br>".join(f"  {k}: {_fmt(v)} {unit}" for k, v in sorted(t.cost.items()))
+        title = f"<b>{t.id}</b>" + (f" ({t.name})" if t.name and t.name != t.id else "")
+        flags = "<br><i>critical task</i>" if t.critical else ""
+        hover.append(
+            f"{title}<br>level {int(pos[t.id][0])}, {pred_count[t.id]} in / {succ_count[t.id]} out"
+            f"<br>cost:<br>{costs}{flags}"
+        )
+    labelled = len(tasks) <= MAX_LABELLED_TASKS
+    fig.add_trace(
+        go.Scatter(
+            x=[pos[t.id][0] for t in tasks],
+            y=[pos[t.id][1] for t in tasks],
+            mode="markers+text" if labelled else "markers",
+            text=[t.id for t in tasks],
+            textposition="top center",
+            marker={
+                "size": 18 if labelled else 12,
+                "color": colours,
+                "colorscale": colour_opts["colorscale"],
+                "showscale": True,
+                "colorbar": colorbar,
+                "symbol": ["diamond" if t.critical else "circle" for t in tasks],
+                "line": {"color": "#1f2933", "width": 1},
+            },
+            hovertext=hover,
+            hoverinfo="text",
+            name="tasks",
+            showlegend=False,
+        )
+    )
+    if len(dag.edges) <= MAX_ARROWS:
+        for e in dag.edges:
+            (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
+            fig.add_annotation(
+                x=x0 + 0.82 * (x1 - x0),
+                y=y0 + 0.82 * (y1 - y0),
+                ax=x0,
+                ay=y0,
+                xref="x",
+                yref="y",
+                axref="x",
+                ayref="y",
+                showarrow=True,
+                arrowhead=2,
+                arrowsize=1.2,
+                arrowwidth=1.2,
+                arrowcolor=EDGE_COLOUR,
+                text="",
+            )
+    width_levels = max((int(x) for x, _ in pos.values()), default=0) + 1
+    tallest = max(
+        (sum(1 for x, _ in pos.values() if int(x) == lv) for lv in range(width_levels)),
+        default=1,
+    )
+    _base_layout(fig, height=int(min(900, max(320, 60 + 34 * tallest))))
+    fig.update_xaxes(
+        title_text="topological level",
+        tickmode="linear",
+        dtick=1,
+        showgrid=False,
+        zeroline=False,
+        range=[-0.5, width_levels - 0.5],
+    )
+    ys = [y for _, y in pos.values()]
+    pad = 0.8 if labelled else 0.5  # room for the labels above the top row
+    fig.update_yaxes(visible=False, showgrid=False, zeroline=False, range=[min(ys) - 0.5, max(ys) + pad])
+    return fig
+
+
+# ---- Cluster network ----------------------------------------------------------------------------------
+def network_layout(platform: Platform) -> dict[str, tuple[float, float]]:
+    """Positions of the processors: on a circle for small clusters, a seeded spring layout otherwise."""
+    ids = [p.id for p in platform.processors]
+    if len(ids) <= 8 or not platform.links:
+        n = len(ids)
+        return {
+            pid: (math.cos(2 * math.pi * i / n + math.pi / 2), math.sin(2 * math.pi * i / n + math.pi / 2))
+            if n > 1
+            else (0.0, 0.0)
+            for i, pid in enumerate(ids)
+        }
+    import networkx as nx
+
+    g = nx.Graph()
+    g.add_nodes_from(ids)
+    g.add_edges_from((lk.src, lk.dst) for lk in platform.links)
+    return {k: (float(v[0]), float(v[1])) for k, v in nx.spring_layout(g, seed=7).items()}
+
+
+def network_figure(
+    platform: Platform,
+    status: Mapping[str, str] | None = None,
+    bandwidth_scale: float = 1.0,
+    bandwidth_unit: str = "",
+    latency_unit: str = "",
+) -> go.Figure:
+    """Nodes (colour = status, symbol = processor class) and links (hover: bandwidth, latency).
+
+    ``bandwidth_scale`` converts the platform's bandwidth to the unit shown (a cluster platform stores
+    Mbit per ms; times 1000 shows Mbit/s).
+    """
+    status = status or {}
+    pos = network_layout(platform)
+    fig = go.Figure()
+    edge_x: list[float | None] = []
+    edge_y: list[float | None] = []
+    mid_x, mid_y, mid_text = [], [], []
+    for lk in platform.links:
+        (x0, y0), (x1, y1) = pos[lk.src], pos[lk.dst]
+        edge_x += [x0, x1, None]
+        edge_y += [y0, y1, None]
+        mid_x.append((x0 + x1) / 2)
+        mid_y.append((y0 + y1) / 2)
+        bw = "unlimited" if lk.bandwidth is None else f"{_fmt(lk.bandwidth * bandwidth_scale)} {bandwidth_unit}"
+        mid_text.append(f"<b>{lk.src} ↔ {lk.dst}</b><br>bandwidth: {bw}<br>latency: {_fmt(lk.latency)} {latency_unit}")
+    fig.add_trace(
+        go.Scatter(
+            x=edge_x,
+            y=edge_y,
+            mode="lines",
+            line={"color": EDGE_COLOUR, "width": 2},
+            hoverinfo="skip",
+            name="links",
+            showlegend=False,
+        )
+    )
+    fig.add_trace(
+        go.Scatter(
+            x=mid_x,
+            y=mid_y,
+            mode="markers",
+            marker={"size": 12, "color": EDGE_COLOUR, "opacity": 0},
+            hovertext=mid_text,
+            hoverinfo="text",
+            name="link data",
+            showlegend=False,
+        )
+    )
+    # One trace per status so the legend explains the colours.
+    labelled = len(platform.processors) <= 50
+    for state in [*STATUS_COLOURS, *sorted(set(status.values()) - set(STATUS_COLOURS))]:
+        procs = [p for p in platform.processors if status.get(p.id, "Ready") == state]
+        if not procs:
+            continue
+        fig.add_trace(
+            go.Scatter(
+                x=[pos[p.id][0] for p in procs],
+                y=[pos[p.id][1] for p in procs],
+                mode="markers+text" if labelled else "markers",
+                text=[p.id for p in procs],
+                textposition="bottom center",
+                marker={
+                    "size": 24,
+                    "color": STATUS_COLOURS.get(state, "#9aa1a9"),
+                    "symbol": [CLASS_SYMBOLS.get(p.cls, "circle") for p in procs],
+                    "line": {"color": "white", "width": 2},
+                },
+                hovertext=[f"<b>{p.id}</b><br>class: {p.cls}<br>speed: {_fmt(p.speed)}<br>{state}" for p in procs],
+                hoverinfo="text",
+                name=state,
+            )
+        )
+    _base_layout(fig, height=420)
+    fig.update_layout(legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "right", "x": 1})
+    fig.update_xaxes(visible=False, range=[-1.4, 1.4] if len(platform.processors) <= 8 else None)
+    fig.update_yaxes(visible=False, range=[-1.35, 1.3] if len(platform.processors) <= 8 else None, scaleanchor="x")
+    return fig

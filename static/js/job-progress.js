@@ -1,0 +1,54 @@
+/* Live progress of one job: poll the REST API (session auth) and update the bar until the job is done,
+   then reload so the server renders the final state and the link to the result. */
+(function () {
+  "use strict";
+  var box = document.getElementById("job-progress");
+  if (!box || box.dataset.done === "true") return;
+
+  var url = box.dataset.apiUrl;
+  var bar = document.getElementById("job-bar");
+  var barBox = document.getElementById("job-progressbar");
+  var state = document.getElementById("job-state");
+  var message = document.getElementById("job-message");
+  var percent = document.getElementById("job-percent");
+  var note = document.getElementById("job-poll-note");
+  var delay = 1000;
+  var MAX_DELAY = 10000;
+
+  function show(job) {
+    var p = Math.max(0, Math.min(100, job.progress || 0));
+    bar.style.width = p + "%";
+    bar.className = "progress-bar state-" + job.state;
+    barBox.setAttribute("aria-valuenow", String(p));
+    percent.textContent = String(p);
+    state.textContent = job.state.charAt(0).toUpperCase() + job.state.slice(1);
+    state.className = "badge state-" + job.state;
+    message.textContent = job.message || "";
+  }
+
+  function poll() {
+    fetch(url, { credentials: "same-origin", headers: { Accept: "application/json" } })
+      .then(function (response) {
+        if (!response.ok) throw new Error("HTTP " + response.status);
+        return response.json();
+      })
+      .then(function (job) {
+        note.textContent = "";
+        delay = 1000;
+        show(job);
+        if (job.state === "succeeded" || job.state === "failed") {
+          window.location.reload();
+        } else {
+          window.setTimeout(poll, delay);
+        }
+      })
+      .catch(function (err) {
+        // Keep trying with a growing pause: a restarting server should not end the live view.
+        delay = Math.min(delay * 2, MAX_DELAY);
+        note.textContent = "(cannot reach the server: " + err.message + "; retrying)";
+        window.setTimeout(poll, delay);
+      });
+  }
+
+  window.setTimeout(poll, 500);
+})();
