@@ -157,7 +157,8 @@ class ClusterImportSerializer(DefaultFleetMixin, serializers.Serializer):
             fleet=validated["fleet"],
             name=validated["name"],
             description=validated["description"],
-            kubeconfig=validated["kubeconfig"], kube_context=validated["kube_context"],
+            kubeconfig=validated["kubeconfig"],
+            kube_context=validated["kube_context"],
             namespace=validated["namespace"],
         )
         nodes = {}

@@ -12,8 +12,9 @@ pytestmark = pytest.mark.django_db
 
 
 def upload(api, name, content, **extra):
-    return api.post("/api/v1/applications/import/", {"file": SimpleUploadedFile(name, content), **extra},
-                    format="multipart")
+    return api.post(
+        "/api/v1/applications/import/", {"file": SimpleUploadedFile(name, content), **extra}, format="multipart"
+    )
 
 
 def run_schedule(api, app_id, **body):
@@ -52,8 +53,13 @@ def test_montage_imports_and_schedules_validly_on_a_4_node_cluster(api, cluster,
 @pytest.mark.parametrize(
     ("dag", "needle"),
     [
-        ({"tasks": [{"id": "a", "cost": {"cpu": 1}}, {"id": "b", "cost": {"cpu": 1}}],
-          "edges": [{"src": "a", "dst": "b"}, {"src": "b", "dst": "a"}]}, "cycle"),
+        (
+            {
+                "tasks": [{"id": "a", "cost": {"cpu": 1}}, {"id": "b", "cost": {"cpu": 1}}],
+                "edges": [{"src": "a", "dst": "b"}, {"src": "b", "dst": "a"}],
+            },
+            "cycle",
+        ),
         ({"tasks": [{"id": "a", "cost": {"cpu": 1}}], "edges": [{"src": "a", "dst": "ghost"}]}, "ghost"),
         ({"tasks": [{"id": "a", "cost": {"cpu": 1}}, {"id": "a", "cost": {"cpu": 2}}], "edges": []}, "duplicate"),
         ({"tasks": [{"id": "a", "cost": {"cpu": -3}}], "edges": []}, "'a'"),
@@ -96,16 +102,18 @@ def test_schedule_request_needs_exactly_one_target(api, cluster, load_json):
 
 
 def test_other_fleet_cannot_schedule_on_my_cluster(api, other_api, cluster, load_json):
-    app = other_api.post("/api/v1/applications/", {"name": "t", "dag": load_json("topcuoglu.dag.json")},
-                         format="json").data
+    app = other_api.post(
+        "/api/v1/applications/", {"name": "t", "dag": load_json("topcuoglu.dag.json")}, format="json"
+    ).data
     response = other_api.post(f"/api/v1/applications/{app['id']}/schedule/", {"cluster": cluster.pk}, format="json")
     assert response.status_code == 400 and "cluster" in response.data
 
 
 def test_job_records_progress_and_timings(api, load_json):
     app = api.post("/api/v1/applications/", {"name": "t", "dag": load_json("topcuoglu.dag.json")}, format="json").data
-    response = api.post(f"/api/v1/applications/{app['id']}/schedule/",
-                        {"platform": load_json("topcuoglu.platform.json")}, format="json")
+    response = api.post(
+        f"/api/v1/applications/{app['id']}/schedule/", {"platform": load_json("topcuoglu.platform.json")}, format="json"
+    )
     job = api.get(f"/api/v1/jobs/{response.data['id']}/").data
     assert job["progress"] == 100 and job["attempts"] == 1
     assert job["started"] and job["finished"] and job["duration"] >= 0

@@ -16,8 +16,15 @@ def manage(*args: str) -> subprocess.CompletedProcess:
 
 
 def test_topcuoglu_json_prints_makespan_80():
-    out = manage("schedule", str(DATA / "topcuoglu.dag.json"), "--platform", str(DATA / "topcuoglu.platform.json"),
-                 "--algorithm", "heft", "--json")
+    out = manage(
+        "schedule",
+        str(DATA / "topcuoglu.dag.json"),
+        "--platform",
+        str(DATA / "topcuoglu.platform.json"),
+        "--algorithm",
+        "heft",
+        "--json",
+    )
     assert out.returncode == 0, out.stderr
     doc = json.loads(out.stdout)
     assert doc["format"] == "continuum.schedule/v1" and doc["makespan"] == 80.0
@@ -38,8 +45,10 @@ def test_wfformat_on_cpus_human_summary():
         ([str(DATA / "README.md")], "malformed JSON at line 1"),
         ([str(DATA / "topcuoglu.dag.json"), "--algorithm", "nope"], "unknown algorithm 'nope'"),
         ([str(DATA / "topcuoglu.dag.json"), "--cpus", "0"], "at least one processor"),
-        ([str(DATA / "topcuoglu.dag.json"), "--platform", str(DATA / "topcuoglu.platform.json"), "--cpus", "2"],
-         "not both"),
+        (
+            [str(DATA / "topcuoglu.dag.json"), "--platform", str(DATA / "topcuoglu.platform.json"), "--cpus", "2"],
+            "not both",
+        ),
     ],
 )
 def test_bad_input_exits_2_with_one_line(args, needle):

@@ -39,14 +39,39 @@ class Worker:
     """A ``celery worker`` process on a private queue; ``kill()`` is a SIGKILL, as a crash would be."""
 
     def __init__(self, broker: str, queue: str, visibility_timeout: int):
-        env = dict(os.environ, CELERY_BROKER_URL=broker, CELERY_QUEUE=queue, DATABASE_URL=database_url(),
-                   CELERY_VISIBILITY_TIMEOUT=str(visibility_timeout), CELERY_RESTORE_INTERVAL="1",
-                   CELERY_RESTORE_THROTTLE="1")
+        env = dict(
+            os.environ,
+            CELERY_BROKER_URL=broker,
+            CELERY_QUEUE=queue,
+            DATABASE_URL=database_url(),
+            CELERY_VISIBILITY_TIMEOUT=str(visibility_timeout),
+            CELERY_RESTORE_INTERVAL="1",
+            CELERY_RESTORE_THROTTLE="1",
+        )
         self.log = Path(f"/tmp/continuum-worker-{queue}.log")
         self.proc = subprocess.Popen(
-            [sys.executable, "-m", "celery", "-A", "continuum", "worker", "-P", "solo", "-c", "1", "-Q", queue,
-             "--without-gossip", "--without-mingle", "--loglevel=INFO"],
-            cwd=ROOT, env=env, stdout=self.log.open("w"), stderr=subprocess.STDOUT, start_new_session=True,
+            [
+                sys.executable,
+                "-m",
+                "celery",
+                "-A",
+                "continuum",
+                "worker",
+                "-P",
+                "solo",
+                "-c",
+                "1",
+                "-Q",
+                queue,
+                "--without-gossip",
+                "--without-mingle",
+                "--loglevel=INFO",
+            ],
+            cwd=ROOT,
+            env=env,
+            stdout=self.log.open("w"),
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
         )
         deadline = time.monotonic() + 60
         while "ready." not in self.log.read_text():

@@ -17,8 +17,11 @@ pytestmark = [pytest.mark.services, pytest.mark.django_db(transaction=True)]
 def big_dag(n: int, seed: int = 7) -> TaskGraph:
     rng = random.Random(seed)
     tasks = [{"id": f"t{i}", "cost": {"cpu": rng.uniform(1, 50)}} for i in range(n)]
-    edges = [{"src": f"t{rng.randrange(max(0, j - 50), j)}", "dst": f"t{j}", "data": rng.uniform(0, 5)}
-             for j in range(1, n) for _ in range(2)]
+    edges = [
+        {"src": f"t{rng.randrange(max(0, j - 50), j)}", "dst": f"t{j}", "data": rng.uniform(0, 5)}
+        for j in range(1, n)
+        for _ in range(2)
+    ]
     unique = {(e["src"], e["dst"]): e for e in edges}
     return TaskGraph.from_dict({"name": f"layered-{n}", "tasks": tasks, "edges": list(unique.values())})
 
@@ -42,8 +45,11 @@ def wait_for(job_id, until, timeout: float = 180.0, seen: list | None = None) ->
     raise AssertionError(f"job {job_id} still {job.state} ({job.progress}%) after {timeout}s")
 
 
-PLATFORM = {"processors": [{"id": f"p{i}", "class": "cpu", "speed": 1 + i % 3} for i in range(16)],
-            "bandwidth": 2.0, "latency": 0.1}
+PLATFORM = {
+    "processors": [{"id": f"p{i}", "class": "cpu", "speed": 1 + i % 3} for i in range(16)],
+    "bandwidth": 2.0,
+    "latency": 0.1,
+}
 
 
 def test_worker_runs_a_scheduling_job_with_progress(fleet, start_worker):
@@ -65,8 +71,11 @@ def test_worker_runs_a_scheduling_job_with_progress(fleet, start_worker):
 def test_bad_job_fails_cleanly_and_the_worker_carries_on(fleet, start_worker):
     worker = start_worker()
     app = make_app(fleet, 10)
-    bad = start_job("schedule", fleet, {"application": app.pk, "algorithm": "heft",
-                                        "platform": {"processors": [{"id": "g", "class": "gpu"}]}})
+    bad = start_job(
+        "schedule",
+        fleet,
+        {"application": app.pk, "algorithm": "heft", "platform": {"processors": [{"id": "g", "class": "gpu"}]}},
+    )
     bad = wait_for(bad.pk, lambda j: j.done)
     assert bad.state == Job.State.FAILED and "cannot run on any processor" in bad.error
     good = start_job("schedule", fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})

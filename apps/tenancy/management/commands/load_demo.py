@@ -58,16 +58,27 @@ class Command(BaseCommand):
         return fleet, token
 
     def _cluster(self, fleet: Fleet) -> Cluster:
-        cluster, created = Cluster.objects.get_or_create(fleet=fleet, name="edge-cloud",
-                                                         defaults={"description": "robot, edge and cloud"})
+        cluster, created = Cluster.objects.get_or_create(
+            fleet=fleet, name="edge-cloud", defaults={"description": "robot, edge and cloud"}
+        )
         if created:
-            spec = [("robot-board", "arm64", 4, 4096, 1.0), ("jetson", "arm64", 8, 16384, 1.5),
-                    ("edge-server", "amd64", 16, 65536, 2.5), ("cloud-vm", "amd64", 32, 131072, 3.0)]
-            nodes = {name: ComputeNode.objects.create(cluster=cluster, name=name, arch=arch, cpu=cpu,
-                                                      memory_mib=mem, speed=speed)
-                     for name, arch, cpu, mem, speed in spec}
-            for a, b, mbps, ms in [("robot-board", "jetson", 1000, 0.2), ("jetson", "edge-server", 866, 2.0),
-                                   ("edge-server", "cloud-vm", 100, 20.0)]:
+            spec = [
+                ("robot-board", "arm64", 4, 4096, 1.0),
+                ("jetson", "arm64", 8, 16384, 1.5),
+                ("edge-server", "amd64", 16, 65536, 2.5),
+                ("cloud-vm", "amd64", 32, 131072, 3.0),
+            ]
+            nodes = {
+                name: ComputeNode.objects.create(
+                    cluster=cluster, name=name, arch=arch, cpu=cpu, memory_mib=mem, speed=speed
+                )
+                for name, arch, cpu, mem, speed in spec
+            }
+            for a, b, mbps, ms in [
+                ("robot-board", "jetson", 1000, 0.2),
+                ("jetson", "edge-server", 866, 2.0),
+                ("edge-server", "cloud-vm", 100, 20.0),
+            ]:
                 Link.objects.create(cluster=cluster, src=nodes[a], dst=nodes[b], bandwidth_mbps=mbps, latency_ms=ms)
         return cluster
 
@@ -77,8 +88,9 @@ class Command(BaseCommand):
             graph = load_dag((DATA / name).read_text(), fmt)
             app = Application.objects.filter(fleet=fleet, name=graph.name).first()
             if app is None:
-                app = Application(fleet=fleet, name=graph.name, source_format=graph.meta.get("source_format",
-                                                                                            "continuum"))
+                app = Application(
+                    fleet=fleet, name=graph.name, source_format=graph.meta.get("source_format", "continuum")
+                )
                 app.set_graph(graph)
                 app.save()
             result.append(app)
