@@ -454,15 +454,20 @@ def kube_default_placer(seed: int = 0, pin: str | None = None) -> Placer:
 
 
 def fixed_placer(mapping: Mapping[str, str], fallback: Placer | None = None) -> Placer:
-    """A hand-made mapping (``K3S best``); containers it does not name go to ``fallback``."""
+    """A hand-made mapping (``K3S best``, or a filter bypass); it applies to a container's first placement only.
+
+    Containers it does not name, and recreated (evicted) ones, go to ``fallback``.
+    """
+    done: set[str] = set()
 
     def place(pending, nodes, ledger, now_ms):
         decisions, rest = [], []
         for c in sorted(pending, key=lambda c: (c.arrival, c.name)):
             node = mapping.get(c.name)
-            if node is None or ledger.where(c.name):
+            if node is None or c.name in done or ledger.where(c.name):
                 rest.append(c)
                 continue
+            done.add(c.name)
             ledger.reserve(c, node)
             decisions.append(Decision(c.name, node, None))
         plan = PlacementPlan("fixed", decisions, metrics={"utilization": ledger.utilization()})
@@ -701,7 +706,7 @@ class Simulator:
     def _on_reconcile(self, payload: tuple[MonitoringReport, str, int, int | None]) -> None:
         report, key, sent, crossing = payload
         inst = self.by_key.get(key)
-        if inst is None or inst.status != "running" or self.monitor is None:
+        if inst is None or inst.status != "running" or self.monitor is None or report.container in self.killing:
             return
         node = report.node
         on_node = [
