@@ -334,6 +334,7 @@ class Eviction:
     trigger: str
     response_time: ResponseTime | None
     new_node: str | None = None
+    taint_until_ms: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -344,6 +345,7 @@ class Eviction:
             "trigger": self.trigger,
             "response_time_ms": self.response_time.to_dict() if self.response_time else None,
             "new_node": self.new_node,
+            "taint_until_ms": self.taint_until_ms,
         }
 
 
@@ -399,22 +401,28 @@ class SimResult:
         """Table 4.31's columns per criticality: rejected, % missed by running, % with rejected at 100 %.
 
         ``running+rejected = (n_running * running% + n_rejected * 100) / n_class`` (spec 03, 12.2).
+        Containers still pending (RT-Kube keeps them out of the kernel) are neither running nor rejected;
+        ``missed_with_pending_pct`` also counts them at 100 %, for a comparison where every task matters.
         """
         out: dict[str, dict[str, Any]] = {}
         for cls in ("A", "B", "C"):
             members = [s for s in self.containers.values() if s.criticality == cls]
             if not members:
                 continue
-            running = [s for s in members if not s.rejected]
+            pending = [s for s in members if s.status == "pending"]
+            running = [s for s in members if not s.rejected and s.status != "pending"]
             jobs = sum(s.jobs for s in running)
             missed = sum(s.missed for s in running)
             running_pct = 100.0 * missed / jobs if jobs else 0.0
-            n_rej = len(members) - len(running)
+            n_rej = len(members) - len(running) - len(pending)
+            placed = len(running) + n_rej
             out[cls] = {
                 "containers": len(members),
                 "rejected": n_rej,
+                "pending": len(pending),
                 "missed_running_pct": running_pct,
-                "missed_total_pct": (len(running) * running_pct + n_rej * 100.0) / len(members),
+                "missed_total_pct": (len(running) * running_pct + n_rej * 100.0) / placed if placed else 0.0,
+                "missed_with_pending_pct": (len(running) * running_pct + (n_rej + len(pending)) * 100.0) / len(members),
                 "jobs": jobs,
                 "missed": missed,
             }
@@ -717,8 +725,10 @@ class Simulator:
         cap = NodeCapacity(
             self.nodes[node].cpu, self.nodes[node].memory_mib if self.nodes[node].memory_mib < math.inf else 0
         )
-        rep = MonitoringReport(report.node, report.container, report.missed_period, report.missed_total, self.now / US)
-        decision = self.monitor.reconcile(rep, on_node, cap, now=self.now / US)
+        # The monitor policy counts in seconds (taint duration, cooldown); the simulator in ms/us.
+        now_s = self.now / 1e6
+        rep = MonitoringReport(report.node, report.container, report.missed_period, report.missed_total, now_s)
+        decision = self.monitor.reconcile(rep, on_node, cap, now=now_s)
         if decision.alert:
             self.alerts.append({"time_ms": self.now / US, "node": node, "message": decision.alert})
         if not decision.evict:
@@ -729,12 +739,13 @@ class Simulator:
         rt = None
         if crossing is not None:
             rt = response_time(crossing / US, sent / US, self.now / US, kill_sent / US, kill_at / US)
-        ev = Eviction(kill_at / US, node, report.container, decision.victim, decision.trigger, rt)
+        assert decision.taint is not None and decision.taint.until is not None
+        until_ms = decision.taint.until * 1000.0
+        ev = Eviction(kill_at / US, node, report.container, decision.victim, decision.trigger, rt, None, until_ms)
         self.evictions.append(ev)
         # The taint is set at reconcile time (Fig. 3.36: taint before the eviction is initiated).
-        assert decision.taint is not None
-        self.taints[node].append(decision.taint)
-        self._at(_us(decision.taint.until), "taint_expired", node)
+        self.taints[node].append(replace(decision.taint, until=until_ms))
+        self._at(_us(until_ms), "taint_expired", node)
         self._at(kill_at, "kill", decision.victim)
 
     def _on_kill(self, name: str) -> None:

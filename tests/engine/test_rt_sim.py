@@ -194,6 +194,7 @@ def test_monitor_evicts_the_hog_taints_the_node_and_it_restarts_elsewhere():
     ev = r.evictions[0]
     assert (ev.node, ev.victim, ev.new_node) == ("J", "hog", "S") and ev.violator in {"arm", "cam", "ctl"}
     assert r.containers["hog"].node == "S" and r.containers["hog"].evictions == 1
+    assert ev.taint_until_ms == pytest.approx(ev.time_ms - 23 + 30_000)  # tainted at reconcile time for 30 s
     # Eq. 3.19 components: update wait <= 1/f_c, then the modelled transfer and reconcile delays.
     rt = ev.response_time
     assert 0 <= rt.update_wait <= 100 and rt.trans_json == 3 and rt.reconcile == 20 and rt.trans_kill == 3
@@ -221,3 +222,21 @@ def test_bad_parameters():
         SimParams(exec_low=0)
     with pytest.raises(InputError, match="unknown placer"):
         simulate([], nodes({"name": "n"}), "magic")
+
+
+def test_a_pending_container_is_bound_when_the_taint_expires():
+    policy = MonitorPolicy(threshold_period=3, taint_duration=1.0)
+    params = SimParams(horizon_ms=3000, exec_low=1.0, monitor=policy, bypass_admission=frozenset({"hog"}),
+                       cold_start_ms=500)  # fmt: skip
+    late = rtset_from_dict({"containers": [{"name": "late", "criticality": "C", "period": 10, "deadline": 10,
+                                            "wcet": {"J": 1}, "arrival": 500}]})  # fmt: skip
+    placer = fixed_placer({"arm": "J", "cam": "J", "ctl": "J", "hog": "J"}, rt_kube_placer())
+    r = simulate(hog_set() + late, hog_cluster(), placer, params)
+    [ev] = r.evictions
+    assert ev.time_ms < 500 < ev.taint_until_ms
+    waiting = [p for p in r.plans if "late" in {d.item for d in p.decisions} and p.placed().get("late") is None]
+    assert waiting and waiting[0].metrics["time_ms"] == 500
+    assert waiting[0].to_dict()["pending"][0]["reasons"]["J"].startswith("untolerated taint rt.monitoring/violation")
+    bound = [p for p in r.plans if p.placed().get("late") == "J"]
+    assert len(bound) == 1 and bound[0].metrics["time_ms"] == pytest.approx(ev.taint_until_ms)
+    assert r.containers["late"].node == "J" and r.containers["late"].jobs > 0
