@@ -185,8 +185,7 @@ class RTContainer:
         doc.update(stateless=self.stateless, cpu=self.cpu, memory_mib=self.memory_mib)
         if self.tolerations != (default_tolerations(self.criticality)):
             doc["tolerations"] = [t.to_dict() for t in self.tolerations]
-        if self.arrival:
-            doc["arrival"] = self.arrival
+        doc["arrival"] = self.arrival
         return doc
 
 

@@ -43,7 +43,7 @@ from typing import Any
 from . import rt_kube
 from .errors import InputError
 from .placement import Decision, PlacementPlan
-from .rt_model import CRITICALITY_RANK, NONE, RTContainer, RTNode, Taint
+from .rt_model import CRITICALITY_RANK, RTContainer, RTNode, Taint
 from .rt_victims import (
     ClusterMonitor,
     ContainerInfo,
@@ -171,6 +171,7 @@ class NodeCPU:
         if task is None:
             return None
         self.ready.discard(key)
+        task.released -= len(task.jobs)  # dropped with the container: neither met nor missed
         task.jobs.clear()
         self.finished.append(task)
         return task
@@ -835,10 +836,3 @@ def simulate(
     elif isinstance(placer, str):
         raise InputError(f"unknown placer {placer!r} (rt_kube, k8s_default or a callable)", "placer")
     return Simulator(containers, nodes, placer, params).run()
-
-
-def class_of(name: str, containers: Iterable[RTContainer]) -> str:
-    for c in containers:
-        if c.name == name:
-            return c.criticality
-    return NONE
