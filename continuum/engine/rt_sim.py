@@ -526,7 +526,6 @@ class Simulator:
         self.evict_count: dict[str, int] = {}
         self.killing: set[str] = set()
         self.scheduled_pass: set[int] = set()
-        self.stats_done: list[tuple[_Instance, _Task]] = []
         self.now = 0
 
     # -- event queue --
@@ -756,9 +755,7 @@ class Simulator:
             return
         node = inst.node
         if inst.key:
-            task = self.cpu[node].remove(inst.key)
-            if task is not None:
-                self.stats_done.append((inst, task))
+            self.cpu[node].remove(inst.key)  # its statistics stay in the node's finished list
         self.admitted[node].pop(name, None)
         self.ledger.release(name)
         inst.status = "killed"
