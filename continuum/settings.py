@@ -59,6 +59,7 @@ INSTALLED_APPS = [
     "apps.scheduling",
     "apps.kube",
     "apps.containers",
+    "apps.realtime",
     "apps.dashboard",
 ]
 
