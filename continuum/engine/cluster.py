@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .errors import InputError
+from .taints import Taint
 
 FORMAT = "continuum.cluster/v1"
 #: Kubernetes GOARCH names; aliases below map the usual ``uname -m`` spellings onto them.
@@ -37,7 +38,6 @@ ARCH_ALIASES = {
     "i386": "386",
     "i686": "386",
 }
-TAINT_EFFECTS = ("NoSchedule", "PreferNoSchedule", "NoExecute")
 _KNOWN_NODE_KEYS = {
     "name", "arch", "cpu", "memory_mib", "storage_mib", "labels", "taints", "rt", "criticality", "rt_threshold",
 }  # fmt: skip
@@ -56,16 +56,6 @@ def normalize_arch(raw: Any, where: str = "architecture") -> str:
     if name not in ARCHS:
         raise InputError(f"{where}: unknown architecture {raw!r} (one of {', '.join(ARCHS)})", "arch")
     return name
-
-
-@dataclass(frozen=True)
-class Taint:
-    key: str
-    value: str = ""
-    effect: str = "NoSchedule"
-
-    def __str__(self) -> str:
-        return f"{self.key}{'=' + self.value if self.value else ''}:{self.effect}"
 
 
 @dataclass(frozen=True)
@@ -217,20 +207,6 @@ class Cluster:
         return len(self.nodes)
 
 
-def parse_taint(raw: Any, where: str) -> Taint:
-    """A taint from ``{"key", "value", "effect"}`` or kubectl's ``key=value:Effect`` string."""
-    if isinstance(raw, str):
-        key_value, _, effect = raw.partition(":")
-        key, _, value = key_value.partition("=")
-        raw = {"key": key, "value": value, "effect": effect or "NoSchedule"}
-    if not isinstance(raw, Mapping) or not isinstance(raw.get("key"), str) or not raw["key"]:
-        raise InputError(f"{where} needs a 'key' (or a 'key=value:Effect' string)", "taints")
-    effect = raw.get("effect", "NoSchedule")
-    if effect not in TAINT_EFFECTS:
-        raise InputError(f"{where} has unknown effect {effect!r} (one of {', '.join(TAINT_EFFECTS)})", "taints")
-    return Taint(raw["key"], str(raw.get("value", "") or ""), effect)
-
-
 def _limit(where: str, raw: Mapping[str, Any], key: str) -> float | None:
     value = raw.get(key)
     if value is None:
@@ -260,7 +236,7 @@ def _parse_node(index: int, raw: Any) -> ClusterNode:
         memory_mib=_limit(where, raw, "memory_mib"),
         storage_mib=_limit(where, raw, "storage_mib"),
         labels={str(k): str(v) for k, v in labels.items()},
-        taints=tuple(parse_taint(t, f"{where} taints[{i}]") for i, t in enumerate(taints)),
+        taints=tuple(Taint.parse(t, f"{where} taints[{i}]") for i, t in enumerate(taints)),
         rt=bool(raw.get("rt", False)),
         criticality=None if raw.get("criticality") is None else str(raw["criticality"]),
         rt_threshold=_limit(where, raw, "rt_threshold"),

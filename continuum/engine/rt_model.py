@@ -32,6 +32,7 @@ from typing import Any
 import yaml
 
 from .errors import InputError
+from .taints import TAINT_EFFECTS, Taint, Toleration, untolerated  # noqa: F401 - re-exported
 
 RTSET_FORMAT = "continuum.rtset/v1"
 CLUSTER_FORMAT = "continuum.cluster/v1"
@@ -50,98 +51,8 @@ DEFAULT_RT_RUNTIME_US = 950_000
 DEFAULT_RT_PERIOD_US = 1_000_000
 
 
-# ---- taints and tolerations (the Kubernetes semantics the RT filter relies on) ----------------------------
-@dataclass(frozen=True)
-class Taint:
-    key: str
-    value: str = ""
-    effect: str = "NoSchedule"
-    #: Time (input unit) after which the taint is gone; ``None`` = permanent. Used for the monitor's timed taint.
-    until: float | None = None
-
-    def __str__(self) -> str:
-        return f"{self.key}={self.value}:{self.effect}" if self.value else f"{self.key}:{self.effect}"
-
-    def active(self, now: float | None) -> bool:
-        return self.until is None or now is None or now < self.until
-
-    def to_dict(self) -> dict[str, Any]:
-        doc: dict[str, Any] = {"key": self.key, "value": self.value, "effect": self.effect}
-        if self.until is not None:
-            doc["until"] = self.until
-        return doc
-
-    @classmethod
-    def parse(cls, raw: Any, where: str) -> Taint:
-        """``"key=value:Effect"`` or ``{"key", "value", "effect"}`` (the Django ``ComputeNode.taints`` shape)."""
-        if isinstance(raw, str):
-            head, sep, effect = raw.rpartition(":")
-            if not sep or not head or effect not in TAINT_EFFECTS:
-                raise InputError(f"{where}: taint {raw!r} is not key=value:Effect", "taints")
-            key, _, value = head.partition("=")
-            return cls(key, value, effect)
-        if isinstance(raw, Mapping) and isinstance(raw.get("key"), str) and raw["key"]:
-            effect = raw.get("effect", "NoSchedule")
-            if effect not in TAINT_EFFECTS:
-                raise InputError(f"{where}: taint effect {effect!r} is not one of {', '.join(TAINT_EFFECTS)}", "taints")
-            until = raw.get("until")
-            if until is not None:
-                until = _number(until, f"{where}: taint until", "taints")
-            return cls(raw["key"], str(raw.get("value") or ""), effect, until)
-        raise InputError(f"{where}: taint {raw!r} is not key=value:Effect or an object with a key", "taints")
-
-
-TAINT_EFFECTS = ("NoSchedule", "PreferNoSchedule", "NoExecute")
 RT_TAINT = Taint("RealTime", "RT", "NoSchedule")
-
-
-@dataclass(frozen=True)
-class Toleration:
-    key: str = ""
-    operator: str = "Equal"
-    value: str = ""
-    #: Empty = tolerates every effect.
-    effect: str = ""
-
-    def tolerates(self, taint: Taint) -> bool:
-        """Kubernetes' rule: an empty key with ``Exists`` tolerates everything."""
-        if self.effect and self.effect != taint.effect:
-            return False
-        if not self.key:
-            return self.operator == "Exists"
-        if self.key != taint.key:
-            return False
-        return self.operator == "Exists" or self.value == taint.value
-
-    def to_dict(self) -> dict[str, str]:
-        doc = {"key": self.key, "operator": self.operator}
-        if self.operator == "Equal":
-            doc["value"] = self.value
-        if self.effect:
-            doc["effect"] = self.effect
-        return doc
-
-    @classmethod
-    def parse(cls, raw: Any, where: str) -> Toleration:
-        if not isinstance(raw, Mapping):
-            raise InputError(f"{where}: toleration must be an object", "tolerations")
-        op = raw.get("operator", "Equal")
-        if op not in ("Equal", "Exists"):
-            raise InputError(f"{where}: toleration operator {op!r} is not Equal or Exists", "tolerations")
-        return cls(str(raw.get("key") or ""), op, str(raw.get("value") or ""), str(raw.get("effect") or ""))
-
-
 RT_TOLERATION = Toleration("RealTime", "Equal", "RT", "NoSchedule")
-
-
-def untolerated(taints: Iterable[Taint], tolerations: Iterable[Toleration], now: float | None = None) -> list[Taint]:
-    """The scheduling taints (NoSchedule/NoExecute) of a node that no toleration matches."""
-    tols = list(tolerations)
-    return [
-        t
-        for t in taints
-        if t.effect != "PreferNoSchedule" and t.active(now) and not any(tol.tolerates(t) for tol in tols)
-    ]
 
 
 # ---- containers ---------------------------------------------------------------------------------------------

@@ -36,10 +36,11 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .cluster import Cluster, ClusterNode, Taint, normalize_arch
+from .cluster import Cluster, ClusterNode, normalize_arch
 from .errors import InputError
 from .placement import Decision, NodeVerdict, PlacementPlan
 from .rosgraph import RosGraph, natural_key, pair
+from .taints import Toleration, untolerated
 
 CONTAINERS_FORMAT = "continuum.containers/v1"
 #: Platforms assumed for an image that declares none: what the thesis builds with ``docker buildx``
@@ -80,21 +81,6 @@ class Requirement:
         if self.operator in ("Exists", "DoesNotExist"):
             return f"{self.key} {self.operator}"
         return f"{self.key} {self.operator} [{', '.join(self.values)}]"
-
-
-@dataclass(frozen=True)
-class Toleration:
-    key: str = ""
-    operator: str = "Equal"
-    value: str = ""
-    effect: str = ""
-
-    def tolerates(self, taint: Taint) -> bool:
-        if self.effect and self.effect != taint.effect:
-            return False
-        if self.operator == "Exists":
-            return not self.key or self.key == taint.key
-        return self.key == taint.key and self.value == taint.value
 
 
 @dataclass(frozen=True)
@@ -301,12 +287,7 @@ def _parse_container(
         preferred.append((float(term.get("weight", 1)), exprs))
     tolerations = []
     for i, t in enumerate(raw.get("tolerations", []) or []):
-        if not isinstance(t, Mapping):
-            raise InputError(f"{where} tolerations[{i}] must be an object", "containers")
-        op = t.get("operator", "Equal")
-        if op not in ("Equal", "Exists"):
-            raise InputError(f"{where} tolerations[{i}] has unknown operator {op!r}", "containers")
-        tolerations.append(Toleration(str(t.get("key", "")), op, str(t.get("value", "")), str(t.get("effect", ""))))
+        tolerations.append(Toleration.parse(t, f"{where} tolerations[{i}]"))
     return ContainerSpec(
         name=name,
         cpu=values["cpu"],
@@ -346,10 +327,8 @@ def _filter_arch(c: ContainerSpec, s: _NodeState, overhead: float) -> str | None
 
 
 def _filter_taints(c: ContainerSpec, s: _NodeState, overhead: float) -> str | None:
-    for taint in s.node.taints:
-        if taint.effect in ("NoSchedule", "NoExecute") and not any(t.tolerates(taint) for t in c.tolerations):
-            return f"taint {taint} not tolerated"
-    return None
+    bad = untolerated(s.node.taints, c.tolerations)
+    return f"taint {bad[0]} not tolerated" if bad else None
 
 
 def _filter_affinity(c: ContainerSpec, s: _NodeState, overhead: float) -> str | None:
