@@ -113,9 +113,7 @@ def map_dag(
     ``allowed`` restricts tasks to some nodes (Algorithm 2 locks unaffected tasks to their node this way,
     which is what its 9999999 costs achieve without distorting any mean).
     """
-    table = platform.cost_table(dag)
-    if allowed:
-        table = _restrict(table, allowed, platform)
+    table = _cost_table(dag, platform, allowed or {})
     if ranks is None:
         ranks = upward_ranks(dag, platform, rank_mode, platform.cost_table(dag))
     else:
@@ -136,6 +134,7 @@ def map_dag(
     start: dict[str, float] = {}
     finish: dict[str, float] = {}
     order: list[str] = []
+    vec: _Vectors | None = None
 
     while heap:
         _, tid = heapq.heappop(heap)
@@ -151,10 +150,13 @@ def map_dag(
                 s = earliest_slot(cl.starts[c], cl.finishes[c], ready, w) if insertion else max(ready, cl.last[c])
                 options.append((s + w, c, s))
         if lookahead and kids[tid] and len(options) > 1:
-            best = min(
-                options,
-                key=lambda o: (_lookahead(tid, o, kids[tid], table, pred, where, finish, cl, lat, inv), o[0], o[1]),
-            )
+            work = len(options) * sum(len(table[e.dst]) for e in kids[tid])
+            if work >= NUMPY_MIN_WORK:
+                vec = vec or _Vectors(cl, lat, inv)
+                worst = _lookahead_np(tid, options, kids[tid], table, pred, where, finish, cl, vec)
+            else:
+                worst = [_lookahead(tid, o, kids[tid], table, pred, where, finish, cl, lat, inv) for o in options]
+            best = min(zip(worst, options, strict=True), key=lambda wo: (wo[0], wo[1][0], wo[1][1]))[1]
         else:
             best = min(options, key=lambda o: (o[0], o[1]))
         f, c, s = best
@@ -176,6 +178,10 @@ def map_dag(
         ranks=dict(ranks),
         params={"lookahead": lookahead, "rank_mode": rank_mode, "insertion": insertion},
     )
+
+
+#: Look-ahead evaluations (candidate CPUs x children's candidate nodes) from which numpy is faster.
+NUMPY_MIN_WORK = 256
 
 
 def _lookahead(tid, option, children, table, pred, where, finish, cl, lat, inv) -> float:
@@ -211,19 +217,91 @@ def _lookahead(tid, option, children, table, pred, where, finish, cl, lat, inv) 
     return worst
 
 
-def _restrict(
-    table: dict[str, list[tuple[int, float]]], allowed: Mapping[str, Iterable[str]], platform: Platform
+class _Vectors:
+    """numpy copies of the cluster for the vectorised look-ahead (large clusters)."""
+
+    def __init__(self, cl: _Cluster, lat: list[list[float]], inv: list[list[float]]):
+        import numpy as np
+
+        self.np = np
+        self.lat = np.array(lat, dtype=float)
+        self.inv = np.array(inv, dtype=float)
+        self.node_of = np.array(cl.node_of)
+        self.block = np.array([cpus[0] for cpus in cl.cpus])  # first CPU of every node
+        self.rows: dict[str, tuple[Any, Any]] = {}
+
+    def row(self, tid: str, table: dict[str, list[tuple[int, float]]]) -> tuple[Any, Any]:
+        if tid not in self.rows:
+            self.rows[tid] = (
+                self.np.array([n for n, _ in table[tid]]),
+                self.np.array([w for _, w in table[tid]], dtype=float),
+            )
+        return self.rows[tid]
+
+
+def _lookahead_np(tid, options, children, table, pred, where, finish, cl, vec: _Vectors) -> list[float]:
+    """:func:`_lookahead` for every option at once: one row per candidate CPU of ``tid``.
+
+    Same arithmetic in the same order, hence the same floats and the same choices (tests compare both).
+    """
+    np = vec.np
+    f = np.array([o[0] for o in options], dtype=float)
+    cpu = np.array([o[1] for o in options])
+    rows = np.arange(len(options))
+    last = np.tile(np.array(cl.last, dtype=float), (len(options), 1))  # queue ends, per option
+    last[rows, cpu] = np.maximum(last[rows, cpu], f)
+    tent = {tid: (vec.node_of[cpu], f)}
+    worst = f.copy()
+    for e in children:
+        child = e.dst
+        nodes, w = vec.row(child, table)
+        base = np.zeros(len(nodes))
+        ready = np.zeros((len(options), len(nodes)))
+        for pe in pred[child]:
+            if pe.src in tent:
+                src_nodes, src_finish = tent[pe.src]
+                ix = (src_nodes[:, None], nodes[None, :])
+                ready = np.maximum(ready, src_finish[:, None] + vec.lat[ix] + pe.data * vec.inv[ix])
+            elif pe.src in where:
+                q = cl.node_of[where[pe.src]]
+                base = np.maximum(base, finish[pe.src] + vec.lat[q, nodes] + pe.data * vec.inv[q, nodes])
+        ready = np.maximum(ready, base[None, :])
+        node_min = np.minimum.reduceat(last, vec.block, axis=1)[:, nodes]
+        eft = np.maximum(ready, node_min) + w[None, :]
+        j = np.argmin(eft, axis=1)  # first minimum: the lowest node index
+        fin = eft[rows, j]
+        chosen = nodes[j]
+        # The core: the first one of that node where the child finishes earliest, as the loop version.
+        on_node = vec.node_of[None, :] == chosen[:, None]
+        c = np.argmin(np.where(on_node, np.maximum(last, ready[rows, j][:, None]), np.inf), axis=1)
+        last[rows, c] = fin
+        tent[child] = (chosen, fin)
+        worst = np.maximum(worst, fin)
+    return worst.tolist()
+
+
+def _cost_table(
+    dag: TaskGraph, platform: Platform, allowed: Mapping[str, Iterable[str]]
 ) -> dict[str, list[tuple[int, float]]]:
-    out = dict(table)
-    for tid, nodes in allowed.items():
-        if tid not in table:
-            raise InputError(f"unknown task {tid!r} in the allowed nodes", "allowed")
-        keep = {platform.index[n] for n in nodes if n in platform.index}
-        row = [(n, w) for n, w in table[tid] if n in keep]
+    """:meth:`Platform.cost_table` restricted to each task's allowed nodes (only those are priced)."""
+    unknown = [t for t in allowed if t not in dag.tasks]
+    if unknown:
+        raise InputError(f"unknown task {unknown[0]!r} in the allowed nodes", "allowed")
+    table: dict[str, list[tuple[int, float]]] = {}
+    procs = platform.processors
+    for tid, task in dag.tasks.items():
+        if tid not in allowed:
+            continue
+        nodes = list(allowed[tid])
+        idx = sorted({platform.index[n] for n in nodes if n in platform.index})
+        row = [(i, c) for i in idx if (c := platform.cost(task, procs[i])) is not None]
         if not row:
             raise InputError(f"task {tid!r} cannot run on any of its allowed nodes {sorted(nodes)}", "allowed")
-        out[tid] = row
-    return out
+        table[tid] = row
+    if len(table) < len(dag.tasks):
+        rest = TaskGraph(dag.name, {t: task for t, task in dag.tasks.items() if t not in table}, [])
+        table.update(platform.cost_table(rest))
+    return {tid: table[tid] for tid in dag.tasks}
 
 
 # ---- HEFT4K ---------------------------------------------------------------------------------------
