@@ -140,3 +140,11 @@ def test_calibration_points_on_generated_cases():
     points = calibration_points(cases, seed=1, failures_per_dag=2)
     assert len(points) == 6
     assert all(0.0 <= p.lost_share <= 1.0 and p.partial > 0 and p.total > 0 for p in points)
+
+
+def test_calibration_by_the_90th_percentile_is_stricter():
+    points = [CalibrationPoint(10, "n", 0.1, 10.0, 10.0)] * 8 + [CalibrationPoint(10, "n", 0.1, 13.0, 10.0)] * 2
+    assert calibrate_threshold(points, delta=0.10, thresholds=[0.1])["threshold"] == 0.1  # mean gap 6%
+    assert calibrate_threshold(points, delta=0.10, thresholds=[0.1], statistic="p90")["threshold"] is None
+    with pytest.raises(InputError, match="unknown statistic"):
+        calibrate_threshold(points, statistic="max")
