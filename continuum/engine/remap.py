@@ -211,25 +211,51 @@ def calibration_points(
     return points
 
 
+CALIBRATION_STATISTICS = ("mean", "p90", "marginal")
+
+
 def calibrate_threshold(
     points: Sequence[CalibrationPoint],
     delta: float = 0.10,
     thresholds: Sequence[float] | None = None,
     statistic: str = "mean",
 ) -> dict[str, Any]:
-    """Spec 02 section 8.3: the largest threshold whose partial remaps (lost share <= threshold) lose at most
-    ``delta`` against total remapping, by the ``statistic`` of their gaps: ``"mean"`` (the spec's reading)
-    or ``"p90"`` (nine cases in ten within delta). Returns the threshold (``None`` if none) and the curve."""
-    if statistic not in ("mean", "p90"):
-        raise InputError(f"unknown statistic {statistic!r} (choose from mean, p90)", "statistic")
-    thresholds = thresholds or [round(0.05 * k, 2) for k in range(1, 11)]
+    """Spec 02 section 8.3: the threshold up to which partial remapping loses at most ``delta`` against a
+    total remap. ``statistic`` says how the gaps are judged:
+
+    - ``"mean"`` (the spec's reading): the largest threshold whose partial cases (lost share <= threshold)
+      have a mean gap <= delta;
+    - ``"p90"``: the same with the 90th percentile of the gaps (nine cases in ten within delta);
+    - ``"marginal"``: raise the threshold step by step, judging only the cases the step adds (lost share in
+      (previous, threshold]), and stop at the first step whose mean gap exceeds delta ("iterates over the
+      threshold values until the delta is reached", thesis 3.3.2).
+
+    Returns the threshold (``None`` if none qualifies) and the curve behind it.
+    """
+    if statistic not in CALIBRATION_STATISTICS:
+        raise InputError(
+            f"unknown statistic {statistic!r} (choose from {', '.join(CALIBRATION_STATISTICS)})", "statistic"
+        )
+    thresholds = sorted(thresholds or [round(0.05 * k, 2) for k in range(1, 11)])
     curve = []
     best = None
-    for theta in sorted(thresholds):
+    stopped = False
+    previous = -1.0
+    for theta in thresholds:
         gaps = sorted(p.gap for p in points if p.lost_share <= theta)
+        step = [p.gap for p in points if previous < p.lost_share <= theta]
         mean = sum(gaps) / len(gaps) if gaps else 0.0
         p90 = gaps[min(len(gaps) - 1, int(0.9 * len(gaps)))] if gaps else 0.0
-        curve.append({"threshold": theta, "cases": len(gaps), "mean_gap": mean, "p90_gap": p90})
-        if gaps and (mean if statistic == "mean" else p90) <= delta:
+        step_mean = sum(step) / len(step) if step else 0.0
+        curve.append(
+            {"threshold": theta, "cases": len(gaps), "mean_gap": mean, "p90_gap": p90, "step_cases": len(step),
+             "step_mean_gap": step_mean}
+        )  # fmt: skip
+        previous = theta
+        if statistic == "marginal":
+            stopped = stopped or step_mean > delta
+            if not stopped and gaps:
+                best = theta
+        elif gaps and (mean if statistic == "mean" else p90) <= delta:
             best = theta
     return {"delta": delta, "statistic": statistic, "threshold": best, "curve": curve}

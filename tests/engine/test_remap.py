@@ -148,3 +148,15 @@ def test_calibration_by_the_90th_percentile_is_stricter():
     assert calibrate_threshold(points, delta=0.10, thresholds=[0.1], statistic="p90")["threshold"] is None
     with pytest.raises(InputError, match="unknown statistic"):
         calibrate_threshold(points, statistic="max")
+
+
+def test_marginal_calibration_stops_where_the_added_cases_lose_more_than_delta():
+    points = [
+        CalibrationPoint(10, "n", 0.05, 10.0, 10.0),
+        CalibrationPoint(10, "n", 0.15, 10.2, 10.0),
+        CalibrationPoint(10, "n", 0.25, 12.0, 10.0),  # the 20-30% step loses 20%
+        CalibrationPoint(10, "n", 0.40, 10.0, 10.0),
+    ]
+    steps = [0.1, 0.2, 0.3, 0.4, 0.5]
+    assert calibrate_threshold(points, 0.10, steps, statistic="marginal")["threshold"] == 0.2
+    assert calibrate_threshold(points, 0.10, steps)["threshold"] == 0.5  # the cumulative mean hides it
