@@ -60,6 +60,7 @@ INSTALLED_APPS = [
     "apps.kube",
     "apps.containers",
     "apps.realtime",
+    "apps.heft4k",
     "apps.dashboard",
 ]
 
@@ -173,6 +174,9 @@ CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
 # ---- Continuum ------------------------------------------------------------------------------------
 # HEFT's average computation cost: "mean" (literature, Topcuoglu) or "max" (thesis Fig. 3.1). Spec 01 2.1.
 CONTINUUM_HEFT_RANK_MODE = os.environ.get("CONTINUUM_HEFT_RANK_MODE", "mean")
+# How cluster nodes without a direct link reach each other: "ospf" (least sum of 1/bandwidth, store and
+# forward; spec 02 section 6.1) or "latency" (least latency, bottleneck bandwidth).
+CONTINUUM_CLUSTER_ROUTING = os.environ.get("CONTINUUM_CLUSTER_ROUTING", "ospf")
 # Scheduler name written into pods Continuum places; kube-scheduler leaves them alone.
 CONTINUUM_SCHEDULER_NAME = os.environ.get("CONTINUUM_SCHEDULER_NAME", "continuum-scheduler")
 CONTINUUM_DEFAULT_NAMESPACE = os.environ.get("CONTINUUM_NAMESPACE", "continuum")

@@ -1,11 +1,13 @@
 """Clusters of compute nodes and the network links between them (``continuum.cluster/v1``)."""
 
+from django.conf import settings
 from django.core.validators import MinValueValidator
 from django.db import models
 
 from apps.tenancy.models import FleetOwned
-from continuum.engine.platform import Link as EngineLink
-from continuum.engine.platform import Platform, Processor
+from continuum.engine.cluster import Cluster as EngineCluster
+from continuum.engine.errors import InputError
+from continuum.engine.platform import Platform
 
 
 class Cluster(FleetOwned):
@@ -33,23 +35,36 @@ class Cluster(FleetOwned):
     def __str__(self) -> str:
         return self.name
 
-    def to_platform(self, ready_only: bool = True) -> Platform:
-        """The engine's view of this cluster: one processor per (Ready) node, times in ms, data in Mbit.
-
-        A link of B Mbit/s moves B/1000 Mbit per ms; nodes without a direct link use the shortest path.
-        """
+    def to_engine(self, ready_only: bool = True) -> EngineCluster:
+        """The engine's view of this cluster (``continuum.cluster/v1``), with only Ready nodes by default."""
         nodes = self.nodes.all()
         if ready_only:
             nodes = nodes.filter(status=ComputeNode.Status.READY)
-        procs = [Processor(n.name, n.processor_class, n.speed) for n in nodes.order_by("name")]
-        names = {p.id for p in procs}
-        links = [
-            EngineLink(lk.src.name, lk.dst.name, lk.bandwidth_mbps / 1000.0, lk.latency_ms)
-            for lk in self.links.select_related("src", "dst")
-            if lk.src.name in names and lk.dst.name in names
-        ]
-        bw = None if self.default_bandwidth_mbps is None else self.default_bandwidth_mbps / 1000.0
-        return Platform(procs, bandwidth=bw, latency=self.default_latency_ms, links=links, route=True)
+        nodes = list(nodes.order_by("name"))
+        if not nodes:
+            raise InputError(f"cluster {self.name!r} has no Ready node", "cluster")
+        names = {n.name for n in nodes}
+        doc = {
+            "name": self.name,
+            "nodes": [n.to_document() for n in nodes],
+            "links": [
+                {
+                    "src": lk.src.name,
+                    "dst": lk.dst.name,
+                    "bandwidth_mbps": lk.bandwidth_mbps,
+                    "latency_ms": lk.latency_ms,
+                }
+                for lk in self.links.select_related("src", "dst")
+                if lk.src.name in names and lk.dst.name in names
+            ],
+            "default_bandwidth_mbps": self.default_bandwidth_mbps,
+            "default_latency_ms": self.default_latency_ms,
+        }
+        return EngineCluster.from_dict(doc)
+
+    def to_platform(self, ready_only: bool = True) -> Platform:
+        """The cluster graph the DAG schedulers use: one multi-core processor per (Ready) node, ms and Mbit."""
+        return self.to_engine(ready_only).to_platform(settings.CONTINUUM_CLUSTER_ROUTING)
 
 
 class ComputeNode(models.Model):
@@ -94,9 +109,27 @@ class ComputeNode(models.Model):
     def __str__(self) -> str:
         return self.name
 
-    @property
-    def fleet_id(self) -> int:
-        return self.cluster.fleet_id
+    def to_document(self) -> dict:
+        """This node as a ``continuum.cluster/v1`` node."""
+        doc = {
+            "name": self.name,
+            "arch": self.arch,
+            "cpu": self.cpu,
+            "memory_mib": self.memory_mib,
+            "storage_mib": self.storage_mib or None,
+            "labels": self.labels,
+            "taints": self.taints,
+            "rt": self.rt,
+            "class": self.processor_class,
+            "speed": self.speed,
+        }
+        if self.criticality:
+            doc["criticality"] = self.criticality
+        if self.rt_threshold is not None:
+            doc["rt_threshold"] = self.rt_threshold
+        if self.accelerators:
+            doc["accelerators"] = self.accelerators
+        return doc
 
 
 class Link(models.Model):

@@ -7,7 +7,6 @@ from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
 from apps.workloads.models import Application
 from continuum.engine import algorithms
-from continuum.engine.errors import InputError
 from continuum.engine.platform import Platform
 
 from .models import Schedule
@@ -30,8 +29,6 @@ def schedule_application(job, progress) -> tuple[dict, str]:
     if args.get("cluster") is not None:
         cluster = Cluster.objects.get(pk=args["cluster"], fleet=job.fleet)
         platform = cluster.to_platform()
-        if not platform.processors:
-            raise InputError(f"cluster {cluster.name!r} has no Ready node")
     else:
         platform = Platform.from_dict(args["platform"])
     progress(1, "ranking tasks")

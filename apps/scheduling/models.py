@@ -54,6 +54,7 @@ class Schedule(FleetOwned):
                 start=a.start,
                 finish=a.finish,
                 niceness=a.niceness,
+                core=a.core,
             )
             for a in result.assignments
         )
@@ -63,7 +64,7 @@ class Schedule(FleetOwned):
         return EngineSchedule(
             self.algorithm,
             [
-                EngineAssignment(a.task, a.processor, a.start, a.finish, a.frame, a.niceness)
+                EngineAssignment(a.task, a.processor, a.start, a.finish, a.frame, a.niceness, a.core)
                 for a in self.assignments.all()
             ],
             ranks=self.ranks,
@@ -88,6 +89,7 @@ class Assignment(models.Model):
     start = models.FloatField()
     finish = models.FloatField()
     niceness = models.SmallIntegerField(null=True, blank=True)
+    core = models.PositiveSmallIntegerField(null=True, blank=True, help_text="CPU of a multi-core node")
     placement = models.CharField(max_length=16, choices=Placement.choices, default=Placement.NOT_PUSHED)
     placement_message = models.CharField(max_length=500, blank=True)
     pod_name = models.CharField(max_length=253, blank=True)

@@ -36,6 +36,7 @@ class AssignmentSerializer(serializers.ModelSerializer):
             "task",
             "frame",
             "processor",
+            "core",
             "start",
             "finish",
             "niceness",

@@ -9,13 +9,14 @@ from typing import Any
 from .dag import TaskGraph
 from .errors import InputError
 from .heft import Progress, heft
+from .heft4k import heft4k
 from .platform import Platform
 from .schedule import Schedule
 
 Scheduler = Callable[..., Schedule]
 
 #: name -> function(dag, platform, **params) -> Schedule. Other modules register their methods here.
-SCHEDULERS: dict[str, Scheduler] = {"heft": heft}
+SCHEDULERS: dict[str, Scheduler] = {"heft": heft, "heft4k": heft4k}
 
 
 def run(name: str, dag: TaskGraph, platform: Platform, progress: Progress | None = None, **params: Any) -> Schedule:

@@ -3,9 +3,16 @@
 Shared by the node-level placers (super-clustering 3.3.1, HEFT4K 3.3.2, RT-Kube 3.4). A node has an
 architecture (``kubernetes.io/arch``: amd64, arm64, riscv64, ...; spec 02 section 4), allocatable CPU cores,
 memory and storage in MiB (absent = not limited), labels and taints; ``rt``, ``criticality`` and
-``rt_threshold`` serve the real-time placer, and any other key is kept in ``extra``. Links are undirected;
-two nodes without a direct link reach each other over the path of least latency (the thesis routes with
-OSPF, 3.3.2) whose bandwidth is the path's bottleneck.
+``rt_threshold`` serve the real-time placer; ``class`` and ``speed`` say which DAG task costs apply to it and
+how fast it runs them; any other key is kept in ``extra``. Links are undirected; :meth:`Cluster.route` gives
+the path of least latency whose bandwidth is the path's bottleneck.
+
+:meth:`Cluster.to_platform` (or :func:`cluster_platform`) turns the cluster into the graph G^c that HEFT4K
+schedules on (thesis 3.3.2): one multi-core processor per node (cores = whole CPUs, at least 1), in Mbit and
+ms (a link of B Mbit/s moves B/1000 Mbit per ms), with unlinked nodes joined over the OSPF path (least sum of
+1/bandwidth, store and forward; spec 02 section 6.1) or, with ``routing="latency"``, the least-latency path.
+Pairs with no path use the document's ``default_bandwidth_mbps`` / ``default_latency_ms``; without them such
+transfers are free.
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .errors import InputError
+from .platform import Link, Platform, Processor
 from .taints import Taint
 
 FORMAT = "continuum.cluster/v1"
@@ -40,6 +48,7 @@ ARCH_ALIASES = {
 }
 _KNOWN_NODE_KEYS = {
     "name", "arch", "cpu", "memory_mib", "storage_mib", "labels", "taints", "rt", "criticality", "rt_threshold",
+    "class", "speed",
 }  # fmt: skip
 
 
@@ -70,6 +79,9 @@ class ClusterNode:
     rt: bool = False
     criticality: str | None = None
     rt_threshold: float | None = None
+    #: The processor class DAG task costs name (besides the node's own name), and the speed factor.
+    cls: str = "cpu"
+    speed: float = 1.0
     extra: Mapping[str, Any] = field(default_factory=dict)
 
     def all_labels(self) -> dict[str, str]:
@@ -88,6 +100,10 @@ class ClusterNode:
                 doc[key] = getattr(self, key)
         if self.rt:
             doc["rt"] = True
+        if self.cls != "cpu":
+            doc["class"] = self.cls
+        if self.speed != 1.0:
+            doc["speed"] = self.speed
         if self.labels:
             doc["labels"] = dict(self.labels)
         if self.taints:
@@ -109,6 +125,8 @@ class Cluster:
     nodes: dict[str, ClusterNode]
     links: list[ClusterLink] = field(default_factory=list)
     name: str = "cluster"
+    default_bandwidth_mbps: float | None = None
+    default_latency_ms: float = 0.0
 
     def __post_init__(self) -> None:
         if not self.nodes:
@@ -140,7 +158,16 @@ class Cluster:
         if not isinstance(raw_links, list):
             raise InputError("'links' must be a list", "links")
         links = [_parse_link(i, raw) for i, raw in enumerate(raw_links)]
-        return cls(nodes, links, name=str(data.get("name") or "cluster"))
+        default_bw = _limit("the cluster", data, "default_bandwidth_mbps")
+        if default_bw is not None and default_bw <= 0:
+            raise InputError(f"default_bandwidth_mbps must be a positive number, not {default_bw!r}", "nodes")
+        return cls(
+            nodes,
+            links,
+            name=str(data.get("name") or "cluster"),
+            default_bandwidth_mbps=default_bw,
+            default_latency_ms=_limit("the cluster", data, "default_latency_ms") or 0.0,
+        )
 
     def to_dict(self) -> dict[str, Any]:
         links = []
@@ -157,6 +184,16 @@ class Cluster:
         }
 
     # ---- network ------------------------------------------------------------------------------
+    def to_platform(self, routing: str = "ospf") -> Platform:
+        """The cluster graph G^c as a routed, multi-core :class:`Platform` (times in ms, data in Mbit)."""
+        procs = [Processor(n.name, n.cls, n.speed, max(1, math.floor(n.cpu or 1))) for n in self.nodes.values()]
+        links = [
+            Link(lk.src, lk.dst, None if lk.bandwidth_mbps is None else lk.bandwidth_mbps / 1000.0, lk.latency_ms)
+            for lk in self.links
+        ]
+        bw = None if self.default_bandwidth_mbps is None else self.default_bandwidth_mbps / 1000.0
+        return Platform(procs, bandwidth=bw, latency=self.default_latency_ms, links=links, route=True, routing=routing)
+
     def route(self, a: str, b: str) -> tuple[float, float | None] | None:
         """(latency ms, bottleneck bandwidth Mbps or None if unlimited) between two nodes; ``None`` when
         they are not connected. The same node is (0, None). A direct link wins over any path."""
@@ -229,6 +266,14 @@ def _parse_node(index: int, raw: Any) -> ClusterNode:
     taints = raw.get("taints") or []
     if not isinstance(taints, list):
         raise InputError(f"{where}: 'taints' must be a list", "nodes")
+    cls = raw.get("class", "cpu")
+    if not isinstance(cls, str) or not cls:
+        raise InputError(f"{where} has an invalid class {cls!r}", "nodes")
+    if raw.get("cpu") is not None and _limit(where, raw, "cpu") == 0:
+        raise InputError(f"{where} cpu must be a positive number, not 0", "nodes")
+    speed = _limit(where, raw, "speed")
+    if speed is not None and speed <= 0:
+        raise InputError(f"{where} speed must be a positive number, not {speed!r}", "nodes")
     return ClusterNode(
         name=name,
         arch=normalize_arch(raw.get("arch", "amd64"), where),
@@ -240,6 +285,8 @@ def _parse_node(index: int, raw: Any) -> ClusterNode:
         rt=bool(raw.get("rt", False)),
         criticality=None if raw.get("criticality") is None else str(raw["criticality"]),
         rt_threshold=_limit(where, raw, "rt_threshold"),
+        cls=cls,
+        speed=1.0 if speed is None else speed,
         extra={k: v for k, v in raw.items() if k not in _KNOWN_NODE_KEYS},
     )
 
@@ -248,12 +295,21 @@ def _parse_link(index: int, raw: Any) -> ClusterLink:
     if not isinstance(raw, Mapping) or not raw.get("src") or not raw.get("dst"):
         raise InputError(f"links[{index}] needs 'src' and 'dst' node names", "links")
     where = f"link {raw['src']}-{raw['dst']}"
-    bw = raw.get("bandwidth_mbps")
+    if raw["src"] == raw["dst"]:
+        raise InputError(f"links[{index}] joins node {raw['src']!r} to itself", "links")
+    if "bandwidth_mbps" not in raw:
+        raise InputError(f"{where} has no 'bandwidth_mbps' (null means unlimited)", "links")
+    bw = raw["bandwidth_mbps"]
     if bw is not None and (
         isinstance(bw, bool) or not isinstance(bw, (int, float)) or not (bw > 0 and math.isfinite(bw))
     ):
-        raise InputError(f"{where} has invalid bandwidth_mbps {bw!r} (a positive number or null)", "links")
+        raise InputError(f"{where} bandwidth_mbps must be a positive number or null, not {bw!r}", "links")
     lat = raw.get("latency_ms", 0.0)
     if isinstance(lat, bool) or not isinstance(lat, (int, float)) or not math.isfinite(lat) or lat < 0:
         raise InputError(f"{where} has invalid latency_ms {lat!r}", "links")
     return ClusterLink(str(raw["src"]), str(raw["dst"]), None if bw is None else float(bw), float(lat))
+
+
+def cluster_platform(doc: Mapping[str, Any], routing: str = "ospf") -> Platform:
+    """Read a ``continuum.cluster/v1`` document straight into the HEFT4K cluster graph."""
+    return Cluster.from_dict(doc).to_platform(routing)

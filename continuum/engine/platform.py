@@ -3,15 +3,25 @@
 This is the ``continuum.platform/v1`` contract. Moving an edge's data between two different processors
 takes ``latency + data / bandwidth``; on the same processor it takes 0; a bandwidth of ``None`` means
 transfers are free. Links are undirected. When ``route`` is set (cluster platforms), a pair of processors
-without a direct link uses the shortest path by latency and that path's bottleneck bandwidth, as the
-thesis does with OSPF (3.3.2); otherwise such a pair uses the platform defaults.
+without a direct link is routed over the links, as the thesis does with OSPF (3.3.2), by one of two rules
+(``routing``):
+
+- ``"latency"`` (default): the path with the least total latency (ties: the larger bottleneck bandwidth);
+  the transfer takes the summed latency plus ``data / bottleneck bandwidth`` (cut-through). A direct
+  link always wins.
+- ``"ospf"``: the path with the least OSPF cost, the sum of ``1 / bandwidth`` over its hops (ties: less
+  latency); the transfer takes the summed latency plus ``data * sum(1 / bandwidth)``, i.e. it is stored
+  and forwarded at every hop (spec 02 section 6.1, our reading). A direct link is one candidate path.
+
+Pairs that no path joins use the platform defaults. A processor with ``cores > 1`` is a multi-core
+computing node (a Kubernetes node, thesis 3.3.2): it runs up to ``cores`` tasks at once and transfers
+between its cores are free.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -19,6 +29,7 @@ from .dag import Task, TaskGraph
 from .errors import InputError
 
 FORMAT = "continuum.platform/v1"
+ROUTINGS = ("latency", "ospf")
 
 
 @dataclass(frozen=True)
@@ -28,6 +39,8 @@ class Processor:
     #: Speed factor for class costs: a class cost ``c`` takes ``c / speed`` here (related machines).
     #: A cost given for this processor's id is taken as measured, unscaled.
     speed: float = 1.0
+    #: Number of CPUs that can run tasks at the same time (a cluster node); 1 for a single processor.
+    cores: int = 1
 
 
 @dataclass(frozen=True)
@@ -45,6 +58,8 @@ class Platform:
     latency: float = 0.0
     links: list[Link] = field(default_factory=list)
     route: bool = False
+    #: How routed pairs are joined when ``route`` is set: ``"latency"`` or ``"ospf"`` (module docstring).
+    routing: str = "latency"
 
     def __post_init__(self) -> None:
         if not self.processors:
@@ -56,6 +71,10 @@ class Platform:
         for p in self.processors:
             if not (p.speed > 0 and math.isfinite(p.speed)):
                 raise InputError(f"processor {p.id!r} has invalid speed {p.speed!r}", "processors")
+            if isinstance(p.cores, bool) or not isinstance(p.cores, int) or p.cores < 1:
+                raise InputError(f"processor {p.id!r} has invalid cores {p.cores!r} (a positive integer)", "processors")
+        if self.routing not in ROUTINGS:
+            raise InputError(f"unknown routing {self.routing!r} (choose from {', '.join(ROUTINGS)})", "routing")
         _check_bandwidth(self.bandwidth, "platform")
         known = set(ids)
         for link in self.links:
@@ -78,7 +97,10 @@ class Platform:
         for i, raw in enumerate(data.get("processors") or []):
             if not isinstance(raw, Mapping) or not raw.get("id"):
                 raise InputError(f"processors[{i}] needs an 'id'", "processors")
-            procs.append(Processor(str(raw["id"]), str(raw.get("class", "cpu")), float(raw.get("speed", 1.0))))
+            cores = raw.get("cores", 1)
+            if isinstance(cores, float) and cores.is_integer():
+                cores = int(cores)
+            procs.append(Processor(str(raw["id"]), str(raw.get("class", "cpu")), float(raw.get("speed", 1.0)), cores))
         links = []
         for i, raw in enumerate(data.get("links") or []):
             if not isinstance(raw, Mapping) or "src" not in raw or "dst" not in raw:
@@ -90,6 +112,7 @@ class Platform:
             latency=float(data.get("latency", 0.0)),
             links=links,
             route=bool(data.get("route", False)),
+            routing=str(data.get("routing", "latency")),
         )
 
     @classmethod
@@ -102,9 +125,12 @@ class Platform:
         return cls(procs, **kwargs)
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        doc = {
             "format": FORMAT,
-            "processors": [{"id": p.id, "class": p.cls, "speed": p.speed} for p in self.processors],
+            "processors": [
+                {"id": p.id, "class": p.cls, "speed": p.speed} | ({"cores": p.cores} if p.cores != 1 else {})
+                for p in self.processors
+            ],
             "bandwidth": self.bandwidth,
             "latency": self.latency,
             "links": [
@@ -112,6 +138,21 @@ class Platform:
             ],
             "route": self.route,
         }
+        if self.route:
+            doc["routing"] = self.routing
+        return doc
+
+    def without(self, ids: Iterable[str]) -> Platform:
+        """This platform minus the processors ``ids`` and their links (nodes gone offline, Algorithm 2)."""
+        gone = set(ids)
+        unknown = sorted(gone - set(self.index))
+        if unknown:
+            raise InputError(f"unknown processor {unknown[0]!r}", "processors")
+        procs = [p for p in self.processors if p.id not in gone]
+        if not procs:
+            raise InputError("no processor is left", "processors")
+        links = [lk for lk in self.links if lk.src not in gone and lk.dst not in gone]
+        return Platform(procs, self.bandwidth, self.latency, links, self.route, self.routing)
 
     # ---- costs --------------------------------------------------------------------------------
     def cost(self, task: Task, proc: Processor) -> float | None:
@@ -169,6 +210,8 @@ class Platform:
         inv = [[0.0 if i == j else d_inv for j in range(n)] for i in range(n)]
         if self.route and self.links:
             self._fill_routes(lat, inv)
+            if self.routing == "ospf":  # the routes already weigh every direct link
+                return lat, inv
         for link in self.links:  # a direct link always wins
             i, j = self.index[link.src], self.index[link.dst]
             if i == j:
@@ -179,22 +222,60 @@ class Platform:
         return lat, inv
 
     def _fill_routes(self, lat: list[list[float]], inv: list[list[float]]) -> None:
-        import networkx as nx
+        """All-pairs routes by Floyd-Warshall on numpy arrays (fast enough to re-route after a failure)."""
+        import numpy as np
 
-        g = nx.Graph()
-        g.add_nodes_from(range(len(self.processors)))
+        n = len(self.processors)
+        primary = np.full((n, n), np.inf)  # what the route minimises
+        second = np.full((n, n), np.inf)  # the tie-break (latency mode: minus the bottleneck bandwidth)
+        r_lat = np.zeros((n, n))
+        r_inv = np.zeros((n, n))
+        np.fill_diagonal(primary, 0.0)
+        np.fill_diagonal(second, 0.0 if self.routing == "ospf" else -np.inf)
         for link in self.links:
             i, j = self.index[link.src], self.index[link.dst]
-            bw = math.inf if link.bandwidth is None else link.bandwidth
-            g.add_edge(i, j, latency=link.latency, bandwidth=bw)
-        for i, paths in nx.all_pairs_dijkstra_path(g, weight="latency"):
-            for j, path in paths.items():
-                if i == j:
-                    continue
-                hops = list(itertools.pairwise(path))
-                lat[i][j] = sum(g.edges[a, b]["latency"] for a, b in hops)
-                bottleneck = min(g.edges[a, b]["bandwidth"] for a, b in hops)
-                inv[i][j] = 0.0 if bottleneck == math.inf else 1.0 / bottleneck
+            if i == j:
+                continue
+            li, iv = (0.0, 0.0) if link.bandwidth is None else (link.latency, 1.0 / link.bandwidth)
+            p, q = (iv, li) if self.routing == "ospf" else (li, -(math.inf if iv == 0 else 1.0 / iv))
+            if (p, q) < (primary[i, j], second[i, j]):
+                for a, b in ((i, j), (j, i)):
+                    primary[a, b], second[a, b], r_lat[a, b], r_inv[a, b] = p, q, li, iv
+        tol = 1e-12
+        with np.errstate(invalid="ignore"):  # inf - inf between unreachable pairs compares as False
+            primary, second, r_lat, r_inv = _floyd_warshall(primary, second, r_lat, r_inv, self.routing, tol)
+        reach = np.isfinite(primary)
+        for i in range(n):
+            for j in range(n):
+                if i != j and reach[i, j]:
+                    lat[i][j] = float(r_lat[i, j])
+                    inv[i][j] = float(r_inv[i, j])
+
+
+def _floyd_warshall(primary, second, r_lat, r_inv, routing: str, tol: float):
+    """Lexicographic (primary, second) all-pairs shortest paths, carrying each route's latency and 1/bw."""
+    import numpy as np
+
+    for k in range(len(primary)):
+        p_new = primary[:, k, None] + primary[None, k, :]
+        if routing == "ospf":
+            q_new = second[:, k, None] + second[None, k, :]
+        else:  # bottleneck: the smaller bandwidth, i.e. the larger minus-bandwidth
+            q_new = np.maximum(second[:, k, None], second[None, k, :])
+        better = (p_new < primary - tol * np.maximum(1.0, primary)) | (
+            (np.abs(p_new - primary) <= tol * np.maximum(1.0, primary)) & (q_new < second - tol)
+        )
+        better &= np.isfinite(p_new)
+        if not better.any():
+            continue
+        primary = np.where(better, p_new, primary)
+        second = np.where(better, q_new, second)
+        r_lat = np.where(better, r_lat[:, k, None] + r_lat[None, k, :], r_lat)
+        if routing == "ospf":
+            r_inv = np.where(better, r_inv[:, k, None] + r_inv[None, k, :], r_inv)
+        else:
+            r_inv = np.where(better, np.maximum(r_inv[:, k, None], r_inv[None, k, :]), r_inv)
+    return primary, second, r_lat, r_inv
 
 
 def _check_bandwidth(bw: Any, where: str) -> None:

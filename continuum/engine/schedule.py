@@ -30,6 +30,8 @@ class Assignment:
     frame: int = 0
     #: Linux niceness the task's process runs with (HEFT4K, Eq. 3.16); ``None`` when not set.
     niceness: int | None = None
+    #: CPU of a multi-core processor (``Processor.cores``) the task runs on; ``None`` when not set.
+    core: int | None = None
 
     def to_dict(self) -> dict[str, Any]:
         doc = {
@@ -41,6 +43,8 @@ class Assignment:
         }
         if self.niceness is not None:
             doc["niceness"] = self.niceness
+        if self.core is not None:
+            doc["core"] = self.core
         return doc
 
 
@@ -84,6 +88,7 @@ class Schedule:
                     float(a["finish"]),
                     int(a.get("frame", 0)),
                     None if a.get("niceness") is None else int(a["niceness"]),
+                    None if a.get("core") is None else int(a["core"]),
                 )
                 for a in data.get("assignments", [])
             ]
@@ -153,7 +158,8 @@ class Schedule:
         """Everything wrong with this schedule for ``dag`` on ``platform`` (empty when valid).
 
         Checks: every task of every frame placed once, on a processor that can run it, for exactly its
-        execution time; precedence including transfer time; no overlap on a processor.
+        execution time; precedence including transfer time; no overlap on a processor, or on one core of a
+        multi-core processor (``core`` set), and never more tasks at once than a processor has cores.
         """
         problems: list[str] = []
         table = self.lookup()
@@ -185,11 +191,38 @@ class Schedule:
                         f"edge {e.src}->{e.dst} (frame {frame}): {e.dst!r} starts at {d.start} "
                         f"before its input arrives at {ready}"
                     )
+        cores = {p.id: p.cores for p in platform.processors}
         for proc, row in self.by_processor().items():
-            for before, after in itertools.pairwise(row):
-                if after.start + EPS * max(1.0, before.finish) < before.finish:
-                    problems.append(
-                        f"{before.task!r} and {after.task!r} overlap on {proc!r} "
-                        f"([{before.start}, {before.finish}) and [{after.start}, {after.finish}))"
-                    )
+            lanes: dict[int | None, list[Assignment]] = {}
+            for a in row:
+                lanes.setdefault(a.core if cores.get(proc, 1) > 1 else None, []).append(a)
+            for lane in lanes.values():
+                for before, after in itertools.pairwise(lane):
+                    if after.start + EPS * max(1.0, before.finish) < before.finish:
+                        problems.append(
+                            f"{before.task!r} and {after.task!r} overlap on {proc!r}"
+                            + ("" if after.core is None or cores.get(proc, 1) == 1 else f" core {after.core}")
+                            + f" ([{before.start}, {before.finish}) and [{after.start}, {after.finish}))"
+                        )
+            if cores.get(proc, 1) > 1:
+                problems += _capacity_problems(proc, row, cores[proc])
         return problems
+
+
+def _capacity_problems(proc: str, row: list[Assignment], cores: int) -> list[str]:
+    """More tasks running at once on ``proc`` than it has cores, or a core index it does not have."""
+    problems = [
+        f"task {a.task!r} is on core {a.core} of {proc!r}, which has {cores} cores"
+        for a in row
+        if a.core is not None and not 0 <= a.core < cores
+    ]
+    busy = [a for a in row if a.finish > a.start]
+    # Finishes sort before starts at the same instant, with the same float slack as the other checks.
+    events = sorted([(a.start, 1) for a in busy] + [(a.finish - EPS * max(1.0, a.finish), -1) for a in busy])
+    running = 0
+    for t, step in events:
+        running += step
+        if running > cores:
+            problems.append(f"{running} tasks run at once on {proc!r} at {t}, which has {cores} cores")
+            break
+    return problems

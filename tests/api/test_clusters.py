@@ -7,8 +7,9 @@ def test_import_cluster_document(cluster):
     assert sorted(cluster.nodes.values_list("name", flat=True)) == ["node0", "node1", "node2", "node3"]
     assert cluster.links.count() == 3
     platform = cluster.to_platform()
-    # node0 -> node3 has no direct link: three hops of 0.5 ms, bottleneck 1000 Mbit/s = 1 Mbit/ms.
-    assert platform.comm_time("node0", "node3", 2.0) == pytest.approx(1.5 + 2.0)
+    # node0 -> node3 has no direct link: three store-and-forward hops of 0.5 ms at 1000 Mbit/s = 1 Mbit/ms.
+    assert platform.comm_time("node0", "node3", 2.0) == pytest.approx(3 * (0.5 + 2.0))
+    assert [p.cores for p in platform.processors] == [4, 4, 4, 4]
 
 
 @pytest.mark.parametrize(

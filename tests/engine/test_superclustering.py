@@ -269,8 +269,15 @@ def test_cluster_reader():
         ({"nodes": [{"name": "a", "cpu": -2}]}, "node 'a' has invalid cpu -2"),
         ({"nodes": [{"name": "a"}, {"name": "a"}]}, "duplicate node name 'a'"),
         ({"nodes": [{"name": "a", "taints": [{"key": "k", "effect": "Maybe"}]}]}, "unknown effect 'Maybe'"),
-        ({"nodes": [{"name": "a"}], "links": [{"src": "a", "dst": "b"}]}, "link a-b refers to unknown node 'b'"),
-        ({"nodes": [{"name": "a"}], "links": [{"src": "a", "dst": "a", "bandwidth_mbps": 0}]}, "invalid bandwidth"),
+        (
+            {"nodes": [{"name": "a"}], "links": [{"src": "a", "dst": "b", "bandwidth_mbps": 1}]},
+            "link a-b refers to unknown node 'b'",
+        ),
+        (
+            {"nodes": [{"name": "a"}, {"name": "b"}], "links": [{"src": "a", "dst": "b", "bandwidth_mbps": 0}]},
+            "bandwidth_mbps must be a positive number",
+        ),
+        ({"nodes": [{"name": "a"}], "links": [{"src": "a", "dst": "a", "bandwidth_mbps": 1}]}, "to itself"),
     ],
 )
 def test_bad_clusters(doc, message):
