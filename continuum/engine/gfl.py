@@ -13,10 +13,8 @@ Fair-Lateness scheduler, event-driven, work-conserving and non-preemptive:
   point (``m_k`` processors of kind k; the shared relative deadline D cancels out, and with one
   processor the rule is FIFO by release); earlier frames always come first (no starvation);
 - idle processors are served in platform order (core 0 first).
-Tie rule [deviation from spec 01 section 5.2, which breaks PP ties by node id]: equal priority points are
-broken by the upward-rank priority list (``tie="rank"``; max-cost ranks, spec 01 section 2.1), then by
-input order. With node ids (``tie="id"``) G-FL_c on Fig. 3.1 gives 23, not the spec's 25, while the rank
-order reproduces every figure of spec 01 section 7.5 (G-FL 28 / 56 / 44, G-FL_c 25 / 50 / 50).
+Ties of the priority point go by input order (``tie="id"``, the node id of spec 01); ``tie="rank"`` breaks
+them by HEFT's upward-rank list instead. Both reproduce every figure of spec 01 section 7.5.
 Several frames (spec 01 section 5.3): with ``in_order``, a source of frame f starts only once the same
 source of frame f-1 has started (Eq. 3.5) and a sink of frame f finishes no earlier than the same sink
 of frame f-1 (Eq. 3.6).
@@ -33,7 +31,7 @@ from .platform import Platform
 from .schedule import Assignment, Schedule
 
 MAPPINGS = ("local_best", "heft")
-TIES = ("rank", "id")
+TIES = ("id", "rank")
 
 
 def gfl_mapping(
@@ -66,7 +64,7 @@ def gfl_frames(
     release: Sequence[float] = (0.0,),
     *,
     mapping: str = "local_best",
-    tie: str = "rank",
+    tie: str = "id",
     in_order: bool = True,
     gpu_class: str = "gpu",
     rank_mode: str = "max",
@@ -185,7 +183,7 @@ def gfl(
     platform: Platform,
     *,
     mapping: str = "local_best",
-    tie: str = "rank",
+    tie: str = "id",
     gpu_class: str = "gpu",
     rank_mode: str = "max",
     comm_mode: str = "impl",
@@ -197,7 +195,7 @@ def gfl(
 
 
 def gfl_c(
-    dag: TaskGraph, platform: Platform, *, tie: str = "rank", rank_mode: str = "max", comm_mode: str = "impl"
+    dag: TaskGraph, platform: Platform, *, tie: str = "id", rank_mode: str = "max", comm_mode: str = "impl"
 ) -> Schedule:
     """G-FL_c: G-FL with HEFT's CE kinds."""
     return gfl(dag, platform, mapping="heft", tie=tie, rank_mode=rank_mode, comm_mode=comm_mode)

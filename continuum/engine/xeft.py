@@ -84,13 +84,13 @@ def apply_cluster(
         anc = [s for s in between if desc[s] >> c & 1]
         free = [s for s in between if not desc[s] >> c & 1]
         prefix, suffix = order[:first], order[at + 1 :]
+        before = order
+        order = prefix + anc + block + [c] + free + suffix  # the block moves down past c's ancestors
         if trace is not None:
             up = prefix + block + anc + [c] + free + suffix  # c moves up past the nodes it does not need
-            if up != (trace[-1] if trace else order):
-                trace.append(up)
-        order = prefix + anc + block + [c] + free + suffix  # the block moves down past c's ancestors
-        if trace is not None and order != trace[-1]:
-            trace.append(order)
+            for step in (up, order):
+                if step != (trace[-1] if trace else before):
+                    trace.append(step)
         block.append(c)
     return order, order.index(block[-1])
 
