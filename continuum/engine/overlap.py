@@ -14,8 +14,8 @@ processors able to run it all have one class.
 
 Other Table 4.1 metrics (spec 01 section 3.3):
 - ``max_xo = min(m_cpu * T_gpu_excl, m_gpu * T_cpu_excl)`` [DERIVED, with m_gpu = 1 in the thesis], summed
-  over pairs of classes; T_x_excl is the total time of the tasks exclusive to class x (mean over the
-  processors of that class), times the number of frames;
+  over pairs of classes; T_x_excl is the total time of the tasks exclusive to class x (on the slowest
+  processor of that class, so that the bound holds with per-core speeds), times the number of frames;
 - ``xo_efficiency = XO(A) / max_xo``;
 - ``idle = 1 - busy / (processors * makespan)`` [PROPOSAL: the thesis does not define it];
 - ``slr = makespan / CP_min``, CP_min the longest path with each task's fastest time, no transfers;
@@ -98,7 +98,7 @@ def max_xo(dag: TaskGraph, platform: Platform, frames: int = 1) -> float:
             continue
         task = dag.tasks[tid]
         times = [c for p in platform.processors if p.cls == cls and (c := platform.cost(task, p)) is not None]
-        totals[cls] += sum(times) / len(times)
+        totals[cls] += max(times)
     classes = sorted(count)
     bound = 0.0
     for i, a in enumerate(classes):
