@@ -30,6 +30,7 @@ given, in which case each processor ``p{j}`` gets its own cost drawn uniformly f
 
 from __future__ import annotations
 
+import itertools
 import math
 import random
 import statistics
@@ -54,7 +55,7 @@ def _composition(rng: random.Random, total: int, parts: int) -> list[int]:
     """A uniformly random composition of ``total`` into ``parts`` positive integers."""
     cuts = sorted(rng.sample(range(1, total), parts - 1)) if parts > 1 else []
     bounds = [0, *cuts, total]
-    return [b - a for a, b in zip(bounds, bounds[1:], strict=False)]
+    return [b - a for a, b in itertools.pairwise(bounds)]
 
 
 def longest_path_edges(dag: TaskGraph) -> int:
@@ -201,5 +202,6 @@ def related_platform(
     if not 0 <= heterogeneity < 2:
         raise InputError(f"heterogeneity must lie in [0, 2), not {heterogeneity!r}", "heterogeneity")
     rng = random.Random(seed)
-    procs = [Processor(f"p{j}", "cpu", rng.uniform(1 - heterogeneity / 2, 1 + heterogeneity / 2)) for j in range(processors)]
+    low, high = 1 - heterogeneity / 2, 1 + heterogeneity / 2
+    procs = [Processor(f"p{j}", "cpu", rng.uniform(low, high)) for j in range(processors)]
     return Platform(procs, bandwidth=bandwidth)

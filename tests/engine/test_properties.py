@@ -154,10 +154,11 @@ def test_rank_based_on_heterogeneous_platforms(n, seed, procs, comm, unrelated, 
     """HEFT/XEFT's three ready-time paths (free, uniform, per-link transfers) all give valid schedules."""
     dag = layered_dag(n, seed=seed, processors=procs if unrelated else None, heterogeneity=1.0)
     rng = random.Random(seed)
+    bandwidth = None if comm == "free" else 2.0
     if unrelated:
-        platform = Platform([Processor(f"p{j}", "cpu") for j in range(procs)], bandwidth=None if comm == "free" else 2.0)
+        platform = Platform([Processor(f"p{j}", "cpu") for j in range(procs)], bandwidth=bandwidth)
     else:
-        platform = related_platform(procs, seed=seed, bandwidth=None if comm == "free" else 2.0)
+        platform = related_platform(procs, seed=seed, bandwidth=bandwidth)
     if comm == "general" and procs > 1:
         doc = platform.to_dict()
         ids = [p["id"] for p in doc["processors"]]
