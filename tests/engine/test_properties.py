@@ -174,3 +174,24 @@ def test_rank_based_on_heterogeneous_platforms(n, seed, procs, comm, unrelated, 
         s = NATIVE[name](dag, platform, release, insertion=insertion)
         assert s.violations(dag, platform) == []
         assert frame_violations(s, dag, release) == []
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_numpy_ready_times_match_the_scalar_path(seed, monkeypatch):
+    import continuum.engine.heft as heft_module
+
+    rng = random.Random(seed)
+    dag = layered_dag(120, seed=seed)
+    doc = related_platform(12, seed=seed).to_dict()
+    ids = [p["id"] for p in doc["processors"]]
+    doc["links"] = [
+        {"src": a, "dst": b, "bandwidth": rng.choice([None, 0.5, 2.0]), "latency": rng.random()}
+        for i, a in enumerate(ids)
+        for b in ids[i + 1 :]
+        if rng.random() < 0.8
+    ]
+    platform = Platform.from_dict(doc)
+    monkeypatch.setattr(heft_module, "VECTOR_FROM", 10**9)
+    scalar = heft_module.heft(dag, platform).to_dict()
+    monkeypatch.setattr(heft_module, "VECTOR_FROM", 1)
+    assert heft_module.heft(dag, platform).to_dict() == scalar
