@@ -12,6 +12,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from django.conf import settings
+
 from continuum.commands import EngineCommand
 from continuum.engine import algorithms
 from continuum.engine.board import board, shared_memory
@@ -76,6 +78,8 @@ class Command(EngineCommand):
             if options[k] is not None
         }
         params.update(_key_values(options["param"], "--param"))
+        if options["algorithm"] == "heft":  # the deployment's reading of Eq. 2.1 (main: jobs.with_defaults)
+            params.setdefault("rank_mode", settings.CONTINUUM_HEFT_RANK_MODE)
         progress = self.progress_printer("scheduling")
         schedule = algorithms.run(options["algorithm"], dag, platform, progress=progress, **params)
         return schedule.to_dict()
