@@ -8,33 +8,59 @@ from typing import Any
 
 from .dag import TaskGraph
 from .errors import InputError
+from .gfl import gfl, gfl_c
 from .heft import Progress, heft
 from .heft4k import heft4k
 from .platform import Platform
 from .schedule import Schedule
+from .visionworks import visionworks, visionworks_overlap
+from .xeft import xeft
 
 Scheduler = Callable[..., Schedule]
 
 #: name -> function(dag, platform, **params) -> Schedule. Other modules register their methods here.
-SCHEDULERS: dict[str, Scheduler] = {"heft": heft, "heft4k": heft4k}
+SCHEDULERS: dict[str, Scheduler] = {
+    "heft": heft,
+    "heft4k": heft4k,
+    "xeft": xeft,
+    "gfl": gfl,
+    "gfl_c": gfl_c,
+    "visionworks": visionworks,
+    "visionworks_overlap": visionworks_overlap,
+}
+#: Parameters that make :func:`run` schedule several frames (:mod:`continuum.engine.pipeline`).
+FRAME_PARAMS = ("frames", "fps", "period", "batch", "in_order")
+
+
+def call(name: str, fn: Callable[..., Schedule], *args: Any, progress: Progress | None = None, **params: Any):
+    """``fn(*args, **params)``, passing ``progress`` only when ``fn`` takes it; a wrong parameter is bad input."""
+    if progress is not None and "progress" in inspect.signature(fn).parameters:
+        params["progress"] = progress
+    try:
+        return fn(*args, **params)
+    except TypeError as exc:
+        if "unexpected keyword" in str(exc):
+            raise InputError(f"{name}: {exc}", "params") from exc
+        raise
 
 
 def run(name: str, dag: TaskGraph, platform: Platform, progress: Progress | None = None, **params: Any) -> Schedule:
     """Schedule ``dag`` on ``platform`` with the algorithm called ``name``.
 
-    ``progress(done, total)`` is passed on to the algorithms that report progress.
+    ``progress(done, total)`` is passed on to the algorithms that report progress. With any of
+    ``frames``, ``fps``, ``period``, ``batch`` or ``in_order``, the DAG is scheduled once per frame by
+    :func:`continuum.engine.pipeline.pipeline`. The schedule's ``metrics`` carry the Table 4.1 figures
+    (overlap, exclusive overlap, idle time, SLR, buffers used).
     """
-    try:
-        scheduler = SCHEDULERS[name]
-    except KeyError:
-        raise InputError(
-            f"unknown algorithm {name!r} (choose from {', '.join(sorted(SCHEDULERS))})", "algorithm"
-        ) from None
-    if progress is not None and "progress" in inspect.signature(scheduler).parameters:
-        params["progress"] = progress
-    try:
-        return scheduler(dag, platform, **params)
-    except TypeError as exc:
-        if "unexpected keyword" in str(exc):
-            raise InputError(f"{name}: {exc}", "params") from exc
-        raise
+    if name not in SCHEDULERS:
+        raise InputError(f"unknown algorithm {name!r} (choose from {', '.join(sorted(SCHEDULERS))})", "algorithm")
+    if any(k in params for k in FRAME_PARAMS):
+        from .pipeline import pipeline
+
+        return pipeline(name, dag, platform, progress=progress, **params)
+    from .overlap import schedule_metrics
+
+    schedule = call(name, SCHEDULERS[name], dag, platform, progress=progress, **params)
+    for key, value in schedule_metrics(schedule, dag, platform).items():
+        schedule.metrics.setdefault(key, value)
+    return schedule

@@ -1,0 +1,53 @@
+"""Small helpers shared by the device-scheduling benchmarks (timing, throw-away venvs, log-log fits)."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import time
+import venv
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+
+def best_of(fn: Callable[[], Any], repeats: int) -> tuple[Any, float]:
+    """(last result, best wall time in seconds over ``repeats`` runs)."""
+    best, out = math.inf, None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - start)
+    return out, best
+
+
+def ensure_venv(path: Path, requirement: str, module: str) -> Path:
+    """A virtual environment at ``path`` with ``requirement`` installed (kept for later runs); its python."""
+    python = path / "bin" / "python"
+    if python.exists() and subprocess.run([python, "-c", f"import {module}"], capture_output=True).returncode == 0:
+        return python
+    print(f"installing {requirement} into {path} ...", flush=True)
+    venv.EnvBuilder(with_pip=True, clear=True).create(path)
+    subprocess.run([python, "-m", "pip", "install", "-q", requirement], check=True)
+    return python
+
+
+def fit_exponent(xs: Sequence[float], ys: Sequence[float]) -> float:
+    """Least-squares slope of log(y) against log(x): the growth exponent k in y ~ x^k."""
+    lx = [math.log(x) for x in xs]
+    ly = [math.log(y) for y in ys]
+    mx, my = sum(lx) / len(lx), sum(ly) / len(ly)
+    return sum((a - mx) * (b - my) for a, b in zip(lx, ly, strict=True)) / sum((a - mx) ** 2 for a in lx)
+
+
+def table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    cells = [[f"{c:.4g}" if isinstance(c, float) else str(c) for c in row] for row in rows]
+    widths = [max(len(h), *(len(r[i]) for r in cells)) for i, h in enumerate(headers)]
+    lines = ["  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))]
+    lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in cells]
+    return "\n".join(lines)
