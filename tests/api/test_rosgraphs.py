@@ -224,7 +224,9 @@ def test_cluster_job_on_autoware(api, autoware):
     assert sorted(n for c in data["containers"] for n in c["nodes"]) == sorted(autoware.graph.nodes)
     assert data["inter_container_bandwidth"] > 0 and data["intra_container_bandwidth"] > 0
     # The bandwidth left between containers is the sum over container pairs (Definition 3.2.1).
-    assert sum(b["bytes_per_s"] for b in data["container_bandwidth"]) == pytest.approx(data["inter_container_bandwidth"])
+    assert sum(b["bytes_per_s"] for b in data["container_bandwidth"]) == pytest.approx(
+        data["inter_container_bandwidth"]
+    )
     assert data["images"] is None and data["dockerfiles"] is None
     assert data["result"]["passes"] and data["result"]["requested_containers"] == 4
     listed = api.get("/api/v1/clusterings/", {"rosgraph": autoware.pk}).data
@@ -289,7 +291,10 @@ def test_image_plan_disk_figures_and_dockerfiles_archives(api, contract_graph):
     assert "FROM continuum/base:v1" in files["amcl/Dockerfile"]
     assert "ros-humble-nav2-amcl" in files["amcl/Dockerfile"] and "ros-humble-urg-node" in files["amcl/Dockerfile"]
     assert 'ENV CONTINUUM_ROS_NODES="amcl laser_driver"' in files["amcl/Dockerfile"]
-    assert "FROM continuum/base:v1" in files["move_base/Dockerfile"] and "ros-humble-rviz2" in files["move_base/Dockerfile"]
+    assert (
+        "FROM continuum/base:v1" in files["move_base/Dockerfile"]
+        and "ros-humble-rviz2" in files["move_base/Dockerfile"]
+    )
     assert "--platform linux/amd64,linux/arm64 -t continuum/base:v1" in files["build.sh"]
     assert json.loads(files["plan.json"])["after_mib"] == 301.0
     # Same plan, same bytes.
