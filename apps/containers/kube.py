@@ -69,11 +69,14 @@ def deployment_name(placement: Placement, container: str) -> str:
 
 
 def _cpu(cores: float) -> str:
-    return f"{max(0, round(cores * 1000))}m"
+    """Millicores, in the canonical form the API server stores (``1500m``, but ``3`` rather than ``3000m``)."""
+    milli = max(0, round(cores * 1000))
+    return str(milli // 1000) if milli % 1000 == 0 else f"{milli}m"
 
 
 def _memory(mib: float) -> str:
-    return f"{max(0, math.ceil(mib - 1e-9))}Mi"
+    whole = max(0, math.ceil(mib - 1e-9))
+    return f"{whole}Mi" if whole else "0"
 
 
 def deployment_manifest(
