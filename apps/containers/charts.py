@@ -117,16 +117,22 @@ def rosgraph_layout(
         for lv, names in per_level.items():
             offset = (width - len(names)) / 2
             for i, n in enumerate(names):
-                nudge = 0.0 if len(names) < 3 else (0.14 if i % 2 else -0.14)
+                nudge = 0.0 if len(names) < 2 else (0.14 if i % 2 else -0.14)
                 pos[n] = (x0 + offset + i, row[lv] + nudge)
         x0 += width + 0.8
     return pos
 
 
+def _label_side(xy: tuple[float, float]) -> str:
+    """Above the node, or below it for nodes nudged down (so crowded rows label on both sides)."""
+    return "bottom center" if xy[1] - round(xy[1]) < -0.01 else "top center"
+
+
 def rosgraph_figure(
     graph: RosGraph, groups: Mapping[str, Sequence[str]] | None = None, mode: str = "per_topic"
 ) -> go.Figure:
-    """The ROS graph by level and container (``groups``: container -> ROS nodes; none: one group)."""
+    """The ROS graph by level and container (``groups``: container -> ROS nodes; none: one group). A dark rim
+    marks a level set by the user, a white rim one proposed from the graph's structure."""
     levels = graph.levels()
     given = {n: node.level for n, node in graph.nodes.items()}
     groups = dict(groups) if groups else {"ROS nodes": sorted(graph.nodes, key=natural_key)}
@@ -161,13 +167,16 @@ def rosgraph_figure(
                 y=[pos[n][1] for n in names],
                 mode="markers+text" if labelled else "markers",
                 text=names,
-                textposition="top center",
+                # Neighbours in a row alternate label sides (the layout nudges them up and down to match).
+                textposition=[_label_side(pos[n]) for n in names],
                 textfont={"size": 10},
                 marker={
                     "size": 16,
                     "color": palette[container],
-                    "symbol": ["circle" if given[n] else "circle-open-dot" for n in names],
-                    "line": {"color": "#1f2933", "width": 1},
+                    "line": {
+                        "color": ["#1f2933" if given[n] else "white" for n in names],
+                        "width": [2.5 if given[n] else 1.5 for n in names],
+                    },
                 },
                 hovertext=hover,
                 hoverinfo="text",
@@ -317,41 +326,49 @@ def placement_figure(
             showlegend=False,
         )
     )
-    xs, ys, labels, cols, hover = [], [], [], [], []
+    spots: dict[str, tuple[float, float, str]] = {}
     for n in nodes:
         members = on_node[n]
         cx, cy = pos[n]
         for i, c in enumerate(members):
             angle = 2 * math.pi * i / max(len(members), 1) + math.pi / 2
             r = 0.0 if len(members) == 1 else 0.13
-            xs.append(cx + r * math.cos(angle))
-            ys.append(cy + r * math.sin(angle))
-            labels.append(c)
-            cols.append(palette.get(c, NODE_COLOUR))
-            hover.append(f"<b>{c}</b><br>on {n}, score {scores[c]:.4g}")
+            spots[c] = (
+                cx + r * math.cos(angle),
+                cy + r * math.sin(angle),
+                f"<b>{c}</b><br>on {n}, score {scores[c]:.4g}",
+            )
     pending = [p["container"] for p in plan.get("pending", [])]
     for i, c in enumerate(pending):
-        xs.append(1.75)
-        ys.append(0.9 - 0.25 * i)
-        labels.append(c)
-        cols.append(PENDING_COLOUR)
-        hover.append(f"<b>{c}</b><br>pending: no node passed the filters")
-    fig.add_trace(
-        go.Scatter(
-            x=xs,
-            y=ys,
-            mode="markers",
-            marker={"size": 13, "color": cols, "line": {"color": "white", "width": 1.5}},
-            hovertext=hover,
-            hoverinfo="text",
-            name="containers",
-            showlegend=False,
+        spots[c] = (1.75, 0.9 - 0.25 * i, f"<b>{c}</b><br>pending: no node passed the filters")
+    # One trace per container: the legend gives each container its colour, as on the ROS graph.
+    for c in [*container_order, *(c for c in spots if c not in container_order)]:
+        if c not in spots:
+            continue
+        x, y, text = spots[c]
+        fig.add_trace(
+            go.Scatter(
+                x=[x],
+                y=[y],
+                mode="markers",
+                marker={
+                    "size": 13,
+                    "color": palette.get(c, NODE_COLOUR),
+                    "line": {
+                        "color": PENDING_COLOUR if c in pending else "white",
+                        "width": 2.5 if c in pending else 1.5,
+                    },
+                },
+                hovertext=[text],
+                hoverinfo="text",
+                name=c,
+                legendgroup="containers",
+            )
         )
-    )
     if pending:
         fig.add_annotation(x=1.75, y=1.15, text="<b>pending</b>", showarrow=False, font={"color": PENDING_COLOUR})
     _base_layout(fig, height=480)
-    fig.update_layout(legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "left", "x": 0})
+    fig.update_layout(legend={"orientation": "v", "yanchor": "top", "y": 1, "xanchor": "left", "x": 1.01})
     fig.update_xaxes(visible=False, range=[-1.5, 2.1 if pending else 1.5])
     fig.update_yaxes(visible=False, range=[-1.4, 1.3], scaleanchor="x")
     return fig

@@ -334,7 +334,11 @@ def test_container_and_placement_figures():
     assert fig.data[-1].text == ("a (2)", "b (1)")
     cluster_doc = {"nodes": [{"name": "n1", "arch": "amd64"}, {"name": "n2", "arch": "arm64"}], "links": []}
     plan = {"placements": [{"container": "a", "node": "n1", "score": 100.0}], "pending": [{"container": "b"}]}
-    fig = charts.placement_figure(cluster_doc, plan, [], ["a", "b"])
-    dots = fig.data[-1]
-    assert list(dots.hovertext) == ["<b>a</b><br>on n1, score 100", "<b>b</b><br>pending: no node passed the filters"]
+    fig = charts.placement_figure(cluster_doc, plan, [{"a": "n1", "b": "n2", "bytes_per_s": 10.0}], ["a", "b"])
+    dots = {t.name: t for t in fig.data if t.legendgroup == "containers"}
+    assert list(dots) == ["a", "b"]  # one legend entry per container, in the container colours
+    assert dots["a"].hovertext == ("<b>a</b><br>on n1, score 100",)
+    assert dots["b"].hovertext == ("<b>b</b><br>pending: no node passed the filters",)
+    assert dots["a"].marker.color != dots["b"].marker.color and dots["b"].marker.line.color == charts.PENDING_COLOUR
+    assert any(t.mode == "lines" and t.line.color == charts.INTER_COLOUR for t in fig.data)  # n1-n2 traffic
     assert charts.rate(1_250_000) == "1.25 MB/s (10 Mbit/s)" and charts.rate(12) == "12 B/s (9.6e-05 Mbit/s)"
