@@ -1,5 +1,7 @@
 from __future__ import annotations
 
+from drf_spectacular.types import OpenApiTypes
+from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
@@ -239,6 +241,7 @@ class ClusteringListSerializer(ClusteringSerializer):
 
 
 # ---- placement --------------------------------------------------------------------------------------------
+@extend_schema_field(OpenApiTypes.INT)
 class VisibleModelField(serializers.PrimaryKeyRelatedField):
     def __init__(self, model, **kwargs):
         self.model = model

@@ -97,7 +97,8 @@ def test_import_the_contract_with_explicit_format_and_name(api):
 
 
 BAD_FILES = [
-    ("malformed.json", '{"format": "continuum.rosgraph/v1",\n "nodes": [\n  {"name": "a",, }]}', "malformed JSON at line 3"),
+    ("malformed.json", '{"format": "continuum.rosgraph/v1",\n "nodes": [\n  {"name": "a",, }]}',
+     "malformed JSON at line 3"),
     ("bad.dot", 'digraph G {\n  "a" -> "b";\n  "c" -> ;\n}\n', "line 3: expected a node id"),
     ("edge.dot", 'digraph G {\n  "a" -> "b" [rate_hz=fast];\n}\n', "line 2: invalid rate_hz 'fast'"),
     ("size.json", json.dumps({**CONTRACT, "topics": [{**CONTRACT["topics"][0], "msg_bytes": -1}]}),

@@ -237,7 +237,7 @@ def test_place_form_runs_the_job_and_opens_the_placement(member, autoware, clust
             "seed": 0,
             "compare": "on",
             "overrides": overrides,
-        },  # fmt: skip
+        },
     )
     job = Job.objects.get(kind="place", fleet=clustering.fleet)
     assert response.status_code == 302 and job.state == "succeeded", job.error
