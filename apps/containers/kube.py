@@ -249,6 +249,13 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
                     "message": message[:500],
                 },
             )
+        # The Deployments just applied now follow this placement, not an older one of the same clustering.
+        applied = [names[c] for c in order if outcomes[c][0]]
+        ContainerDeployment.objects.filter(
+            deployment__in=applied, namespace=namespace, state=ContainerDeployment.State.APPLIED
+        ).exclude(placement=placement).filter(placement__cluster=cluster).update(
+            state=ContainerDeployment.State.SUPERSEDED, message=f"superseded by placement {placement.pk}"
+        )
     failed = [c for c in order if not outcomes[c][0]]
     if failed:
         if fatal:

@@ -137,6 +137,8 @@ class ContainerDeployment(models.Model):
         NOT_PUSHED = "not_pushed"
         APPLIED = "applied"
         FAILED = "failed"
+        #: Another placement of the same clustering was pushed since: its Deployment now runs elsewhere.
+        SUPERSEDED = "superseded"
 
     placement = models.ForeignKey(Placement, on_delete=models.CASCADE, related_name="deployments")
     container = models.CharField(max_length=253)

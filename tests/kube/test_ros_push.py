@@ -134,6 +134,8 @@ def test_another_placement_of_the_same_clustering_moves_the_same_deployments(
     assert pushed["result"]["created"] == 0 and pushed["result"]["updated"] == 4
     found = deployments(apps_api, kube_namespace)
     assert set(found) == names  # moved, not duplicated
+    old_rows = ContainerDeployment.objects.filter(placement=first)
+    assert {(r.state, r.message) for r in old_rows} == {("superseded", f"superseded by placement {second.pk}")}
     for row in ContainerDeployment.objects.filter(placement=second):
         pod = found[row.deployment].spec.template.spec
         assert pod.node_selector["kubernetes.io/hostname"] == second.placed()[row.container]
