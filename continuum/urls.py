@@ -5,6 +5,7 @@ from drf_spectacular.views import SpectacularAPIView, SpectacularRedocView, Spec
 from rest_framework.routers import DefaultRouter
 
 from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
+from apps.containers.api import ClusteringViewSet, PlacementViewSet, RosGraphViewSet
 from apps.jobs.api import JobViewSet
 from apps.scheduling.api import ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
@@ -18,6 +19,9 @@ router.register("links", LinkViewSet)
 router.register("applications", ApplicationViewSet)
 router.register("schedules", ScheduleViewSet)
 router.register("jobs", JobViewSet)
+router.register("rosgraphs", RosGraphViewSet)
+router.register("clusterings", ClusteringViewSet)
+router.register("placements", PlacementViewSet)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
@@ -27,5 +31,6 @@ urlpatterns = [
     path("admin/", admin.site.urls),
     path("login/", auth_views.LoginView.as_view(), name="login"),
     path("logout/", auth_views.LogoutView.as_view(), name="logout"),
+    path("ros/", include("apps.containers.urls")),
     path("", include("apps.dashboard.urls")),
 ]

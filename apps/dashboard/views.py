@@ -40,6 +40,8 @@ def job_result_link(job: Job) -> str:
     result = job.result or {}
     if job.state == Job.State.SUCCEEDED and isinstance(result.get("schedule"), int):
         return reverse("dashboard:schedule", args=[result["schedule"]])
+    if job.state == Job.State.SUCCEEDED and isinstance(result.get("page"), str) and result["page"].startswith("/"):
+        return result["page"]  # the job names its dashboard page itself
     return job.result_url
 
 

@@ -252,6 +252,35 @@ def pod_manifest(schedule: Schedule, assignment: Assignment, name: str, *, host_
     )
 
 
+def ensure_namespace(api: client.CoreV1Api, namespace: str) -> None:
+    """Create ``namespace`` (labelled as Continuum's) unless it exists."""
+    try:
+        api.read_namespace(namespace, _request_timeout=REQUEST_TIMEOUT)
+        return
+    except ApiException as exc:
+        if exc.status != 404:
+            raise
+    body = client.V1Namespace(metadata=client.V1ObjectMeta(name=namespace, labels=dict(MANAGED_BY)))
+    try:
+        api.create_namespace(body, _request_timeout=REQUEST_TIMEOUT)
+    except ApiException as exc:
+        if exc.status != 409:  # created meanwhile by someone else: fine
+            raise
+
+
+def node_problems(api: client.CoreV1Api) -> dict[str, str | None]:
+    """Every node of the API mapped to why a pod may not go there (``None``: it may)."""
+    problems: dict[str, str | None] = {}
+    for node in api.list_node(_request_timeout=REQUEST_TIMEOUT).items:
+        problem = None
+        if node_status(node) == ComputeNode.Status.NOT_READY:
+            problem = f"node {node.metadata.name!r} is NotReady"
+        elif node.spec and node.spec.unschedulable:
+            problem = f"node {node.metadata.name!r} is cordoned (unschedulable)"
+        problems[node.metadata.name] = problem
+    return problems
+
+
 @dataclass
 class Outcome:
     ok: bool
@@ -269,30 +298,10 @@ class Pusher:
         self.server = api_client.configuration.host
 
     def ensure_namespace(self) -> None:
-        try:
-            self.api.read_namespace(self.namespace, _request_timeout=REQUEST_TIMEOUT)
-            return
-        except ApiException as exc:
-            if exc.status != 404:
-                raise
-        body = client.V1Namespace(metadata=client.V1ObjectMeta(name=self.namespace, labels=dict(MANAGED_BY)))
-        try:
-            self.api.create_namespace(body, _request_timeout=REQUEST_TIMEOUT)
-        except ApiException as exc:
-            if exc.status != 409:  # created meanwhile by someone else: fine
-                raise
+        ensure_namespace(self.api, self.namespace)
 
     def node_problems(self) -> dict[str, str | None]:
-        """Every node of the API mapped to why a pod may not be bound there (``None``: it may)."""
-        problems: dict[str, str | None] = {}
-        for node in self.api.list_node(_request_timeout=REQUEST_TIMEOUT).items:
-            problem = None
-            if node_status(node) == ComputeNode.Status.NOT_READY:
-                problem = f"node {node.metadata.name!r} is NotReady"
-            elif node.spec and node.spec.unschedulable:
-                problem = f"node {node.metadata.name!r} is cordoned (unschedulable)"
-            problems[node.metadata.name] = problem
-        return problems
+        return node_problems(self.api)
 
     def existing_pods(self) -> dict[str, object]:
         pods = self.api.list_namespaced_pod(

@@ -100,6 +100,40 @@ class ContainerSpec:
     #: ROS nodes inside (informational here; bandwidth comes from the workload).
     nodes: tuple[str, ...] = ()
 
+    def to_dict(self) -> dict[str, Any]:
+        """This container as a ``continuum.containers/v1`` entry with every value resolved (CPU and memory
+        summed from the ROS graph, ``node`` folded into the required affinity): :func:`load_workload` reads
+        it back to an equal spec without the graph."""
+        doc: dict[str, Any] = {
+            "name": self.name,
+            "nodes": list(self.nodes),
+            "cpu": self.cpu,
+            "memory_mib": self.memory_mib,
+            "storage_mib": self.storage_mib,
+            "priority": self.priority,
+            "archs": list(self.archs),
+        }
+        if self.node_selector:
+            doc["node_selector"] = dict(self.node_selector)
+        affinity: dict[str, Any] = {}
+        if self.required:
+            affinity["required"] = [_expression_dict(r) for r in self.required]
+        if self.preferred:
+            affinity["preferred"] = [
+                {"weight": w, "match": [_expression_dict(r) for r in exprs]} for w, exprs in self.preferred
+            ]
+        if affinity:
+            doc["affinity"] = affinity
+        if self.tolerations:
+            doc["tolerations"] = [
+                {"key": t.key, "operator": t.operator, "value": t.value, "effect": t.effect} for t in self.tolerations
+            ]
+        return doc
+
+
+def _expression_dict(req: Requirement) -> dict[str, Any]:
+    return {"key": req.key, "operator": req.operator, "values": list(req.values)}
+
 
 @dataclass
 class Workload:
@@ -123,6 +157,19 @@ class Workload:
 
     def bw(self, a: str, b: str) -> float:
         return self.bandwidth.get(pair(a, b), 0.0)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The resolved ``continuum.containers/v1`` document: explicit bandwidth entries, no graph needed."""
+        return {
+            "format": CONTAINERS_FORMAT,
+            "containers": [c.to_dict() for c in self.containers],
+            "bandwidth": [
+                {"a": a, "b": b, "bytes_per_s": w}
+                for (a, b), w in sorted(
+                    self.bandwidth.items(), key=lambda kv: (natural_key(kv[0][0]), natural_key(kv[0][1]))
+                )
+            ],
+        }
 
     def total_bandwidth(self, name: str) -> float:
         return sum(w for (a, b), w in self.bandwidth.items() if name in (a, b) and a != b)

@@ -339,3 +339,39 @@ def test_plans_respect_filters_and_explain_every_node(case):
             assert cpu <= cl.nodes[n].cpu + 1e-9 and mem <= cl.nodes[n].memory_mib + 1e-9
         assert plan.metrics["inter_node_bandwidth"] == inter_node_bandwidth(plan.placed(), wl)
     assert isinstance(wl, Workload)
+
+
+def test_resolved_workload_round_trips_without_the_graph():
+    g = RosGraph.from_dict(
+        {
+            "nodes": [{"name": n, "cpu": 0.5, "memory_mib": 100} for n in ("a", "b", "c")],
+            "topics": [
+                {"name": "/ab", "publishers": ["a"], "subscribers": ["b"], "rate_hz": 10, "msg_bytes": 100},
+                {"name": "/bc", "publishers": ["b"], "subscribers": ["c"], "rate_hz": 2, "msg_bytes": 100},
+            ],
+        }
+    )
+    doc = {
+        "containers": [
+            {
+                "name": "X",
+                "nodes": ["a", "b"],
+                "priority": 2,
+                "node": "mcb",
+                "node_selector": {"zone": "edge"},
+                "affinity": {"preferred": [{"weight": 3, "match": [{"key": "gpu", "operator": "Exists"}]}]},
+                "tolerations": [{"key": "rt", "operator": "Exists", "effect": "NoSchedule"}],
+                "archs": ["arm64"],
+            },
+            {"name": "Y", "nodes": ["c"], "storage_mib": 50},
+        ]
+    }
+    wl = load_workload(doc, g)
+    resolved = wl.to_dict()
+    assert resolved["containers"][0]["cpu"] == 1.0 and resolved["containers"][0]["memory_mib"] == 200
+    assert resolved["containers"][0]["affinity"]["required"] == [
+        {"key": "kubernetes.io/hostname", "operator": "In", "values": ["mcb"]}
+    ]
+    assert resolved["bandwidth"] == [{"a": "X", "b": "Y", "bytes_per_s": 200.0}]
+    again = load_workload(json.loads(json.dumps(resolved)))
+    assert again.containers == wl.containers and again.bandwidth == wl.bandwidth

@@ -1,0 +1,199 @@
+"""Dashboard forms. Requests are checked by the API's serializers, so a form and the API refuse the same
+input with the same message."""
+
+from __future__ import annotations
+
+import json
+
+from django import forms
+
+from apps.clusters.models import Cluster
+from continuum.engine.errors import InputError
+from continuum.engine.rosgraph import LEVELS, MODES, READERS, RosGraph
+
+from . import services
+from .charts import LEVEL_LABELS
+from .models import Clustering
+from .models import RosGraph as RosGraphRow
+from .serializers import ClusterRequestSerializer, PlaceRequestSerializer
+
+FORMAT_LABELS = dict(RosGraphRow.Format.choices)
+PLATFORMS = [("amd64", "amd64"), ("arm64", "arm64"), ("riscv64", "riscv64")]
+
+
+def _errors_onto(form: forms.Form, errors, names: dict[str, str] | None = None) -> None:
+    """Put DRF errors onto the form's fields (nested image options flattened)."""
+    names = names or {}
+    for field, messages in errors.items():
+        if isinstance(messages, dict):
+            _errors_onto(form, messages, names)
+            continue
+        target = names.get(field, field)
+        for message in messages:
+            form.add_error(target if target in form.fields else None, str(message))
+
+
+class RosGraphUploadForm(forms.Form):
+    file = forms.FileField(help_text="continuum.rosgraph/v1, Autoware reference system JSON, iRobot topology, .dot")
+    format = forms.ChoiceField(
+        choices=[("", "guess from the file"), *((f, FORMAT_LABELS.get(f, f)) for f in READERS)], required=False
+    )
+    name = forms.CharField(max_length=200, required=False, help_text="default: the name in the file")
+    fleet = forms.ModelChoiceField(queryset=None, required=True, empty_label=None)
+
+    def __init__(self, *args, fleets, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.fleets = fleets
+        self.fields["fleet"].queryset = fleets
+        self.single_fleet = fleets.count() == 1
+        if self.single_fleet:
+            self.fields["fleet"].initial = fleets.first()
+            self.fields["fleet"].required = False
+            self.fields["fleet"].widget = forms.HiddenInput()
+
+    def clean(self):
+        data = super().clean()
+        if not self.fleets.exists():
+            raise forms.ValidationError("you are not a member of any fleet, so there is nowhere to store it")
+        if self.single_fleet and not data.get("fleet") and "fleet" not in self.errors:
+            data["fleet"] = self.fleets.first()
+        upload = data.get("file")
+        if upload is None:
+            return data
+        stem = upload.name.rsplit(".", 1)[0]
+        try:
+            data["graph"], data["source_format"] = services.read_graph(
+                upload.read(), data.get("format") or None, name=data.get("name") or stem
+            )
+        except InputError as exc:
+            self.add_error("file", f"{upload.name}: {exc}")
+            return data
+        if data.get("name"):
+            data["graph"].name = data["name"]
+        return data
+
+    def save(self, user) -> RosGraphRow:
+        row = RosGraphRow(
+            fleet=self.cleaned_data["fleet"], source_format=self.cleaned_data["source_format"], created_by=user
+        )
+        row.set_graph(self.cleaned_data["graph"])
+        row.name = self.cleaned_data["graph"].name
+        row.save()
+        return row
+
+
+class LevelsForm(forms.Form):
+    """One choice per ROS node: a Fig. 3.19 level, or the level proposed from the graph's structure."""
+
+    def __init__(self, *args, graph: RosGraph, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.graph = graph
+        proposed = graph.levels()
+        for name, node in sorted(graph.nodes.items()):
+            field = forms.ChoiceField(
+                label=name,
+                required=False,
+                initial=node.level or "",
+                choices=[("", f"proposed: {LEVEL_LABELS[proposed[name]]}"), *((lv, LEVEL_LABELS[lv]) for lv in LEVELS)],
+            )
+            field.ros_node = name
+            self.fields[f"level:{name}"] = field
+
+    def levels(self) -> dict[str, str | None]:
+        return {f.ros_node: self.cleaned_data.get(key) or None for key, f in self.fields.items()}
+
+
+class ClusterForm(forms.Form):
+    containers = forms.IntegerField(min_value=1, required=False, label="Containers (N)")
+    memory_mib = forms.FloatField(min_value=0, required=False, label="Memory for containers (MiB)")
+    overhead_mib = forms.FloatField(
+        min_value=0, required=False, label="Overhead per container (MiB)", help_text="29 Docker, 39 K3s (Table 4.17)"
+    )
+    mode = forms.ChoiceField(choices=[(m, m.replace("_", " ")) for m in MODES], initial="per_topic", label="Eq. 3.12")
+    max_cluster_share = forms.FloatField(min_value=0, max_value=1, required=False, label="Largest share of ROS nodes")
+    max_cluster_memory_mib = forms.FloatField(min_value=0, required=False, label="Largest container memory (MiB)")
+    distro_image = forms.CharField(initial=services.IMAGE_DEFAULTS["distro_image"], label="ROS base image")
+    ros_distro = forms.CharField(initial=services.IMAGE_DEFAULTS["ros_distro"], label="ROS distribution")
+    distro_mib = forms.FloatField(min_value=0, initial=0, label="Base image size (MiB)")
+    platforms = forms.MultipleChoiceField(
+        choices=PLATFORMS, initial=services.IMAGE_DEFAULTS["platforms"], widget=forms.CheckboxSelectMultiple
+    )
+    repository = forms.CharField(initial=services.IMAGE_DEFAULTS["repository"], required=False)
+    tag = forms.CharField(initial=services.IMAGE_DEFAULTS["tag"])
+
+    IMAGE_FIELDS = ("distro_image", "ros_distro", "distro_mib", "platforms", "repository", "tag")
+
+    def clean(self):
+        data = super().clean()
+        if self.errors:
+            return data
+        payload = {k: v for k, v in data.items() if k not in self.IMAGE_FIELDS and v not in (None, "")}
+        payload["images"] = {k: data[k] for k in self.IMAGE_FIELDS if data.get(k) not in (None, "")}
+        serializer = ClusterRequestSerializer(data=payload)
+        if not serializer.is_valid():
+            _errors_onto(self, serializer.errors)
+            return data
+        self.serializer = serializer
+        return data
+
+    def job_arguments(self, rosgraph: RosGraphRow) -> dict:
+        return self.serializer.job_arguments(rosgraph)
+
+
+class PlaceForm(forms.Form):
+    POLICIES = [
+        ("superclustering", "super-clustering (bandwidth, Eqs. 3.14-3.15)"),
+        ("default-kubernetes", "default Kubernetes (least allocated + balanced)"),
+    ]
+
+    cluster = forms.ModelChoiceField(queryset=None, empty_label="— choose a cluster —")
+    policy = forms.ChoiceField(choices=POLICIES, initial="superclustering", widget=forms.RadioSelect)
+    overhead_mib = forms.FloatField(min_value=0, initial=0, label="Runtime memory per container (MiB)")
+    seed = forms.IntegerField(initial=0, help_text="tie-break seed of the default-Kubernetes policy")
+    compare = forms.BooleanField(required=False, initial=True, label="Also run the other policy for comparison")
+    overrides = forms.CharField(
+        required=False,
+        widget=forms.Textarea(attrs={"rows": 3, "placeholder": '{"BehaviorPlanner": {"cpu": 1.5, "priority": 1}}'}),
+        help_text="per container: cpu, memory_mib, priority, archs, node, node_selector, tolerations (JSON)",
+    )
+
+    def __init__(self, *args, clustering: Clustering, request, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.clustering = clustering
+        self.request = request
+        self.fields["cluster"].queryset = Cluster.objects.filter(fleet_id=clustering.fleet_id).order_by("name")
+
+    def clean_overrides(self) -> dict:
+        text = (self.cleaned_data.get("overrides") or "").strip()
+        if not text:
+            return {}
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise forms.ValidationError(f"not JSON (line {exc.lineno} column {exc.colno}: {exc.msg})") from exc
+        if not isinstance(value, dict):
+            raise forms.ValidationError("a JSON object: container name -> changes")
+        return value
+
+    def clean(self):
+        data = super().clean()
+        if self.errors:
+            return data
+        payload = {
+            "cluster": data["cluster"].pk,
+            "policy": data["policy"],
+            "clustering": self.clustering.pk,
+            "overrides": data.get("overrides") or {},
+            "overhead_mib": data["overhead_mib"],
+            "seed": data["seed"],
+            "compare": data.get("compare", False),
+        }
+        serializer = PlaceRequestSerializer(data=payload, context={"request": self.request})
+        if not serializer.is_valid():
+            _errors_onto(self, serializer.errors, {"containers": "overrides", "clustering": "cluster"})
+            return data
+        self.serializer = serializer
+        return data
+
+    def job_arguments(self) -> dict:
+        return self.serializer.job_arguments()

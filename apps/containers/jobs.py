@@ -1,0 +1,206 @@
+"""Job handlers: ``cluster_ros`` (Listing 3.20 + images), ``place`` (Fig. 3.27) and ``push_placement``.
+
+Each handler is idempotent: a re-delivered job replaces what an earlier attempt of the same job stored.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from django.db import transaction
+from django.urls import reverse
+
+from apps.clusters.models import Cluster
+from apps.jobs.registry import job_kind
+from continuum.engine.errors import InputError
+from continuum.engine.ros_clustering import cluster_ros as engine_cluster_ros
+from continuum.engine.ros_clustering import max_containers
+from continuum.engine.superclustering import place as engine_place
+
+from . import services
+from .models import Clustering, Placement, RosGraph
+
+BASELINES = {"superclustering": "default-kubernetes", "default-kubernetes": "superclustering"}
+
+
+def _id(arguments: dict, name: str, required: bool = True) -> int | None:
+    value = arguments.get(name)
+    if value is None and not required:
+        return None
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise ValueError(f"argument {name!r} must be the id of a {name}, got {value!r}")
+    return value
+
+
+def _own(model, pk: int, job, what: str):
+    row = model.objects.filter(pk=pk, fleet=job.fleet).first()
+    if row is None:
+        raise ValueError(f"{what} {pk} does not exist")
+    return row
+
+
+def container_count(arguments: dict) -> int:
+    """N as asked, or the Eq. 3.13 bound from the memory and the per-container overhead."""
+    n = arguments.get("containers")
+    memory, overhead = arguments.get("memory_mib"), arguments.get("overhead_mib")
+    if n is None:
+        if memory is None or overhead is None:
+            raise InputError("give the number of containers, or memory_mib and overhead_mib (Eq. 3.13)", "containers")
+        return max_containers(memory, overhead)
+    return n
+
+
+@job_kind("cluster_ros")
+def cluster_job(job, progress) -> tuple[dict, str]:
+    """Arguments: ``rosgraph`` (id); ``containers`` (N) or ``memory_mib`` + ``overhead_mib``; ``mode``,
+    ``max_cluster_share``, ``max_cluster_memory_mib``; ``images`` (plan options)."""
+    args = job.arguments or {}
+    rosgraph = _own(RosGraph, _id(args, "rosgraph"), job, "ROS graph")
+    progress(2, f"reading {rosgraph.name}")
+    graph = rosgraph.graph
+    n = container_count(args)
+    progress(10, f"clustering {len(graph.nodes)} ROS nodes into {n} containers")
+    result = engine_cluster_ros(
+        graph,
+        n,
+        mode=args.get("mode") or "per_topic",
+        available_mib=args.get("memory_mib"),
+        overhead_mib=args.get("overhead_mib"),
+        max_cluster_share=args.get("max_cluster_share"),
+        max_cluster_memory_mib=args.get("max_cluster_memory_mib"),
+    )
+    groups = {c.name: list(c.nodes) for c in result.containers}
+    images = None
+    options = services.image_options(args.get("images"))
+    if services.has_packages(graph):
+        progress(60, f"planning the images of {len(groups)} containers")
+        images = services.stored_images(services.image_plan(graph, groups, options))
+    progress(90, "storing the clustering")
+    params = {
+        key: args.get(key)
+        for key in ("containers", "memory_mib", "overhead_mib", "mode", "max_cluster_share", "max_cluster_memory_mib")
+        if args.get(key) is not None
+    }
+    params["images"] = options
+    with transaction.atomic():
+        Clustering.objects.filter(job=job).delete()
+        row = Clustering.objects.create(
+            fleet=rosgraph.fleet,
+            rosgraph=rosgraph,
+            job=job,
+            requested_containers=n,
+            container_count=len(result.containers),
+            params=params,
+            graph_document=graph.to_dict(),
+            result=result.to_dict(),
+            inter_container_bandwidth=result.inter_container_bandwidth,
+            intra_container_bandwidth=result.intra_container_bandwidth,
+            images=images,
+            disk_before_mib=images["before_mib"] if images else None,
+            disk_after_mib=images["after_mib"] if images else None,
+        )
+    summary = {
+        "clustering": row.pk,
+        "containers": row.container_count,
+        "inter_container_bandwidth": row.inter_container_bandwidth,
+        "intra_container_bandwidth": row.intra_container_bandwidth,
+        "guard_fired": result.guard_fired,
+        "page": reverse("containers:clustering", args=[row.pk]),
+    }
+    if images:
+        summary["disk"] = {"before_mib": images["before_mib"], "after_mib": images["after_mib"]}
+    return summary, f"/api/v1/clusterings/{row.pk}/"
+
+
+def placement_params(args: dict) -> dict[str, Any]:
+    params: dict[str, Any] = {
+        "overhead_mib": float(args.get("overhead_mib") or 0.0),
+        "seed": int(args.get("seed") or 0),
+    }
+    if args.get("weights"):
+        params["weights"] = dict(args["weights"])
+    return params
+
+
+@job_kind("place")
+def place_job(job, progress) -> tuple[dict, str]:
+    """Arguments: ``cluster`` (id), ``policy``; ``clustering`` (id, with optional ``overrides`` and
+    ``archs``) or ``containers`` (a continuum.containers/v1 document, with an optional ``rosgraph`` id for
+    Definition 3.2.1 bandwidth); ``weights``, ``seed``, ``overhead_mib``; ``compare`` (default true)."""
+    args = job.arguments or {}
+    cluster = _own(Cluster, _id(args, "cluster"), job, "cluster")
+    clustering = rosgraph = None
+    progress(2, "reading the containers")
+    if args.get("clustering") is not None:
+        clustering = _own(Clustering, _id(args, "clustering"), job, "clustering")
+        rosgraph = clustering.rosgraph
+        workload, resolved = services.clustering_workload(
+            clustering, archs=args.get("archs"), overrides=args.get("overrides")
+        )
+    else:
+        if not isinstance(args.get("containers"), dict):
+            raise ValueError("give a clustering id or a continuum.containers/v1 document")
+        pk = _id(args, "rosgraph", required=False)
+        rosgraph = _own(RosGraph, pk, job, "ROS graph") if pk is not None else None
+        workload, resolved = services.resolve_workload(args["containers"], rosgraph.graph if rosgraph else None)
+    engine = services.engine_cluster(cluster)
+    policy = args.get("policy") or "superclustering"
+    params = placement_params(args)
+    progress(20, f"placing {len(workload.containers)} containers on {len(engine.nodes)} nodes ({policy})")
+    plan = engine_place(policy, workload, engine, **params)
+    baseline = None
+    if args.get("compare", True):
+        other = BASELINES[plan.policy]
+        progress(60, f"placing them again with {other} for comparison")
+        alt_params = {k: v for k, v in params.items() if k != "weights"}
+        alt = engine_place(other, workload, engine, **alt_params)
+        baseline = {
+            "policy": other,
+            "inter_node_bandwidth": alt.metrics["inter_node_bandwidth"],
+            "placements": alt.to_dict()["placements"],
+            "pending": [d.item for d in alt.decisions if d.pending],
+        }
+    progress(90, "storing the placement")
+    doc = plan.to_dict()
+    with transaction.atomic():
+        Placement.objects.filter(job=job).delete()
+        row = Placement.objects.create(
+            fleet=cluster.fleet,
+            clustering=clustering,
+            rosgraph=rosgraph,
+            cluster=cluster,
+            job=job,
+            policy=plan.policy,
+            params=plan.params,
+            containers=resolved,
+            cluster_document=engine.to_dict(),
+            plan=doc,
+            inter_node_bandwidth=plan.metrics["inter_node_bandwidth"],
+            placed_count=len(doc["placements"]),
+            pending_count=len(doc["pending"]),
+            baseline=baseline,
+        )
+    summary = {
+        "placement": row.pk,
+        "policy": row.policy,
+        "placed": row.placed_count,
+        "pending": row.pending_count,
+        "inter_node_bandwidth": row.inter_node_bandwidth,
+        "page": reverse("containers:placement", args=[row.pk]),
+    }
+    if baseline:
+        summary["baseline"] = {"policy": baseline["policy"], "inter_node_bandwidth": baseline["inter_node_bandwidth"]}
+    return summary, f"/api/v1/placements/{row.pk}/"
+
+
+@job_kind("push_placement")
+def push_job(job, progress) -> tuple[dict, str]:
+    """Arguments: ``placement`` (id). One Deployment per container, pinned to its node (see ``kube.py``)."""
+    from .kube import push_placement
+
+    args = job.arguments or {}
+    placement = _own(Placement, _id(args, "placement"), job, "placement")
+    progress(1, f"pushing placement {placement.pk} to {placement.cluster or 'no cluster'}")
+    summary = push_placement(placement, progress)
+    summary["page"] = reverse("containers:placement", args=[placement.pk])
+    return summary, f"/api/v1/placements/{placement.pk}/"

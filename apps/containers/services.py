@@ -1,0 +1,357 @@
+"""Glue between the stored objects and the engine: graph import and edits, clusters as engine clusters, the
+workload of a clustering, the "why" table of a placement, the Dockerfiles archive.
+
+Every check that can fail raises :class:`~continuum.engine.errors.InputError` naming the culprit (the API turns
+it into a 400 under the error's field).
+"""
+
+from __future__ import annotations
+
+import copy
+import gzip
+import json
+from collections.abc import Mapping
+from typing import Any
+
+from apps.clusters.models import Cluster, ComputeNode
+from continuum.engine.cluster import Cluster as EngineCluster
+from continuum.engine.errors import InputError
+from continuum.engine.image_inheritance import DEFAULT_PLATFORMS, ImagePlan, plan_from_graph
+from continuum.engine.rosgraph import (
+    LEVEL_ALIASES,
+    LEVELS,
+    RosGraph,
+    guess_json_format,
+    load_rosgraph,
+    natural_key,
+    pair,
+)
+from continuum.engine.superclustering import CONTAINERS_FORMAT, Workload, load_workload
+
+from .models import Clustering, Placement
+
+#: Image options of a clustering (``plan_from_graph`` keywords) and their defaults.
+IMAGE_DEFAULTS: dict[str, Any] = {
+    "distro_image": "ros:humble-ros-base",
+    "ros_distro": "humble",
+    "distro_mib": 0.0,
+    "platforms": list(DEFAULT_PLATFORMS),
+    "repository": "continuum",
+    "tag": "latest",
+}
+#: What a placement request may change about one container of a clustering (continuum.containers/v1 keys).
+OVERRIDE_KEYS = (
+    "cpu", "memory_mib", "storage_mib", "priority", "archs", "node", "node_selector", "affinity", "tolerations",
+    "image",
+)  # fmt: skip
+#: Taints Kubernetes puts on nodes that are not Ready; a model-only cluster gets them from the node status.
+STATUS_TAINTS = {
+    ComputeNode.Status.NOT_READY: "node.kubernetes.io/not-ready",
+    ComputeNode.Status.UNKNOWN: "node.kubernetes.io/unreachable",
+}
+ARCHIVES = {
+    "tar.gz": ("application/gzip", "tar.gz"),
+    "zip": ("application/zip", "zip"),
+}
+
+
+# ---- import -------------------------------------------------------------------------------------------
+def read_graph(content: bytes | str, fmt: str | None = None, name: str = "") -> tuple[RosGraph, str]:
+    """Parse an uploaded ROS graph; returns the graph and the format it was read as."""
+    if isinstance(content, bytes):
+        try:
+            content = content.decode("utf-8-sig")
+        except UnicodeDecodeError as exc:
+            raise InputError(f"not UTF-8 text (byte {exc.start})") from exc
+    graph = load_rosgraph(content, fmt, name=name)
+    if fmt:
+        return graph, fmt
+    if not content.lstrip().startswith(("{", "[")):
+        return graph, "dot"
+    return graph, guess_json_format(json.loads(content))
+
+
+# ---- edits --------------------------------------------------------------------------------------------
+_RATE_KEYS = ("rate_hz", "period_ms", "publisher_rates_hz", "messages", "window_s")
+_TOPIC_EDIT_KEYS = {"rate_hz", "period_ms", "publisher_rates_hz", "msg_bytes", "msg_type"}
+_NODE_EDIT_KEYS = {"level", "context", "origin", "cpu", "memory_mib", "packages"}
+
+
+def normal_level(raw: Any, where: str) -> str | None:
+    """A Fig. 3.19 level (aliases accepted), or ``None`` to let the graph's structure propose one."""
+    if raw is None or raw == "":
+        return None
+    level = LEVEL_ALIASES.get(str(raw).lower(), str(raw).lower()) if isinstance(raw, str) else None
+    if level not in LEVELS:
+        raise InputError(f"{where}: unknown level {raw!r} (one of {', '.join(LEVELS)})", "levels")
+    return level
+
+
+def edit_graph(
+    document: Mapping[str, Any],
+    *,
+    levels: Mapping[str, Any] | None = None,
+    topics: Mapping[str, Any] | None = None,
+    nodes: Mapping[str, Any] | None = None,
+    packages: Mapping[str, Any] | None = None,
+) -> RosGraph:
+    """The graph with levels, topic rates and message sizes, node profiles and package sizes changed.
+
+    ``levels``: ROS node -> level (``null`` = proposed from the structure). ``topics``: topic -> any of
+    ``rate_hz``/``period_ms``/``publisher_rates_hz`` (replaces the rate), ``msg_bytes``, ``msg_type``.
+    ``nodes``: ROS node -> any of ``level``, ``context``, ``origin``, ``cpu``, ``memory_mib``, ``packages``.
+    ``packages``: package -> size in MiB, ``{size_mib, archs, apt}``, or ``null`` to forget it.
+    """
+    doc = copy.deepcopy(dict(document))
+    by_node = {n["name"]: n for n in doc.get("nodes", [])}
+    by_topic = {t["name"]: t for t in doc.get("topics", [])}
+    for name, changes in (nodes or {}).items():
+        if name not in by_node:
+            raise InputError(f"unknown ROS node {name!r}", "nodes")
+        if not isinstance(changes, Mapping):
+            raise InputError(f"ROS node {name!r}: changes must be an object", "nodes")
+        unknown = sorted(set(changes) - _NODE_EDIT_KEYS)
+        if unknown:
+            raise InputError(f"ROS node {name!r}: cannot change {unknown[0]!r}", "nodes")
+        for key, value in changes.items():
+            if key == "level":
+                value = normal_level(value, f"ROS node {name!r}")
+            _set_or_drop(by_node[name], key, value)
+    for name, level in (levels or {}).items():
+        if name not in by_node:
+            raise InputError(f"unknown ROS node {name!r}", "levels")
+        _set_or_drop(by_node[name], "level", normal_level(level, f"ROS node {name!r}"))
+    rates_changed = False
+    for name, changes in (topics or {}).items():
+        if name not in by_topic:
+            raise InputError(f"unknown topic {name!r}", "topics")
+        if not isinstance(changes, Mapping):
+            raise InputError(f"topic {name!r}: changes must be an object", "topics")
+        unknown = sorted(set(changes) - _TOPIC_EDIT_KEYS)
+        if unknown:
+            raise InputError(f"topic {name!r}: cannot change {unknown[0]!r}", "topics")
+        given = [k for k in _RATE_KEYS if k in changes]
+        if len(given) > 1:
+            raise InputError(f"topic {name!r}: give one of rate_hz, period_ms, publisher_rates_hz", "topics")
+        topic = by_topic[name]
+        if given:
+            rates_changed = True
+            for key in _RATE_KEYS:
+                topic.pop(key, None)
+        topic.update(changes)
+    if packages:
+        table = dict(doc.get("packages") or {})
+        for name, value in packages.items():
+            if value is None:
+                table.pop(name, None)
+            else:
+                table[name] = value
+        doc["packages"] = table
+    if rates_changed and isinstance(doc.get("meta"), dict):
+        doc["meta"].pop("topic_rates_hz", None)  # the importer's rates no longer hold
+    return RosGraph.from_dict(doc)
+
+
+def _set_or_drop(item: dict, key: str, value: Any) -> None:
+    if value is None:
+        item.pop(key, None)
+    else:
+        item[key] = value
+
+
+# ---- clusters -----------------------------------------------------------------------------------------
+def engine_cluster(cluster: Cluster) -> EngineCluster:
+    """The cluster's nodes and links as the node-level placers see them.
+
+    A node that is not Ready carries the taint Kubernetes would give it (``node.kubernetes.io/not-ready`` or
+    ``unreachable``), so the placement rejects it with that reason instead of silently dropping it. A storage
+    capacity of 0 means "not known" (model-only nodes), not "full".
+    """
+    nodes = []
+    for n in cluster.nodes.order_by("name"):
+        taints = [dict(t) for t in n.taints or []]
+        status_taint = STATUS_TAINTS.get(n.status)
+        if status_taint and not any(t.get("key") == status_taint for t in taints):
+            taints.append({"key": status_taint, "value": "", "effect": "NoSchedule"})
+        nodes.append(
+            {
+                "name": n.name,
+                "arch": n.arch,
+                "cpu": float(n.cpu),
+                "memory_mib": float(n.memory_mib),
+                "storage_mib": float(n.storage_mib) if n.storage_mib else None,
+                "labels": dict(n.labels or {}),
+                "taints": taints,
+            }
+        )
+    if not nodes:
+        raise InputError(f"cluster {cluster.name!r} has no nodes", "cluster")
+    links = [
+        {"src": lk.src.name, "dst": lk.dst.name, "bandwidth_mbps": lk.bandwidth_mbps, "latency_ms": lk.latency_ms}
+        for lk in cluster.links.select_related("src", "dst")
+    ]
+    return EngineCluster.from_dict({"name": cluster.name, "nodes": nodes, "links": links})
+
+
+# ---- images -------------------------------------------------------------------------------------------
+def image_options(raw: Mapping[str, Any] | None) -> dict[str, Any]:
+    options = {**IMAGE_DEFAULTS, **(raw or {})}
+    unknown = sorted(set(options) - set(IMAGE_DEFAULTS))
+    if unknown:
+        raise InputError(f"unknown image option {unknown[0]!r} (one of {', '.join(IMAGE_DEFAULTS)})", "images")
+    return options
+
+
+def has_packages(graph: RosGraph) -> bool:
+    return any(node.packages for node in graph.nodes.values())
+
+
+def image_plan(graph: RosGraph, groups: Mapping[str, list[str]], options: Mapping[str, Any]) -> ImagePlan:
+    opts = image_options(options)
+    return plan_from_graph(graph, groups, **opts)
+
+
+def stored_images(plan: ImagePlan) -> dict[str, Any]:
+    """``ImagePlan.to_dict()`` plus what pushing needs: each container's image reference."""
+    return {
+        **plan.to_dict(),
+        "repository": plan.repository,
+        "tag": plan.tag,
+        "references": {c: plan.reference(im.name) for c, im in plan.container_images().items()},
+    }
+
+
+def dockerfiles_archive(clustering: Clustering, kind: str) -> tuple[bytes, str, str]:
+    """(bytes, content type, file name) of the clustering's Dockerfiles, ``build.sh`` and ``plan.json``.
+
+    The plan is computed again from the stored graph snapshot and options (deterministic), so the archive
+    always matches the stored figures; the gzip header carries no time stamp, so the same plan gives the
+    same bytes.
+    """
+    if kind not in ARCHIVES:
+        raise InputError(f"unknown archive {kind!r} (one of {', '.join(ARCHIVES)})", "archive")
+    if not clustering.images:
+        raise InputError("this clustering has no image plan: its ROS nodes list no packages", "archive")
+    plan = image_plan(clustering.graph, clustering.groups(), clustering.params.get("images") or {})
+    data = plan.archive("zip") if kind == "zip" else gzip.compress(plan.archive("tar"), mtime=0)
+    content_type, suffix = ARCHIVES[kind]
+    return data, content_type, f"{_file_stem(clustering)}-dockerfiles.{suffix}"
+
+
+def _file_stem(clustering: Clustering) -> str:
+    from apps.kube.gateway import _dns_part
+
+    return f"{_dns_part(clustering.rosgraph.name, 40)}-{clustering.pk}"
+
+
+# ---- workloads ----------------------------------------------------------------------------------------
+def clustering_workload(
+    clustering: Clustering,
+    *,
+    archs: list[str] | None = None,
+    overrides: Mapping[str, Mapping[str, Any]] | None = None,
+) -> tuple[Workload, dict[str, Any]]:
+    """The containers of a clustering as a workload: images' platforms as archs, CPU and memory summed over
+    the ROS nodes, bandwidth by Definition 3.2.1; ``overrides`` change single containers. Returns the
+    workload and its resolved ``continuum.containers/v1`` document (with each container's ``image``)."""
+    refs = (clustering.images or {}).get("references", {})
+    platforms = {
+        im["owners"][0]: im["platforms"]
+        for im in (clustering.images or {}).get("images", [])
+        if im["kind"] == "container"
+    }
+    overrides = dict(overrides or {})
+    names = {c["name"] for c in clustering.containers}
+    for name, changes in overrides.items():
+        if name not in names:
+            raise InputError(f"unknown container {name!r}", "overrides")
+        if not isinstance(changes, Mapping):
+            raise InputError(f"container {name!r}: changes must be an object", "overrides")
+        unknown = sorted(set(changes) - set(OVERRIDE_KEYS))
+        if unknown:
+            raise InputError(
+                f"container {name!r}: cannot change {unknown[0]!r} (one of {', '.join(OVERRIDE_KEYS)})", "overrides"
+            )
+    entries = []
+    for c in clustering.containers:
+        entry: dict[str, Any] = {"name": c["name"], "nodes": list(c["nodes"])}
+        if c["name"] in platforms:
+            entry["archs"] = platforms[c["name"]]
+        if c["name"] in refs:
+            entry["image"] = refs[c["name"]]
+        entry.update(overrides.get(c["name"], {}))
+        entries.append(entry)
+    doc: dict[str, Any] = {"format": CONTAINERS_FORMAT, "containers": entries}
+    if archs:
+        doc["archs"] = archs
+    return resolve_workload(doc, clustering.graph)
+
+
+def resolve_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> tuple[Workload, dict[str, Any]]:
+    """Read a containers document (with the graph for Definition 3.2.1 bandwidth) and resolve it."""
+    workload = load_workload(doc, graph)
+    resolved = workload.to_dict()
+    images = {c.get("name"): c.get("image") for c in doc.get("containers", []) if isinstance(c, Mapping)}
+    for entry in resolved["containers"]:
+        image = images.get(entry["name"])
+        if image is not None:
+            if not isinstance(image, str) or not image.strip():
+                raise InputError(f"container {entry['name']!r}: 'image' must be an image reference", "containers")
+            entry["image"] = image.strip()
+    return workload, resolved
+
+
+# ---- read-outs ----------------------------------------------------------------------------------------
+def why_table(plan: Mapping[str, Any], container: str) -> dict[str, Any]:
+    """Why ``container`` went where it went: for every node, the filter that rejected it and the reason, or
+    what each scoring policy gave it and the total (the chosen node first, then by total, rejected last)."""
+    order = [d["item"] for d in plan.get("decisions", [])]
+    if container not in order:
+        raise KeyError(container)
+    decision = plan["decisions"][order.index(container)]
+    policies: list[str] = []
+    for v in decision["verdicts"]:
+        for p in v.get("scores", {}):
+            if p not in policies:
+                policies.append(p)
+    rows = []
+    for v in decision["verdicts"]:
+        chosen = v["node"] == decision["node"]
+        rows.append(
+            {
+                "node": v["node"],
+                "verdict": "chosen" if chosen else ("rejected" if v["rejected_by"] else "feasible"),
+                "rejected_by": v["rejected_by"],
+                "reason": v["reason"],
+                "scores": dict(v.get("scores", {})),
+                "total": v.get("total"),
+            }
+        )
+    rank = {"chosen": 0, "feasible": 1, "rejected": 2}
+    rows.sort(key=lambda r: (rank[r["verdict"]], -(r["total"] or 0.0) if r["verdict"] != "rejected" else 0))
+    return {
+        "container": container,
+        "position": order.index(container) + 1,
+        "node": decision["node"],
+        "score": decision["score"],
+        "pending": decision["node"] is None,
+        "policy": plan.get("policy"),
+        "policies": policies,
+        "rows": rows,
+    }
+
+
+def node_traffic(placement: Placement) -> list[dict[str, Any]]:
+    """Bytes/s between each pair of nodes that exchange data under the placement."""
+    placed = placement.placed()
+    totals: dict[tuple[str, str], float] = {}
+    for item in placement.containers.get("bandwidth", []):
+        na, nb = placed.get(item["a"]), placed.get(item["b"])
+        if na is None or nb is None or na == nb or not item["bytes_per_s"]:
+            continue
+        key = pair(na, nb)
+        totals[key] = totals.get(key, 0.0) + item["bytes_per_s"]
+    return [
+        {"a": a, "b": b, "bytes_per_s": w}
+        for (a, b), w in sorted(totals.items(), key=lambda kv: (natural_key(kv[0][0]), natural_key(kv[0][1])))
+    ]
