@@ -5,6 +5,7 @@ from drf_spectacular.views import SpectacularAPIView, SpectacularRedocView, Spec
 from rest_framework.routers import DefaultRouter
 
 from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
+from apps.heft4k.api import RemapEventViewSet
 from apps.jobs.api import JobViewSet
 from apps.scheduling.api import ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
@@ -18,6 +19,7 @@ router.register("links", LinkViewSet)
 router.register("applications", ApplicationViewSet)
 router.register("schedules", ScheduleViewSet)
 router.register("jobs", JobViewSet)
+router.register("remaps", RemapEventViewSet)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
@@ -28,4 +30,5 @@ urlpatterns = [
     path("login/", auth_views.LoginView.as_view(), name="login"),
     path("logout/", auth_views.LogoutView.as_view(), name="logout"),
     path("", include("apps.dashboard.urls")),
+    path("", include("apps.heft4k.urls")),
 ]

@@ -28,3 +28,16 @@ def num(value, digits: int = 3) -> str:
 @register.filter
 def pretty_json(value) -> str:
     return json.dumps(value, indent=2, sort_keys=True, default=str)
+
+
+@register.filter
+def percent(value, digits: int = 1) -> str:
+    """A fraction as a signed percentage: 0.209 -> +20.9%, -0.05 -> -5%."""
+    if value is None or value == "":
+        return "—"
+    try:
+        x = 100.0 * float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    text = num(abs(x), digits)
+    return f"{'-' if x < 0 and text != '0' else '+' if x > 0 and text != '0' else ''}{text}%"
