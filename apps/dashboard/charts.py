@@ -201,8 +201,9 @@ def stacked_gantt_figure(
     fig.update_layout(
         barmode="overlay",
         bargap=0.25,
-        legend={"orientation": "h", "yanchor": "bottom", "y": 1.0, "yref": "container", "xanchor": "left", "x": 0},
-        margin={"l": 10, "r": 20, "t": 70, "b": 10},
+        # Legend in the top margin, left; each panel's title sits just above its own plot area.
+        legend={"orientation": "h", "yanchor": "top", "y": 1.0, "yref": "container", "xanchor": "left", "x": 0},
+        margin={"l": 10, "r": 20, "t": 76, "b": 10},
         uniformtext={"minsize": 9, "mode": "hide"},
     )
     fig.update_annotations(font={"size": 13, "color": "#323f4b"}, xanchor="left", x=0)

@@ -271,6 +271,12 @@ def _replace_pods(event, old, new, old_rows, new_rows, order, progress) -> tuple
             pusher.ensure_namespace()
             problems = pusher.node_problems()
             existing = pusher.existing_pods()
+            # Only a Ready node's kubelet can stop a pod gracefully; elsewhere the pod object is removed at once.
+            ready = {
+                n.metadata.name
+                for n in pusher.api.list_node(_request_timeout=gateway.REQUEST_TIMEOUT).items
+                if gateway.node_status(n) == ComputeNode.Status.READY
+            }
             for i, key in enumerate(order, 1):
                 before, row = old_rows[key], new_rows[key]
                 old_name = before.pod_name or gateway.pod_name(old, *key)
@@ -281,7 +287,7 @@ def _replace_pods(event, old, new, old_rows, new_rows, order, progress) -> tuple
                     "niceness_before": before.niceness,
                     "niceness_after": row.niceness,
                     "old_pod": old_name,
-                    "deleted": _delete(pusher, old_name, force=before.processor in event.failed_nodes),
+                    "deleted": _delete(pusher, old_name, force=before.processor not in ready),
                 }
                 name = gateway.pod_name(new, *key)
                 outcome = pusher.place(row, name, existing.get(name), problems)
@@ -312,7 +318,8 @@ def _fail_rest(pods: list[dict], order, old_rows, new_rows, reason: str) -> list
 
 
 def _delete(pusher: gateway.Pusher, name: str, *, force: bool) -> bool:
-    """Delete a pod; ``force`` (grace period 0) for a pod on a failed node, whose kubelet cannot confirm.
+    """Delete a pod; ``force`` (grace period 0) for a pod on a node that is not Ready (or gone), whose
+    kubelet cannot confirm the deletion.
 
     Returns whether the pod existed."""
     body = client.V1DeleteOptions(grace_period_seconds=0) if force else None

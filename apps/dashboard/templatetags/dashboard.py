@@ -32,12 +32,17 @@ def pretty_json(value) -> str:
 
 @register.filter
 def percent(value, digits: int = 1) -> str:
-    """A fraction as a signed percentage: 0.209 -> +20.9%, -0.05 -> -5%."""
+    """A fraction as a percentage: 0.193 -> 19.3%."""
     if value is None or value == "":
         return "—"
     try:
-        x = 100.0 * float(value)
+        return f"{num(100.0 * float(value), digits)}%"
     except (TypeError, ValueError):
         return str(value)
-    text = num(abs(x), digits)
-    return f"{'-' if x < 0 and text != '0' else '+' if x > 0 and text != '0' else ''}{text}%"
+
+
+@register.filter
+def change(value, digits: int = 1) -> str:
+    """A relative change as a signed percentage: 0.209 -> +20.9%, -0.05 -> -5%, 0 -> 0%."""
+    text = percent(value, digits)
+    return text if text in ("—", "0%") or text.startswith("-") or not text[0].isdigit() else f"+{text}"
