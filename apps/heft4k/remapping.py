@@ -6,7 +6,8 @@ ONLY the pods that change (a task moved to another node, or given another nicene
 old pod is deleted and a new one created and bound to the new node; every other pod is left untouched and
 the new schedule records it as its own (same pod name). The nodes treated as failed are the ones asked for
 plus, on a cluster, every node of the schedule that the cluster no longer reports Ready, so a remap never
-targets a node known to be down.
+targets a node known to be down. A pod on a node that is not Ready in the Kubernetes API is deleted with
+grace period 0 (no kubelet will confirm a graceful deletion), any other one gracefully.
 """
 
 from __future__ import annotations
