@@ -7,6 +7,7 @@ CONTINUUM_*        algorithm defaults where the thesis is ambiguous (see continu
 """
 
 import os
+import shlex
 from pathlib import Path
 
 import dj_database_url
@@ -181,6 +182,13 @@ CONTINUUM_CLUSTER_ROUTING = os.environ.get("CONTINUUM_CLUSTER_ROUTING", "ospf")
 CONTINUUM_SCHEDULER_NAME = os.environ.get("CONTINUUM_SCHEDULER_NAME", "continuum-scheduler")
 CONTINUUM_DEFAULT_NAMESPACE = os.environ.get("CONTINUUM_NAMESPACE", "continuum")
 CONTINUUM_POD_IMAGE = os.environ.get("CONTINUUM_POD_IMAGE", "registry.k8s.io/pause:3.9")
+# The command a pushed pod's container runs (the image's entrypoint, which a manifest cannot read). It is
+# spelled out because HEFT4K wraps it as `nice -n N -- <command>` (README, HEFT4K): the image must then
+# contain CONTINUUM_NICE_BINARY.
+CONTINUUM_POD_COMMAND = shlex.split(os.environ.get("CONTINUUM_POD_COMMAND", "/pause"))
+CONTINUUM_NICE_BINARY = os.environ.get("CONTINUUM_NICE_BINARY", "nice")
+# HEFT4K remapping (Algorithm 2): total remap when the lost HEFT-rank share exceeds this fraction.
+CONTINUUM_REMAP_THRESHOLD = float(os.environ.get("CONTINUUM_REMAP_THRESHOLD", "0.2"))
 # Largest upload the import endpoints accept.
 DATA_UPLOAD_MAX_MEMORY_SIZE = 32 * 1024 * 1024
 

@@ -6,6 +6,7 @@ from rest_framework.routers import DefaultRouter
 
 from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
 from apps.containers.api import ClusteringViewSet, PlacementViewSet, RosGraphViewSet
+from apps.heft4k.api import RemapEventViewSet
 from apps.jobs.api import JobViewSet
 from apps.scheduling.api import ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
@@ -22,6 +23,7 @@ router.register("jobs", JobViewSet)
 router.register("rosgraphs", RosGraphViewSet)
 router.register("clusterings", ClusteringViewSet)
 router.register("placements", PlacementViewSet)
+router.register("remaps", RemapEventViewSet)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
@@ -33,4 +35,5 @@ urlpatterns = [
     path("logout/", auth_views.LogoutView.as_view(), name="logout"),
     path("ros/", include("apps.containers.urls")),
     path("", include("apps.dashboard.urls")),
+    path("", include("apps.heft4k.urls")),
 ]

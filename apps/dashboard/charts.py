@@ -6,6 +6,9 @@ The dashboard renders them with :func:`to_html`, which leaves plotly.js out: the
 - :func:`gantt_figure`: one row per processor, one horizontal bar per assignment. Bars are ``go.Bar`` with
   ``base=start`` and ``x=duration`` on a numeric axis; ``px.timeline`` would force a date axis and make
   model-time bars zero-wide. The critical path is a separate trace with its own colour and legend entry.
+  Optionally bars are coloured by niceness (HEFT4K) and multi-core nodes get one row per CPU.
+- :func:`stacked_gantt_figure`: several schedules on one shared time axis (a HEFT4K plan and its simulated
+  run on Kubernetes, a schedule before and after a remap).
 - :func:`dag_figure`: the DAG in layers by topological level (left to right), edges as lines.
 - :func:`network_figure`: a cluster's nodes (coloured by status) and the links between them.
 """
@@ -13,7 +16,8 @@ The dashboard renders them with :func:`to_html`, which leaves plotly.js out: the
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 from statistics import fmean
 
 import plotly.graph_objects as go
@@ -63,32 +67,51 @@ def _base_layout(fig: go.Figure, height: int) -> None:
 
 
 # ---- Gantt chart ------------------------------------------------------------------------------------
+#: Niceness colours: the lowest niceness (the highest priority, HEFT4K's top-ranked tasks) darkest.
+NICE_SCALE = [[0.0, "#08306b"], [0.5, "#4292c6"], [1.0, "#c6dbef"]]
+MOVED_COLOUR = "#f2a541"
+LOST_COLOUR = "#d64545"
+
+
+@dataclass
+class GanttPanel:
+    """One schedule to draw: its rows come from ``platform`` (idle processors included) and its bars from
+    ``schedule``; ``highlight`` (task, frame) pairs get their own trace called ``highlight_name``; ``notes``
+    add a line to a bar's hover text."""
+
+    title: str
+    schedule: Schedule
+    platform: Platform | None = None
+    highlight: Collection[tuple[str, int]] = ()
+    highlight_name: str = "critical path"
+    highlight_colour: str = CRITICAL_COLOUR
+    notes: Mapping[tuple[str, int], str] = field(default_factory=dict)
+
+
 def gantt_figure(
     schedule: Schedule,
     platform: Platform | None = None,
     dag: TaskGraph | None = None,
     critical: Iterable[tuple[str, int]] | None = None,
     time_unit: str | None = None,
+    *,
+    colour_by_niceness: bool = False,
+    lanes: bool = False,
 ) -> go.Figure:
     """A Gantt chart of ``schedule``: one row per processor (in platform order, idle ones included).
 
     ``critical`` is the set of (task, frame) pairs to highlight; by default it is the schedule's critical
-    path, computed when both ``dag`` and ``platform`` are given.
+    path, computed when both ``dag`` and ``platform`` are given. ``colour_by_niceness`` colours the bars by
+    their niceness (HEFT4K) and outlines the critical path instead; ``lanes`` gives every CPU of a multi-core
+    processor its own row (see :func:`gantt_rows`).
     """
     if critical is None:
         critical = schedule.critical_path(dag, platform) if dag is not None and platform is not None else []
-    on_path = set(critical)
     unit = time_unit or (dag.time_unit if dag is not None else "")
-    rows = [p.id for p in platform.processors] if platform is not None else []
-    rows += sorted({a.processor for a in schedule.assignments} - set(rows))
-    frames = {a.frame for a in schedule.assignments}
-
-    normal = [a for a in schedule.assignments if (a.task, a.frame) not in on_path]
-    highlighted = [a for a in schedule.assignments if (a.task, a.frame) in on_path]
+    panel = GanttPanel("", schedule, platform, set(critical))
     fig = go.Figure()
-    fig.add_trace(_gantt_trace(normal, "task", TASK_COLOUR, len(frames) > 1, unit))
-    if highlighted:
-        fig.add_trace(_gantt_trace(highlighted, "critical path", CRITICAL_COLOUR, len(frames) > 1, unit))
+    nice = _nice_range([schedule]) if colour_by_niceness else None
+    rows = _add_gantt(fig, panel, unit, nice, lanes, set())
     makespan = schedule.makespan
     if schedule.assignments:
         fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
@@ -104,7 +127,7 @@ def gantt_figure(
             text=f"makespan {_fmt(makespan)}",
             font={"size": 12, "color": "#323f4b"},
         )
-    _base_layout(fig, height=max(260, 150 + 44 * len(rows)))
+    _base_layout(fig, height=max(260, 150 + (30 if lanes else 44) * len(rows)))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
         bargap=0.25,
@@ -113,6 +136,8 @@ def gantt_figure(
         margin={"l": 10, "r": 20, "t": 84, "b": 10},
         uniformtext={"minsize": 9, "mode": "hide"},
     )
+    if nice is not None:
+        _nice_axis(fig, nice)
     fig.update_xaxes(
         type="linear",
         title_text=f"time ({unit})" if unit else "time",
@@ -133,27 +158,215 @@ def gantt_figure(
     return fig
 
 
-def _gantt_trace(assignments: list[Assignment], name: str, colour: str, show_frame: bool, unit: str) -> go.Bar:
+def stacked_gantt_figure(
+    panels: Sequence[GanttPanel], time_unit: str = "", *, colour_by_niceness: bool = False, lanes: bool = True
+) -> go.Figure:
+    """Several Gantt charts stacked on one shared time axis (predicted vs simulated, before vs after a
+    remap): each panel has its own rows and title with its makespan; legend entries appear once."""
+    from plotly.subplots import make_subplots
+
+    row_sets = [gantt_rows(p.schedule, p.platform, lanes)[0] for p in panels]
+    heights = [max(2, len(rows)) for rows in row_sets]
+    per_row = 26 if lanes else 40
+    height = sum(heights) * per_row + 95 * len(panels) + 60
+    fig = make_subplots(
+        rows=len(panels),
+        cols=1,
+        shared_xaxes=True,
+        vertical_spacing=min(0.3, 80 / height),
+        row_heights=heights,
+        subplot_titles=[f"{p.title} · makespan {_fmt(p.schedule.makespan)}" for p in panels],
+    )
+    nice = _nice_range([p.schedule for p in panels]) if colour_by_niceness else None
+    shown: set[str] = set()
+    unit = time_unit
+    end = max((p.schedule.makespan for p in panels), default=0.0)
+    for i, panel in enumerate(panels, 1):
+        rows = _add_gantt(fig, panel, unit, nice, lanes, shown, row=i)
+        if panel.schedule.assignments:
+            fig.add_vline(
+                x=panel.schedule.makespan, line={"dash": "dash", "color": "#52606d", "width": 1}, row=i, col=1
+            )
+        fig.update_yaxes(
+            type="category",
+            categoryorder="array",
+            categoryarray=rows,
+            autorange="reversed",
+            showgrid=False,
+            row=i,
+            col=1,
+        )
+        fig.update_xaxes(showgrid=True, gridcolor="#e4e7eb", zeroline=False, type="linear", row=i, col=1)
+    _base_layout(fig, height=height)
+    fig.update_layout(
+        barmode="overlay",
+        bargap=0.25,
+        # Legend in the top margin, left; each panel's title sits just above its own plot area.
+        legend={"orientation": "h", "yanchor": "top", "y": 1.0, "yref": "container", "xanchor": "left", "x": 0},
+        margin={"l": 10, "r": 20, "t": 76, "b": 10},
+        uniformtext={"minsize": 9, "mode": "hide"},
+    )
+    fig.update_annotations(font={"size": 13, "color": "#323f4b"}, xanchor="left", x=0)
+    if nice is not None:
+        _nice_axis(fig, nice)
+    fig.update_xaxes(range=[0, end * 1.03 if end > 0 else 1])
+    fig.update_xaxes(title_text=f"time ({unit})" if unit else "time", row=len(panels), col=1)
+    return fig
+
+
+def gantt_rows(
+    schedule: Schedule, platform: Platform | None = None, lanes: bool = False
+) -> tuple[list[str], dict[tuple[str, int], str]]:
+    """The rows of a Gantt chart, top to bottom, and the row of every (task, frame).
+
+    Without ``lanes`` a row is a processor. With ``lanes`` a multi-core processor gets one row per CPU
+    (``node · cpuK``, from the assignments' ``core``) or, when the assignments name no core (a simulated
+    run, where tasks share CPUs), one row per overlapping lane (``node · #K``, first-fit by start time), so
+    that bars never hide each other; a one-CPU processor with no overlap keeps a single row.
+    """
+    nodes = [p.id for p in platform.processors] if platform is not None else []
+    nodes += sorted({a.processor for a in schedule.assignments} - set(nodes))
+    if not lanes:
+        return nodes, {(a.task, a.frame): a.processor for a in schedule.assignments}
+    cores = {p.id: p.cores for p in platform.processors} if platform is not None else {}
+    by_node: dict[str, list[Assignment]] = {}
+    for a in sorted(schedule.assignments, key=lambda a: (a.start, a.finish, a.task, a.frame)):
+        by_node.setdefault(a.processor, []).append(a)
+    rows: list[str] = []
+    row_of: dict[tuple[str, int], str] = {}
+    for node in nodes:
+        items = by_node.get(node, [])
+        if items and all(a.core is not None for a in items):
+            lane = {(a.task, a.frame): a.core for a in items}
+            count = max(cores.get(node, 1), 1 + max(lane.values()))
+            names = [f"{node} · cpu{k}" for k in range(count)]
+        else:  # no core named (or an idle node): first-fit lanes, one row when nothing overlaps
+            lane = _first_fit(items)
+            count = 1 + max(lane.values(), default=0)
+            names = [f"{node} · #{k + 1}" for k in range(count)]
+        if count == 1:
+            names = [node]
+        rows += names
+        for key, k in lane.items():
+            row_of[key] = names[k]
+    return rows, row_of
+
+
+def _first_fit(items: list[Assignment]) -> dict[tuple[str, int], int]:
+    ends: list[float] = []
+    lane: dict[tuple[str, int], int] = {}
+    for a in items:  # sorted by start
+        k = next((i for i, end in enumerate(ends) if end <= a.start + 1e-9), len(ends))
+        if k == len(ends):
+            ends.append(a.finish)
+        else:
+            ends[k] = a.finish
+        lane[(a.task, a.frame)] = k
+    return lane
+
+
+def _nice_range(schedules: Iterable[Schedule]) -> tuple[int, int]:
+    values = [a.niceness for s in schedules for a in s.assignments if a.niceness is not None]
+    lo, hi = (min(values), max(values)) if values else (0, 19)
+    return (lo, hi if hi > lo else lo + 1)
+
+
+def _nice_axis(fig: go.Figure, nice: tuple[int, int]) -> None:
+    fig.update_layout(
+        coloraxis={
+            "colorscale": NICE_SCALE,
+            "cmin": nice[0],
+            "cmax": nice[1],
+            "colorbar": {"title": {"text": "niceness", "side": "right"}, "thickness": 12, "len": 0.6},
+        }
+    )
+
+
+def _add_gantt(
+    fig: go.Figure,
+    panel: GanttPanel,
+    unit: str,
+    nice: tuple[int, int] | None,
+    lanes: bool,
+    shown: set[str],
+    row: int | None = None,
+) -> list[str]:
+    """Add ``panel``'s bars to ``fig`` (in subplot ``row``); returns the panel's rows."""
+    rows, row_of = gantt_rows(panel.schedule, panel.platform, lanes)
+    frames = {a.frame for a in panel.schedule.assignments}
+    marked = set(panel.highlight)
+    normal = [a for a in panel.schedule.assignments if (a.task, a.frame) not in marked]
+    highlighted = [a for a in panel.schedule.assignments if (a.task, a.frame) in marked]
+    traces = [("task", normal, TASK_COLOUR)]
+    if highlighted:
+        traces.append((panel.highlight_name, highlighted, panel.highlight_colour))
+    for name, items, colour in traces:
+        trace = _gantt_trace(items, name, colour, len(frames) > 1, unit, row_of, nice, panel.notes)
+        trace.legendgroup = name
+        trace.showlegend = name not in shown
+        shown.add(name)
+        if row is None:
+            fig.add_trace(trace)
+        else:
+            fig.add_trace(trace, row=row, col=1)
+    return rows
+
+
+def _gantt_trace(
+    assignments: list[Assignment],
+    name: str,
+    colour: str,
+    show_frame: bool,
+    unit: str,
+    row_of: Mapping[tuple[str, int], str] | None = None,
+    nice: tuple[int, int] | None = None,
+    notes: Mapping[tuple[str, int], str] | None = None,
+) -> go.Bar:
     label = (lambda a: f"{a.task} [{a.frame}]") if show_frame else (lambda a: a.task)
     suffix = f" {unit}" if unit else ""
+    row_of = row_of or {}
+    notes = notes or {}
+    has_nice = any(a.niceness is not None for a in assignments)
+    marker: dict = {"color": colour, "line": {"color": "white", "width": 1}}
+    text_colour: str | list[str] = "white"
+    if nice is not None:
+        values = [a.niceness if a.niceness is not None else nice[1] for a in assignments]
+        marker = {"color": values, "coloraxis": "coloraxis", "line": {"color": "white", "width": 1}}
+        if name != "task":  # a highlighted set keeps its colour as a thick outline
+            marker["line"] = {"color": colour, "width": 3}
+        # Light bars (high niceness) need dark text.
+        text_colour = ["#1f2933" if (v - nice[0]) / (nice[1] - nice[0]) > 0.55 else "white" for v in values]
     return go.Bar(
         name=name,
         orientation="h",
-        y=[a.processor for a in assignments],
+        y=[row_of.get((a.task, a.frame), a.processor) for a in assignments],
         base=[a.start for a in assignments],
         x=[a.finish - a.start for a in assignments],
         text=[label(a) for a in assignments],
         textposition="inside",
         insidetextanchor="middle",
-        textfont={"color": "white"},
-        marker={"color": colour, "line": {"color": "white", "width": 1}},
-        customdata=[[a.task, a.frame, a.processor, a.start, a.finish] for a in assignments],
+        textfont={"color": text_colour},
+        marker=marker,
+        customdata=[
+            [
+                a.task,
+                a.frame,
+                a.processor,
+                a.start,
+                a.finish,
+                "—" if a.niceness is None else a.niceness,
+                f"<br>{notes[(a.task, a.frame)]}" if (a.task, a.frame) in notes else "",
+            ]
+            for a in assignments
+        ],
         hovertemplate=(
             "<b>%{customdata[0]}</b> (frame %{customdata[1]})<br>"
             "processor: %{customdata[2]}<br>"
             f"start: %{{customdata[3]:.6~g}}{suffix}<br>"
             f"finish: %{{customdata[4]:.6~g}}{suffix}<br>"
             f"duration: %{{x:.6~g}}{suffix}"
+            + ("<br>niceness: %{customdata[5]}" if has_nice else "")
+            + "%{customdata[6]}"
             f"<extra>{name}</extra>"
         ),
         showlegend=True,

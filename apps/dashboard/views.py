@@ -38,6 +38,8 @@ def paginate(request: HttpRequest, qs: QuerySet):
 def job_result_link(job: Job) -> str:
     """Where a finished job's result is shown in the dashboard (its API URL when there is no page)."""
     result = job.result or {}
+    if job.state == Job.State.SUCCEEDED and isinstance(result.get("remap"), int):
+        return reverse("heft4k:remap", args=[result["remap"]])
     if job.state == Job.State.SUCCEEDED and isinstance(result.get("schedule"), int):
         return reverse("dashboard:schedule", args=[result["schedule"]])
     if job.state == Job.State.SUCCEEDED and isinstance(result.get("page"), str) and result["page"].startswith("/"):
@@ -153,6 +155,7 @@ def _application_page(request: HttpRequest, app: Application, form: ScheduleForm
             "figure": charts.to_html(charts.dag_figure(graph), div_id="dag-chart"),
             "form": form,
             "schedules": app.schedules.select_related("cluster")[:20],
+            "remaps": app.remaps.select_related("schedule")[:10],
             "nav": "applications",
         },
         status=status,
@@ -186,21 +189,35 @@ def schedule_detail(request: HttpRequest, pk: int) -> HttpResponse:
     schedule = get_object_or_404(
         scoped(request, Schedule.objects.select_related("fleet", "application", "cluster", "job")), pk=pk
     )
+    return schedule_page(request, schedule)
+
+
+def schedule_page(request: HttpRequest, schedule: Schedule, whatif_form=None, status: int = 200) -> HttpResponse:
+    """The schedule page; HEFT4K schedules get their panel (apps.heft4k), with ``whatif_form`` when bound."""
+    from apps.heft4k.views import schedule_panel
+
     rows = list(schedule.assignments.all())
     engine = schedule.to_engine()
     dag = schedule.application.graph
     critical: list[tuple[str, int]] = []
     figure = None
     problem = ""
+    heft4k = None
     try:
         platform = schedule.engine_platform()
         critical = engine.critical_path(dag, platform)
-        fig = charts.gantt_figure(engine, platform=platform, dag=dag, critical=critical)
-        figure = charts.to_html(fig, div_id="gantt-chart")
+        heft4k = schedule_panel(schedule, engine, platform, dag, critical, whatif_form)
+        if heft4k is not None:
+            figure = heft4k.pop("figure")
+        else:
+            fig = charts.gantt_figure(engine, platform=platform, dag=dag, critical=critical)
+            figure = charts.to_html(fig, div_id="gantt-chart")
     except (InputError, KeyError) as exc:
         # The application's DAG changed since this schedule was made; draw what was stored.
         problem = f"the application changed since this schedule was made ({exc}); the critical path is not shown"
-        figure = charts.to_html(charts.gantt_figure(engine, time_unit=dag.time_unit), div_id="gantt-chart")
+        nice = any(a.niceness is not None for a in engine.assignments)
+        fig = charts.gantt_figure(engine, time_unit=dag.time_unit, colour_by_niceness=nice)
+        figure = charts.to_html(fig, div_id="gantt-chart")
     on_path = set(critical)
     for row in rows:
         row.on_critical_path = (row.task, row.frame) in on_path
@@ -222,8 +239,11 @@ def schedule_detail(request: HttpRequest, pk: int) -> HttpResponse:
             "placement": placement,
             "can_push": can_push,
             "processor_count": len(schedule.platform.get("processors", [])),
+            "has_niceness": any(r.niceness is not None for r in rows),
+            "heft4k": heft4k,
             "nav": "schedules",
         },
+        status=status,
     )
 
 

@@ -32,6 +32,7 @@ from kubernetes.utils import parse_quantity
 
 from apps.clusters.models import Cluster, ComputeNode
 from apps.scheduling.models import Assignment, Schedule
+from continuum.engine.heft4k import nice_container
 
 #: (connect, read) seconds for every API call, so a black-holed API fails the job instead of hanging it.
 REQUEST_TIMEOUT = (5, 30)
@@ -232,7 +233,6 @@ def pod_manifest(schedule: Schedule, assignment: Assignment, name: str, *, host_
     if assignment.task in (schedule.ranks or {}):
         annotations[f"{PREFIX}/rank"] = repr(schedule.ranks[assignment.task])
     if assignment.niceness is not None:
-        # Hook for the niceness wrapper (HEFT4K): it reads this annotation and runs the task under `nice`.
         annotations[f"{PREFIX}/niceness"] = str(assignment.niceness)
     env = [
         client.V1EnvVar(name="CONTINUUM_TASK", value=assignment.task),
@@ -247,7 +247,7 @@ def pod_manifest(schedule: Schedule, assignment: Assignment, name: str, *, host_
             scheduler_name=settings.CONTINUUM_SCHEDULER_NAME,
             restart_policy="Never",
             host_network=host_network,
-            containers=[client.V1Container(name="task", image=settings.CONTINUUM_POD_IMAGE, env=env)],
+            containers=[_container(assignment, env)],
         ),
     )
 
@@ -281,6 +281,22 @@ def node_problems(api: client.CoreV1Api) -> dict[str, str | None]:
     return problems
 
 
+def _container(assignment: Assignment, env: list) -> client.V1Container:
+    """The task's container; with a niceness (HEFT4K, Eq. 3.16) its command runs under ``nice``, with
+    ``SYS_NICE`` when negative (the engine's :func:`nice_container`, whose docstring lists the limits)."""
+    container = client.V1Container(name="task", image=settings.CONTINUUM_POD_IMAGE, env=env)
+    if assignment.niceness is not None:
+        spec = nice_container(
+            assignment.niceness, settings.CONTINUUM_POD_COMMAND, nice_binary=settings.CONTINUUM_NICE_BINARY
+        )
+        container.command = spec["command"]
+        container.args = spec["args"] or None
+        added = spec["securityContext"].get("capabilities", {}).get("add")
+        if added:
+            container.security_context = client.V1SecurityContext(capabilities=client.V1Capabilities(add=added))
+    return container
+
+
 @dataclass
 class Outcome:
     ok: bool
@@ -304,8 +320,10 @@ class Pusher:
         return node_problems(self.api)
 
     def existing_pods(self) -> dict[str, object]:
+        """The application's pods by name: a remapped schedule keeps pods created for the schedule it came from."""
+        selector = f"{PREFIX}/application={self.schedule.application_id}"
         pods = self.api.list_namespaced_pod(
-            self.namespace, label_selector=f"{PREFIX}/schedule={self.schedule.pk}", _request_timeout=REQUEST_TIMEOUT
+            self.namespace, label_selector=selector, _request_timeout=REQUEST_TIMEOUT
         ).items
         return {p.metadata.name: p for p in pods}
 
@@ -376,7 +394,8 @@ def push_schedule(schedule: Schedule, progress: Progress | None = None) -> dict:
     ranks = schedule.ranks or {}
     # Highest upward rank first (spec 02 §7.3); ties by start time, then task id, for a stable order.
     assignments = sorted(schedule.assignments.all(), key=lambda a: (-ranks.get(a.task, 0.0), a.start, a.task, a.frame))
-    names = {a.pk: pod_name(schedule, a.task, a.frame) for a in assignments}
+    # A task kept by a remap (apps.heft4k) still runs in the pod of the earlier schedule: keep its name.
+    names = {a.pk: a.pod_name or pod_name(schedule, a.task, a.frame) for a in assignments}
     outcomes: dict[int, Outcome] = {}
     with api_client:
         pusher = Pusher(schedule, api_client)

@@ -3,6 +3,7 @@ from rest_framework import mixins, status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
+from apps.heft4k.api import RemapActionMixin
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
@@ -11,7 +12,7 @@ from .models import Schedule
 from .serializers import ScheduleListSerializer, ScheduleSerializer
 
 
-class ScheduleViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
+class ScheduleViewSet(RemapActionMixin, FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
     """Stored schedules (created by scheduling jobs) and their push to Kubernetes."""
 
     queryset = Schedule.objects.select_related("fleet")

@@ -28,3 +28,21 @@ def num(value, digits: int = 3) -> str:
 @register.filter
 def pretty_json(value) -> str:
     return json.dumps(value, indent=2, sort_keys=True, default=str)
+
+
+@register.filter
+def percent(value, digits: int = 1) -> str:
+    """A fraction as a percentage: 0.193 -> 19.3%."""
+    if value is None or value == "":
+        return "—"
+    try:
+        return f"{num(100.0 * float(value), digits)}%"
+    except (TypeError, ValueError):
+        return str(value)
+
+
+@register.filter
+def change(value, digits: int = 1) -> str:
+    """A relative change as a signed percentage: 0.209 -> +20.9%, -0.05 -> -5%, 0 -> 0%."""
+    text = percent(value, digits)
+    return text if text in ("—", "0%") or text.startswith("-") or not text[0].isdigit() else f"+{text}"

@@ -1,0 +1,60 @@
+"""Job handlers of HEFT4K remapping: ``remap`` (compute, and apply unless a what-if) and ``remap_apply``."""
+
+from apps.jobs.registry import job_kind
+from apps.scheduling.models import Schedule
+from continuum.engine.errors import InputError
+
+from . import remapping
+from .models import RemapEvent
+
+
+def _id(job, name: str) -> int:
+    value = (job.arguments or {}).get(name)
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise ValueError(f"argument {name!r} must be the id of a {name}, got {value!r}")
+    return value
+
+
+@job_kind("remap")
+def remap(job, progress) -> tuple[dict, str]:
+    """Arguments: ``schedule`` (id), ``fail`` (node names), ``what_if`` (bool), ``threshold`` (fraction or
+    null for the deployment's default), ``trigger`` ("api", "what-if" or "watch").
+
+    Runs Algorithm 2 and stores the new schedule and the remap event; unless ``what_if``, pushes the pods
+    that change. A re-delivered job finds its event and only (re)applies it.
+    """
+    args = job.arguments or {}
+    event = RemapEvent.objects.filter(job=job).select_related("schedule", "new_schedule").first()
+    if event is None:
+        pk = _id(job, "schedule")
+        schedule = Schedule.objects.select_related("application", "cluster").filter(pk=pk, fleet=job.fleet).first()
+        if schedule is None:
+            raise ValueError(f"schedule {pk} does not exist")
+        fail = args.get("fail")
+        if not isinstance(fail, list):
+            raise InputError(f"argument 'fail' must be a list of node names, got {fail!r}", "fail")
+        trigger = args.get("trigger") or (RemapEvent.Trigger.WHAT_IF if args.get("what_if") else RemapEvent.Trigger.API)
+        if trigger not in RemapEvent.Trigger.values:
+            raise InputError(f"unknown trigger {trigger!r}", "trigger")
+        progress(5, f"remapping schedule {schedule.pk} without {', '.join(map(str, fail))}")
+        event = remapping.compute(schedule, fail, threshold=args.get("threshold"), trigger=trigger, job=job)
+    progress(
+        50,
+        f"{event.decision} remap: {len(event.lost_tasks)} tasks lost, {len(event.moved_tasks)} moved, "
+        f"computed in {event.elapsed_ms:.1f} ms",
+    )
+    if not args.get("what_if"):
+        remapping.apply(event, progress)
+    return remapping.summary(event), f"/api/v1/remaps/{event.pk}/"
+
+
+@job_kind("remap_apply")
+def remap_apply(job, progress) -> tuple[dict, str]:
+    """Arguments: ``remap`` (id of a what-if remap event). Pushes the pods its new schedule changes."""
+    pk = _id(job, "remap")
+    event = RemapEvent.objects.select_related("schedule", "new_schedule").filter(pk=pk, fleet=job.fleet).first()
+    if event is None:
+        raise ValueError(f"remap {pk} does not exist")
+    progress(5, f"applying remap {event.pk}")
+    remapping.apply(event, progress)
+    return remapping.summary(event), f"/api/v1/remaps/{event.pk}/"

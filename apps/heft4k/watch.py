@@ -1,0 +1,198 @@
+"""The node watcher: HEFT4K's event-driven remapping trigger (thesis 3.3.2, Algorithm 2).
+
+:func:`watch_nodes` lists the Node objects of a cluster's Kubernetes API, then follows a watch stream from
+that resourceVersion. A node that goes NotReady (or Unknown) or disappears is marked on its ComputeNode and
+a ``remap`` job starts for the latest pushed schedule of every application that has tasks on a down node.
+
+Robustness: the watch is re-opened when the server ends it (``timeout_seconds``), re-listed when the
+resourceVersion expired (410 Gone) or after a lost connection, and a list is reconciled with the database
+(level-triggered), so a failure that happened while the watcher was away is still handled. Consecutive
+connection failures are retried with exponential backoff up to ``retries`` times, then
+:class:`~apps.kube.gateway.KubeError` is raised. Each schedule gets at most one watcher-triggered remap job
+(a failed one is left for the operator to look at, never retried in a loop). ``timeout`` bounds the whole
+run (tests, cron); ``None`` watches until interrupted.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import urllib3
+from kubernetes import client, watch
+from kubernetes.client.exceptions import ApiException
+
+from apps.clusters.models import Cluster, ComputeNode
+from apps.jobs.models import Job
+from apps.jobs.services import start_job
+from apps.kube import gateway
+from apps.scheduling.models import Schedule
+
+from . import remapping
+from .models import RemapEvent
+
+log = logging.getLogger(__name__)
+#: Longest single watch request (seconds); the server ends it and the watcher re-opens it.
+WATCH_SECONDS = 60
+GONE = 410
+
+
+@dataclass
+class WatchReport:
+    """What one run of the watcher saw and did."""
+
+    cluster: int
+    events: int = 0
+    lists: int = 0
+    reconnects: int = 0
+    changes: list[dict[str, Any]] = field(default_factory=list)  # {node, status, was}
+    remaps: list[dict[str, Any]] = field(default_factory=list)  # {job, schedule, fail, state, remap}
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "cluster": self.cluster,
+            "events": self.events,
+            "lists": self.lists,
+            "reconnects": self.reconnects,
+            "changes": self.changes,
+            "remaps": self.remaps,
+        }
+
+
+def watch_nodes(
+    cluster: Cluster,
+    *,
+    timeout: float | None = None,
+    threshold: float | None = None,
+    retries: int = 5,
+    backoff: float = 1.0,
+    on_listed: Callable[[WatchReport], None] | None = None,
+    sleep: Callable[[float], None] = time.sleep,
+) -> WatchReport:
+    """Watch ``cluster``'s nodes for ``timeout`` seconds (forever when ``None``); see the module docstring.
+
+    ``on_listed(report)`` is called after every list, once the database is reconciled and before the watch
+    opens (changes made then arrive as watch events).
+    """
+    deadline = None if timeout is None else time.monotonic() + timeout
+    report = WatchReport(cluster.pk)
+    api_client = gateway.api_client_for(cluster)
+    server = api_client.configuration.host
+    failures = 0
+    version: str | None = None
+    with api_client:
+        api = client.CoreV1Api(api_client)
+        while _left(deadline) > 0:
+            try:
+                if version is None:
+                    listing = api.list_node(_request_timeout=gateway.REQUEST_TIMEOUT)
+                    version = listing.metadata.resource_version
+                    report.lists += 1
+                    _reconcile(cluster, {n.metadata.name: gateway.node_status(n) for n in listing.items}, report)
+                    _trigger(cluster, threshold, report)
+                    failures = 0
+                    if on_listed is not None:
+                        on_listed(report)
+                seconds = max(1, int(min(_left(deadline), WATCH_SECONDS)))
+                stream = watch.Watch()
+                for event in stream.stream(
+                    api.list_node,
+                    resource_version=version,
+                    timeout_seconds=seconds,
+                    _request_timeout=(gateway.REQUEST_TIMEOUT[0], seconds + 10),
+                ):
+                    failures = 0
+                    report.events += 1
+                    node = event["object"]
+                    version = node.metadata.resource_version or version
+                    status = ComputeNode.Status.NOT_READY if event["type"] == "DELETED" else gateway.node_status(node)
+                    if _mark(cluster, node.metadata.name, status, report):
+                        _trigger(cluster, threshold, report)
+                    if _left(deadline) <= 0:
+                        stream.stop()
+                        break
+            except ApiException as exc:
+                if exc.status == GONE:  # the resourceVersion is too old: list again
+                    version = None
+                    continue
+                failures, version = _retry(exc, failures, retries, backoff, deadline, server, sleep, report)
+            except (urllib3.exceptions.HTTPError, OSError) as exc:
+                failures, version = _retry(exc, failures, retries, backoff, deadline, server, sleep, report)
+    return report
+
+
+def _left(deadline: float | None) -> float:
+    return float("inf") if deadline is None else deadline - time.monotonic()
+
+
+def _retry(exc, failures, retries, backoff, deadline, server, sleep, report) -> tuple[int, None]:
+    """Count a failed connection; give up after ``retries`` in a row, else wait (exponential backoff)."""
+    failures += 1
+    reason = gateway.describe(exc, server)
+    if failures > retries:
+        raise gateway.KubeError(f"node watch gave up after {retries} reconnects: {reason}") from exc
+    report.reconnects += 1
+    wait = min(backoff * 2 ** (failures - 1), 30.0, max(0.0, _left(deadline)))
+    log.warning("node watch: %s; reconnecting in %.1f s", reason, wait)
+    if wait > 0:
+        sleep(wait)
+    return failures, None  # list again after a lost connection: events may have been missed
+
+
+def _reconcile(cluster: Cluster, statuses: dict[str, str], report: WatchReport) -> None:
+    """Bring every ComputeNode's status to what the API says; a node missing from the API is NotReady."""
+    for name in cluster.nodes.values_list("name", flat=True):
+        _mark(cluster, name, statuses.get(name, ComputeNode.Status.NOT_READY), report)
+
+
+def _mark(cluster: Cluster, name: str, status: str, report: WatchReport) -> bool:
+    """Store a node's status; True when a known node went down (Ready -> not Ready)."""
+    row = cluster.nodes.filter(name=name).first()
+    if row is None or row.status == status:
+        return False  # a node Continuum does not know yet (kube_sync adds it), or nothing new
+    was, row.status = row.status, status
+    row.save(update_fields=["status"])
+    report.changes.append({"node": name, "status": status, "was": was})
+    log.info("node %s of cluster %s: %s -> %s", name, cluster.name, was, status)
+    return status != ComputeNode.Status.READY
+
+
+def _trigger(cluster: Cluster, threshold: float | None, report: WatchReport) -> None:
+    """Start a remap job for each application's latest pushed schedule that has tasks on a down node."""
+    down = set(cluster.nodes.exclude(status=ComputeNode.Status.READY).values_list("name", flat=True))
+    if not down:
+        return
+    applications = Schedule.objects.filter(cluster=cluster).values_list("application_id", flat=True).distinct()
+    for application_id in sorted(set(applications)):
+        schedule = remapping.latest_pushed(application_id, cluster)
+        if schedule is None:
+            continue
+        lost_on = sorted(set(schedule.assignments.filter(processor__in=down).values_list("processor", flat=True)))
+        if not lost_on:
+            continue
+        if Job.objects.filter(
+            kind="remap", fleet_id=cluster.fleet_id, arguments__schedule=schedule.pk, arguments__trigger="watch"
+        ).exists():
+            continue  # one watcher remap per schedule; its outcome is on the job and the event
+        arguments = {
+            "schedule": schedule.pk,
+            "fail": lost_on,
+            "what_if": False,
+            "threshold": threshold,
+            "trigger": RemapEvent.Trigger.WATCH,
+        }
+        job = start_job("remap", cluster.fleet, arguments)
+        event = RemapEvent.objects.filter(job=job).first()
+        report.remaps.append(
+            {
+                "job": str(job.pk),
+                "schedule": schedule.pk,
+                "fail": lost_on,
+                "state": job.state,
+                "remap": event.pk if event else None,
+                "error": job.error,
+            }
+        )
