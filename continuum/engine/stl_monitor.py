@@ -40,9 +40,8 @@ Overload strategy 2 (trace approximation, §11.2) is :meth:`Monitor.drop_and_res
 
 from __future__ import annotations
 
-import bisect
 import itertools
-from collections import Counter, deque
+from collections import deque
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -909,26 +908,35 @@ def standby_copy(program: Program, **options: Any) -> Monitor:
     return m
 
 
-def migrate_t0(destination: Monitor) -> float | None:
-    """Step 4 at H2: once it holds enough events for its first sort, the oldest buffered timestamp."""
-    if destination.backlog < destination.sort_threshold:
+def migrate_t0(destination: Monitor, force: bool = False) -> float | None:
+    """Step 4 at H2: T0, once H2 holds enough events for its first sort (None until then).
+
+    T0 is the oldest *complete* timestamp in H2's buffer: H2 may have subscribed in the middle of the
+    events that share its oldest timestamp (ties are common in sampled traces), so T0 is the next distinct
+    timestamp after it and H2's events before T0 are discarded at step 6 (H1 sends those). With the
+    thesis's distinct PTP timestamps this only moves the cut by one event. Events must reach the handlers
+    in timestamp order (up to the sort threshold), as the thesis assumes. ``force`` (the stream ended
+    before H2 could sort) cuts at what H2 has, or at +inf: then H1 sends everything.
+    """
+    if destination.backlog < destination.sort_threshold and not force:
         return None
-    return destination.oldest_unevaluated()
+    stamps = sorted({e[2] for e in destination.raw} | {e[2] for e in destination.ready})
+    if len(stamps) >= 2:
+        return stamps[1]
+    return float("inf") if force else None
 
 
 def migrate_handover(source: Monitor, t0: float) -> dict:
     """Step 5 at H1: detach, and pack the not-yet-evaluated events with ts < T0 plus the monitor state.
 
-    Events with ts < T0 travel compressed (one bit mask per instant, delta timestamps); the held signal
-    values travel as of the last of them. Events with ts >= T0 that H1 also buffered travel raw as
-    ``overlap`` so that H2 can add any it missed (equal timestamps straddling its subscription): H2
-    merges them as a multiset union, so nothing is lost and nothing is evaluated twice.
+    Events with ts < T0 travel compressed (one bit mask per instant, delta timestamps) with the held signal
+    values as of the last of them; the pending instances travel as residual formulas. Events with
+    ts >= T0 are dropped here: H2 has them.
     """
     source.detached = True
     if source.raw:
         source._sort()
     before = [e for e in source.ready if e[2] < t0]
-    overlap = [list(e) for e in source.ready if e[2] >= t0]
     held = dict(source.held)
     bits = _bits_of(source.program, held)  # held values are those at the end of the compressed instants
     pre = list(source.pre)
@@ -943,28 +951,17 @@ def migrate_handover(source: Monitor, t0: float) -> dict:
     state["counters"]["events"] += len(before)  # they are applied into the held values already
     source.ready.clear()
     source.pre.clear()
-    return {"format": PAYLOAD_FORMAT, "t0": t0, "state": state, "overlap": overlap}
+    return {"format": PAYLOAD_FORMAT, "t0": t0, "state": state}
 
 
 def migrate_complete(destination: Monitor, payload: Mapping) -> None:
     """Step 6 at H2: restore the state, put H1's events ahead of its own buffer and schedule the monitor."""
     if payload.get("format") != PAYLOAD_FORMAT:
         raise InputError(f"not a {PAYLOAD_FORMAT} payload", field="format")
-    own_raw, own_ready = list(destination.raw), list(destination.ready)
+    t0 = payload["t0"]
+    own = [e for e in sorted([*destination.ready, *destination.raw], key=_ts) if e[2] >= t0]
     destination._restore(payload["state"])
-    mine = sorted([*own_ready, *own_raw], key=_ts)
-    counts = Counter(mine)
-    extra = []
-    for e in (tuple(x) for x in payload["overlap"]):
-        if counts[e] > 0:
-            counts[e] -= 1
-        else:
-            extra.append(e)
-    merged = list(mine)
-    for e in extra:  # H1 received these before H2 subscribed: they go before H2's own equal-ts events
-        keys = [x[2] for x in merged]
-        merged.insert(bisect.bisect_left(keys, e[2]), e)
     destination.raw = []
-    destination.ready = deque(merged)
+    destination.ready = deque(own)
     destination.suspended = False
     destination.detached = False
