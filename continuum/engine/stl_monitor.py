@@ -965,3 +965,72 @@ def migrate_complete(destination: Monitor, payload: Mapping) -> None:
     destination.ready = deque(own)
     destination.suspended = False
     destination.detached = False
+
+
+# ===================================================================================================
+# 6. Traces (the stl_check contract: a CSV with a time column and one column per signal)
+# ===================================================================================================
+
+
+def parse_trace_csv(text: str, source: str = "trace") -> tuple[list[Event], list[str]]:
+    """Events of a CSV trace and its signal columns.
+
+    The header names a ``time`` column (milliseconds) and one column per signal; each non-empty cell is an
+    event (signal, value, time). Values are numbers or ``true``/``false``; an empty cell means the signal
+    did not change at that row.
+    """
+    import csv
+    import io
+
+    rows = list(csv.reader(io.StringIO(text)))
+    while rows and not any(cell.strip() for cell in rows[0]):
+        rows.pop(0)
+    if not rows:
+        raise InputError(f"{source}: empty trace", field="trace")
+    header = [h.strip() for h in rows[0]]
+    if "time" not in header:
+        raise InputError(f"{source}: line 1: no 'time' column (columns: {', '.join(header)})", field="trace")
+    for name in header:
+        if not name:
+            raise InputError(f"{source}: line 1: an empty column name", field="trace")
+        if header.count(name) > 1:
+            raise InputError(f"{source}: line 1: column {name!r} appears twice", field="trace")
+    t_col = header.index("time")
+    signals = [h for h in header if h != "time"]
+    events: list[Event] = []
+    for line, row in enumerate(rows[1:], start=2):
+        if not any(cell.strip() for cell in row):
+            continue
+        if len(row) != len(header):
+            raise InputError(f"{source}: line {line}: {len(row)} cells for {len(header)} columns", field="trace")
+        ts = _cell(row[t_col], source, line, "time")
+        if ts is None or isinstance(ts, bool):
+            raise InputError(f"{source}: line {line}: time must be a number, not {row[t_col]!r}", field="trace")
+        for name, cell in zip(header, row, strict=True):
+            if name != "time":
+                value = _cell(cell, source, line, name)
+                if value is not None:
+                    events.append((name, value, ts))
+    return events, signals
+
+
+def _cell(cell: str, source: str, line: int, column: str) -> Any:
+    text = cell.strip()
+    if not text:
+        return None
+    low = text.lower()
+    if low in ("true", "false"):
+        return low == "true"
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(
+            f"{source}: line {line}, column {column!r}: {text!r} is not a number or true/false", field="trace"
+        ) from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise InputError(f"{source}: line {line}, column {column!r}: {text!r} is not a finite number", "trace")
+    return value
