@@ -671,10 +671,88 @@ def _greedy(stats: MonitorStats, cl: _Classes) -> tuple[dict[str, str], bool]:
         return out, ok
 
     by_size = sorted(range(len(stats.monitors)), key=lambda a: -float(cl.cpu[cls_of[a]].max()))
+    repaired = _repair(stats, cl, delay, tcpu)
+    if repaired is not None:
+        return repaired, True
     kept, ok = attempt(by_size, stay=True)
     if ok:
         return kept, True
     return attempt(by_size, stay=False)
+
+
+def _repair(stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray) -> dict[str, str] | None:
+    """Start from the current allocation and relieve overloaded units by moving monitors of one topic set
+    at a time to the unit where that costs the least added delay per unit of CPU freed (a set-union
+    knapsack heuristic). None when it gets stuck."""
+    nodes, j_count = stats.nodes, len(stats.nodes)
+    cap = np.array([stats.capacity()[j] for j in nodes])
+    cls_of = [0] * len(stats.monitors)
+    for c, members in enumerate(cl.members):
+        for a in members:
+            cls_of[a] = c
+    allowed = cl.allowed if cl.allowed is not None else np.ones((len(cl.members), j_count), dtype=bool)
+    place = []
+    for a in range(len(stats.monitors)):
+        c = cls_of[a]
+        cur = cl.current[c]
+        if cur is None or not allowed[c, cur]:
+            cur = int(np.argmax(allowed[c]))
+        place.append(cur)
+    readers = np.zeros((len(stats.topics), j_count), dtype=int)
+    load = np.zeros(j_count)
+    for a, b in enumerate(place):
+        c = cls_of[a]
+        load[b] += cl.cpu[c, b]
+        for k in cl.group_topics[cl.group[c]]:
+            readers[k, b] += 1
+
+    def total(b: int) -> float:
+        return load[b] + float(tcpu[readers[:, b] > 0, b].sum())
+
+    for _ in range(4 * len(stats.monitors) + 10):
+        over = [(total(b) - cap[b], b) for b in range(j_count) if total(b) > cap[b] + 1e-9]
+        if not over:
+            return {stats.monitors[a]: nodes[b] for a, b in enumerate(place)}
+        excess, b = max(over)
+        on_b: dict[int, list[int]] = {}
+        for a, pb in enumerate(place):
+            if pb == b:
+                on_b.setdefault(cl.group[cls_of[a]], []).append(a)
+        best = None
+        for g, members in on_b.items():
+            members.sort(key=lambda a: -cl.cpu[cls_of[a], b])
+            topics = cl.group_topics[g]
+            for d in range(j_count):
+                if d == b:
+                    continue
+                new = [k for k in topics if readers[k, d] == 0]
+                room = cap[d] - total(d) - float(tcpu[new, d].sum())
+                moved, freed, used = [], 0.0, 0.0
+                for a in members:
+                    c = cls_of[a]
+                    if not allowed[c, d] or used + cl.cpu[c, d] > room + 1e-9:
+                        continue
+                    moved.append(a)
+                    freed += cl.cpu[c, b]
+                    used += cl.cpu[c, d]
+                    if freed >= excess - 1e-9:
+                        break
+                if moved and freed > 0:
+                    score = (float(delay[new, d].sum()) + 1e-6) / freed
+                    if best is None or score < best[0]:
+                        best = (score, d, moved)
+        if best is None:
+            return None
+        _, d, moved = best
+        for a in moved:
+            c = cls_of[a]
+            place[a] = d
+            load[b] -= cl.cpu[c, b]
+            load[d] += cl.cpu[c, d]
+            for k in cl.group_topics[cl.group[c]]:
+                readers[k, b] -= 1
+                readers[k, d] += 1
+    return None
 
 
 def _vector(model: _Model, stats: MonitorStats, cl: _Classes, placement: Mapping[str, str]) -> np.ndarray:
