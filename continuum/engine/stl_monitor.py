@@ -431,6 +431,7 @@ class Monitor:
         self.program = program
         self.sort_threshold = sort_threshold
         self.instant_mode = instant_mode
+        self._by_ts = instant_mode == "timestamp"
         self.until_inclusive = until_inclusive
         self.tolerant = tolerant  # may drop events and reset under overload (strategy 2)
         self.fast = fast_path and program.response_fast_path()
@@ -513,19 +514,28 @@ class Monitor:
         """Apply the events of the oldest instant in the sorted buffer and evaluate it, if it is complete."""
         ready = self.ready
         ts = ready[0][2]
-        if self.instant_mode == "timestamp" and not final and ready[-1][2] == ts:
+        by_ts = self._by_ts
+        if by_ts and not final and ready[-1][2] == ts:
             return False  # more events with this timestamp may still come
         closed = self.closed_ts
-        if closed is not None and (ts < closed or (ts == closed and self.instant_mode == "timestamp")):
+        if closed is not None and (ts < closed or (ts == closed and by_ts)):
             self._apply(ready.popleft())  # late event: its value holds from now on, no instant of its own
             self.counters["late_events"] += 1
             return True
-        event = ready.popleft()
-        self._apply(event)
-        if self.instant_mode == "timestamp":
-            while ready and ready[0][2] == ts:
-                event = ready.popleft()
-                self._apply(event)
+        held, bits, deps, evaluators = self.held, self.bits, self.program.deps, self.program.evaluators
+        n = 0
+        while True:  # the hot loop: inlined _apply
+            event = ready.popleft()
+            var = event[0]
+            held[var] = event[1]
+            idx = deps.get(var)
+            if idx:
+                for i in idx:
+                    bits[i] = evaluators[i](held)
+            n += 1
+            if not by_ts or not ready or ready[0][2] != ts:
+                break
+        self.counters["events"] += n
         self._eval_instant(ts, event, out)
         return True
 
@@ -541,25 +551,41 @@ class Monitor:
 
     def _eval_instant(self, ts: float, event: Event | None, out: list[Violation]) -> None:
         """The evaluation function: one step of every pending instance, then a new instance at ``ts``."""
-        self.counters["instants"] += 1
+        counters = self.counters
+        counters["instants"] += 1
         self.closed_ts = ts
-        if self.ts_start is None:
-            self.ts_start = ts
-        failed_before = len(out)
-        found: list[Violation] = []
+        start = self.ts_start
+        if start is None:
+            start = self.ts_start = ts
+        mark = len(out)
         if self.pending:
-            self._step_pending(ts, event, found)
-        if self.pool:
-            self._step_pool(ts, event, found)
-        rel = ts - self.ts_start
-        if self._g_lo <= rel <= self._g_hi:
-            self._new_instance(ts, event, found)
+            self._step_pending(ts, event, out)
+        in_window = self._g_lo <= ts - start <= self._g_hi
+        if self.fast:  # G(A -> F[a,b] C), inlined: this is the hot path of most monitors
+            pool, bits = self.pool, self.bits
+            if pool:
+                while pool and pool[0][1] < ts:
+                    out.append(Violation(ts, pool.popleft()[2], event))
+                if pool and self._cons_fn(bits):
+                    n = 0
+                    while pool and pool[0][0] <= ts:
+                        pool.popleft()
+                        n += 1
+                    counters["passed"] += n
+            if in_window:
+                if not self._ant_fn(bits) or (self._cons_lo == 0 and self._cons_fn(bits)):
+                    counters["passed"] += 1  # vacuous, or the consequent holds right away
+                else:
+                    pool.append((ts + self._cons_lo, ts + self._cons_hi, ts))
+        elif in_window:
+            self._new_instance(ts, event, out)
+        found = len(out) - mark
         if found:
-            found.sort(key=_start)
-            out.extend(found)
-            self.counters["failed"] += len(found)
+            if found > 1:
+                out[mark:] = sorted(out[mark:], key=_start)
+            counters["failed"] += found
         if self.record_outputs:
-            self.outputs.append((ts, 0 if len(out) > failed_before else 1))
+            self.outputs.append((ts, 0 if found else 1))
 
     def _step_pending(self, ts: float, event: Event | None, found: list[Violation]) -> None:
         st = self._stepper
@@ -585,25 +611,7 @@ class Monitor:
             return True
         return False
 
-    def _step_pool(self, ts: float, event: Event | None, found: list[Violation]) -> None:
-        pool = self.pool
-        while pool and pool[0][1] < ts:
-            found.append(Violation(ts, pool.popleft()[2], event))
-        if pool and self._cons_fn(self.bits):
-            n = 0
-            while pool and pool[0][0] <= ts:
-                pool.popleft()
-                n += 1
-            self.counters["passed"] += n
-
     def _new_instance(self, ts: float, event: Event | None, found: list[Violation]) -> None:
-        if self.fast:
-            bits = self.bits
-            if not self._ant_fn(bits) or (self._cons_lo == 0 and self._cons_fn(bits)):
-                self.counters["passed"] += 1  # vacuous, or the consequent holds right away
-            else:
-                self.pool.append((ts + self._cons_lo, ts + self._cons_hi, ts))
-            return
         st = self._stepper
         st.ts, st.bits = ts, self.bits
         ant = st.start(self.program.antecedent)
