@@ -711,6 +711,17 @@ class Monitor:
         return min(stamps) if stamps else None
 
     # ---- overload strategy 2: trace approximation ----------------------------------------------
+    def lagging(self, max_lag_ms: float = 500.0, max_buffer: int = 10_000) -> bool:
+        """The drop trigger of spec 03 §11.2 (proposal), in event time: more than ``max_buffer`` events wait,
+        or the newest buffered event is more than ``max_lag_ms`` after the oldest one not evaluated."""
+        if self.backlog > max_buffer:
+            return True
+        oldest = self.oldest_unevaluated()
+        if oldest is None:
+            return False
+        newest = max([e[2] for e in self.raw] + ([self.ready[-1][2]] if self.ready else []) + [oldest])
+        return newest - oldest > max_lag_ms
+
     def drop_and_reset(self) -> int:
         """Throw away every not-yet-evaluated event and reset the instances (spec 03 §11.2).
 

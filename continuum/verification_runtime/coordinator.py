@@ -24,6 +24,7 @@ class Coordinator:
         self.moving: dict[str, str] = {}
         self.variables: dict[str, list[str]] = {}
         self.last: dict | None = None
+        self.degraded: set[str] = set()
 
     def maybe_allocate(self) -> None:
         now = time.monotonic()
@@ -48,6 +49,14 @@ class Coordinator:
                 self.bus.send(host, "MIGRATE", monitor=monitor, to=node)
                 self.moving[monitor] = node
             self.bus.set_allocation(monitor, node)
+        # overload strategy 2 on the overloaded units' tolerant monitors (strategy 1, priority by active
+        # instances, is always on in the handlers' schedulers)
+        drop = set(result.drop_events)
+        for monitor in sorted(drop - self.degraded):
+            self.bus.send(result.allocation[monitor], "DEGRADE", monitors=[monitor], drop=True)
+        for monitor in sorted(self.degraded - drop):
+            self.bus.send(result.allocation[monitor], "DEGRADE", monitors=[monitor], drop=False)
+        self.degraded = drop
 
     def _read_acks(self) -> None:
         acks = self.bus.acks()

@@ -78,6 +78,8 @@ class Handler:
         aging: float = 10.0,
         monitor_cpu: float | None = None,
         discovery: float = 1.0,
+        max_lag_ms: float = 500.0,
+        max_buffer: int = 10_000,
     ):
         self.name, self.bus = name, bus
         self.free_cpu, self.cores = free_cpu, cores or os.cpu_count() or 1
@@ -95,6 +97,8 @@ class Handler:
         self.coordinator = Coordinator(self, period=allocate_period) if allocate else None
         self.is_coordinator = False
         self.discovery_until = time.monotonic() + discovery  # hear the other handlers before electing
+        self.degraded: set[str] = set()  # monitors allowed to drop events while this unit is overloaded
+        self.max_lag_ms, self.max_buffer = max_lag_ms, max_buffer
 
     # ---- registry ------------------------------------------------------------------------------
     def program(self, monitor: str) -> tuple[Program, dict]:
@@ -175,6 +179,13 @@ class Handler:
         copy.role, copy.peer, copy.seen = "active", None, []
         self.bus.ack("migrated", monitor=monitor, source=source, handler=self.name)
 
+    def on_degrade(self, monitors: list[str], drop: bool = True) -> None:
+        """Overload strategy 2 on (or off) for these monitors (only tolerant ones ever drop)."""
+        if drop:
+            self.degraded.update(monitors)
+        else:
+            self.degraded.difference_update(monitors)
+
     def on_shutdown(self) -> None:
         self.shutting_down = True
 
@@ -220,6 +231,10 @@ class Handler:
         # priority: active instances (overload strategy 1) plus aging for the time spent waiting
         runnable.sort(key=lambda nc: -(nc[1].monitor.active_instances + self.aging * (now - nc[1].last_run)))
         for name, copy in runnable:
+            m = copy.monitor
+            if name in self.degraded and m.tolerant and m.lagging(self.max_lag_ms, self.max_buffer):
+                m.drop_and_reset()  # strategy 2: throw the backlog away, reset the instances
+                continue
             started = time.perf_counter()
             for v in copy.monitor.evaluate(max_instants=self.time_slice):
                 self.bus.verdict(name, self.name, "violation", v.to_dict())
@@ -310,6 +325,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--time-slice", type=int, default=200)
     parser.add_argument("--monitor-cpu", type=float, default=None, help="report this CPU %% per monitor")
     parser.add_argument("--discovery", type=float, default=1.0, help="seconds of listening before an election")
+    parser.add_argument("--max-lag-ms", type=float, default=500.0, help="drop trigger: event-time lag")
+    parser.add_argument("--max-buffer", type=int, default=10_000, help="drop trigger: events waiting")
     args = parser.parse_args(argv)
     handler = Handler(
         args.name,
@@ -324,6 +341,8 @@ def main(argv: list[str] | None = None) -> None:
         time_slice=args.time_slice,
         monitor_cpu=args.monitor_cpu,
         discovery=args.discovery,
+        max_lag_ms=args.max_lag_ms,
+        max_buffer=args.max_buffer,
     )
     signal.signal(signal.SIGTERM, lambda *_: handler.on_shutdown())
     handler.run()

@@ -80,6 +80,17 @@ def test_fig_3_44_false_positive_trace():
     assert outputs == [1, 1] and violations == []
 
 
+def test_lagging_trigger():
+    m = Monitor("G(x < 5)", tolerant=True)
+    for t in range(0, 400, 10):
+        m.push("x", 1, t)
+    assert not m.lagging(max_lag_ms=500, max_buffer=100)
+    assert m.lagging(max_lag_ms=300, max_buffer=100)  # 390 ms between the oldest and newest waiting events
+    assert m.lagging(max_lag_ms=500, max_buffer=10)  # 40 events wait
+    m.drop_and_reset()
+    assert not m.lagging(max_lag_ms=0, max_buffer=0) and m.counters["dropped_events"] == 40
+
+
 def test_drop_needs_a_tolerant_monitor():
     m = Monitor("G(a -> X(b))")
     with pytest.raises(InputError, match="not tolerant"):

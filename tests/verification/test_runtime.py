@@ -194,3 +194,33 @@ def test_coordinator_milp_moves_monitors_off_an_overloaded_unit(network):
     assert set(bus.allocation().values()) == {"server"}
     _shutdown(bus, procs)
     _compare(bus, events)
+
+
+def test_degraded_tolerant_monitor_drops_events_without_false_positives(network):
+    bus, start, procs = network
+    text = "G(x >= 7 -> F[0,40](y >= 7))"
+    bus.register_monitor("soft", text, options={"tolerant": True})
+    bus.register_monitor("hard", text)
+    start("h", "--time-slice", "1", "--max-buffer", "30")  # one instant per turn: a backlog builds up
+    _wait(lambda: len(bus.handlers()) == 1, what="handler reporting")
+    bus.send("h", "EXEC", monitors=["hard", "soft"])
+    bus.send("h", "DEGRADE", monitors=["hard", "soft"])  # only the tolerant one may drop
+    _wait(lambda: sum(1 for k, _ in bus.acks() if k == "exec") == 2, what="EXEC acknowledged")
+    events = [e for e in _stream(random.Random(5), 12000) if e[0] in ("x", "y")]
+    bus.publish_events(events)
+    _shutdown(bus, procs)
+    program = synthesize(text)
+    reference = Monitor(program)
+    truth = {(v.instance_start, v.time) for v in reference.feed(events) + reference.flush()}
+    got = {"hard": [], "soft": []}
+    finals = {}
+    for entry in bus.verdicts():
+        if entry["kind"] == "violation":
+            got[entry["monitor"]].append((entry["body"]["instance_start"], entry["body"]["time"]))
+        else:
+            finals[entry["monitor"]] = entry["body"]
+    assert finals["soft"]["counters"]["dropped_events"] > 0 and finals["soft"]["counters"]["resets"] > 0
+    assert finals["hard"]["counters"]["dropped_events"] == 0
+    assert set(got["hard"]) == truth  # the hard monitor is exact
+    assert set(got["soft"]) <= truth  # the tolerant one only misses violations (false negatives)
+    assert len(got["soft"]) < len(truth)
