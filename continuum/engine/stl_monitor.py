@@ -753,17 +753,10 @@ class Monitor:
     # ---- compressed view (Fig. 3.41) -------------------------------------------------------------
     def compressed(self) -> list[tuple[float, tuple[bool, ...]]]:
         """The sorted, not yet evaluated instants as placeholder bit vectors (one entry per instant)."""
-        held = dict(self.held)
-        bits = _bits_of(self.program, held)
-        out = [(ts, _unmask(mask, len(bits))) for ts, mask, _ in self.pre]
-        out = [(ts, tuple(b)) for ts, b in out]
-        for group in _instants(list(self.ready), self.instant_mode):
-            for var, value, _ in group:
-                held[var] = value
-                for i in self.program.deps.get(var, ()):
-                    bits[i] = self.program.evaluators[i](held)
-            out.append((group[-1][2], tuple(bits)))
-        return out
+        n = len(self.bits)
+        out = [(ts, tuple(_unmask(mask, n))) for ts, mask, _ in self.pre]
+        instants, _ = _compress(self.program, self.held, list(self.ready), self.instant_mode)
+        return out + [(ts, tuple(_unmask(mask, n))) for ts, mask, _ in instants]
 
     # ---- serialisation ---------------------------------------------------------------------------
     def options(self) -> dict:
@@ -848,6 +841,23 @@ def _unmask(mask: int, n: int) -> Bits:
 
 def _mask(bits: Sequence[bool]) -> int:
     return sum(1 << i for i, b in enumerate(bits) if b)
+
+
+def _compress(
+    program: Program, held: Mapping[str, Any], events: list[Event], mode: str
+) -> tuple[list[tuple[float, int, Event]], dict[str, Any]]:
+    """Fig. 3.41's compression: sorted events -> one placeholder bit mask per instant (with its timestamp
+    and last event), starting from the held values ``held``; also returns the held values at the end."""
+    held = dict(held)
+    bits = _bits_of(program, held)
+    out = []
+    for group in _instants(events, mode):
+        for var, value, _ in group:
+            held[var] = value
+            for i in program.deps.get(var, ()):
+                bits[i] = program.evaluators[i](held)
+        out.append((group[-1][2], _mask(bits), group[-1]))
+    return out, held
 
 
 def _instants(events: list[Event], mode: str) -> list[list[Event]]:
@@ -956,15 +966,9 @@ def migrate_handover(source: Monitor, t0: float) -> dict:
     if source.raw:
         source._sort()
     before = [e for e in source.ready if e[2] < t0]
-    held = dict(source.held)
-    bits = _bits_of(source.program, held)  # held values are those at the end of the compressed instants
-    pre = list(source.pre)
-    for group in _instants(before, source.instant_mode):
-        for var, value, _ in group:
-            held[var] = value
-            for i in source.program.deps.get(var, ()):
-                bits[i] = source.program.evaluators[i](held)
-        pre.append((group[-1][2], _mask(bits), group[-1]))
+    # the held values are those at the end of the already compressed instants; compress the rest after them
+    instants, held = _compress(source.program, source.held, before, source.instant_mode)
+    pre = [*source.pre, *instants]
     state = source.to_dict()
     state.update(held=held, pre=_pack_instants(pre), ready=[], raw=[], suspended=False, detached=False)
     state["counters"]["events"] += len(before)  # they are applied into the held values already
