@@ -295,3 +295,22 @@ def test_state_round_trips_through_json_mid_stream(text):
 def test_from_dict_rejects_other_documents():
     with pytest.raises(InputError, match=r"continuum\.stlmonitor/v1"):
         Monitor.from_dict({"format": "x"})
+
+
+def test_clock_ticks_change_when_not_whether_instances_fail():
+    rng = random.Random(21)
+    for _ in range(150):
+        text = f"G({_random_formula(rng, 1)} -> {_random_formula(rng, 2)})"
+        events = _random_events(rng, rng.randint(1, 50), step=(0, 4))
+        plain = Monitor(text)
+        want = plain.feed(events) + plain.flush()
+        ticked, got = Monitor(text), []
+        for e in events:
+            if rng.random() < 0.3 and (ticked.closed_ts is None or e[2] - 1 > ticked.closed_ts):
+                got += ticked.tick(e[2] - 1)  # every event before e[2] has been pushed
+            got += ticked.feed([e])
+        got += ticked.flush()
+        assert sorted(v.instance_start for v in got) == sorted(v.instance_start for v in want), text
+        for v in got:  # a tick can only report a failure earlier, never later
+            assert v.time <= next(w.time for w in want if w.instance_start == v.instance_start)
+        assert ticked.pending_starts() == plain.pending_starts()
