@@ -1,0 +1,199 @@
+"""Monitor-allocation MILP (Eqs. 3.21-3.22) solve time vs monitor and node counts.
+
+    python benchmarks/milp_scaling.py [--time-limit S] [--quick]
+
+Instances:
+  * case study 1 (spec 03 §13.1/§14): 50 monitors, 5 topics published on edge, edge/desktop/server with
+    10/100 ms delays, per-monitor CPU 0.76/0.5/0.36 %; the edge availability follows the testbench load
+    (100 % down to 10 %); the thesis reports 27 ms per allocation period.
+  * case study 2 (§13.2): 201 monitors on MCB/Jetson/server with thresholds 40/60/90 %.
+  * fleets: n_nodes - n_nodes//5 - 1 robots (edge, threshold 60 %), n_nodes//5 intermediate units and one
+    cloud; 4 topics per robot; each monitor reads 1-3 topics of one robot (10 % also one of another
+    robot). Delays: same unit 0.1 ms, edge-edge 20, edge-intermediate 10, cloud 100 (+ up to 1 ms noise).
+    Robots are busy (edge available CPU drawn per robot), so part of the monitors must leave their robot.
+    ``uniform`` gives every monitor the same CPU per unit kind (as in the thesis's case study 1),
+    ``heterogeneous`` draws each monitor's CPU in [0.3, 1.2] % (per unit speed).
+Each line: solve time, status (optimal = within HiGHS's 0.01 % gap), remaining gap when the time limit
+stopped it, total delay, migrations. Run on a shared 2-core machine: absolute times drift.
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from continuum.engine.monitor_milp import MonitorStats, allocate
+
+
+def case_study_1(edge_available: float) -> dict:
+    nodes = [
+        {"name": "edge", "available_cpu": edge_available},
+        {"name": "desktop", "available_cpu": 100.0},
+        {"name": "server", "available_cpu": 100.0},
+    ]
+    topics = [
+        {
+            "name": f"/t{k}",
+            "delay": {"edge": 0.0, "desktop": 10.0, "server": 100.0},
+            "cpu": {"edge": 0.0, "desktop": 0.2, "server": 0.2},
+        }
+        for k in range(5)
+    ]
+    monitors = [
+        {
+            "name": f"m{i}",
+            "topics": [f"/t{i % 5}", f"/t{(i + 1) % 5}"],
+            "cpu": {"edge": 0.76, "desktop": 0.5, "server": 0.36},
+            "current": "edge",
+        }
+        for i in range(50)
+    ]
+    return {"format": "continuum.monitorstats/v1", "nodes": nodes, "topics": topics, "monitors": monitors}
+
+
+def case_study_2(seed: int) -> dict:
+    rng = random.Random(seed)
+    nodes = [
+        {"name": "mcb", "available_cpu": 100 - 23.44, "threshold": 40},
+        {"name": "jetson", "available_cpu": 100 - 38.64, "threshold": 60},
+        {"name": "server", "available_cpu": 100 - 30.96, "threshold": 90},
+    ]
+    pub = ["mcb", "jetson"]
+    topics = []
+    for k in range(20):
+        src = pub[k % 2]
+        topics.append(
+            {
+                "name": f"/t{k}",
+                "delay": {
+                    n["name"]: 0.1 if n["name"] == src else (1.0 if n["name"] != "server" else 8.0) for n in nodes
+                },
+                "cpu": {n["name"]: 0.0 if n["name"] == src else 0.1 for n in nodes},
+            }
+        )
+    monitors = [
+        {
+            "name": f"m{i}",
+            "topics": [f"/t{k}" for k in rng.sample(range(20), rng.randint(1, 3))],
+            "cpu": {"mcb": 0.09, "jetson": 0.2, "server": 0.1},
+            "current": "jetson",
+        }
+        for i in range(201)
+    ]
+    return {"format": "continuum.monitorstats/v1", "nodes": nodes, "topics": topics, "monitors": monitors}
+
+
+def fleet(n_monitors: int, n_nodes: int, seed: int, uniform: bool) -> dict:
+    rng = random.Random(seed)
+    n_mid = max(1, n_nodes // 5)
+    n_edge = n_nodes - n_mid - 1
+    kinds = ["edge"] * n_edge + ["mid"] * n_mid + ["cloud"]
+    speed = {"edge": 1.0, "mid": 2.0, "cloud": 4.0}
+    threshold = {"edge": 60, "mid": 80, "cloud": 90}
+    names = [f"{k}{j}" for j, k in enumerate(kinds)]
+    nodes = [
+        {
+            "name": names[j],
+            "available_cpu": round(100 - (rng.uniform(10, 45) if k == "edge" else rng.uniform(10, 40)), 1),
+            "threshold": threshold[k],
+            "speed": speed[k],
+        }
+        for j, k in enumerate(kinds)
+    ]
+
+    def latency(a: int, b: int) -> float:
+        if a == b:
+            return 0.1
+        if "cloud" in (kinds[a], kinds[b]):
+            return 100.0
+        return 20.0 if kinds[a] == kinds[b] == "edge" else 10.0
+
+    topics, by_robot = [], {}
+    for r in range(n_edge):
+        for t in range(4):
+            name = f"/r{r}/t{t}"
+            by_robot.setdefault(r, []).append(name)
+            topics.append(
+                {
+                    "name": name,
+                    "delay": {names[j]: round(latency(r, j) + rng.uniform(0, 1), 2) for j in range(n_nodes)},
+                    "cpu": {names[j]: 0.0 if j == r else round(0.2 / speed[kinds[j]], 3) for j in range(n_nodes)},
+                }
+            )
+    monitors = []
+    for i in range(n_monitors):
+        r = rng.randrange(n_edge)
+        reads = rng.sample(by_robot[r], rng.randint(1, 3))
+        if n_edge > 1 and rng.random() < 0.1:
+            reads.append(rng.choice(by_robot[rng.choice([o for o in range(n_edge) if o != r])]))
+        base = 0.76 if uniform else rng.uniform(0.3, 1.2)
+        monitors.append(
+            {
+                "name": f"m{i}",
+                "topics": reads,
+                "cpu": {names[j]: round(base / speed[kinds[j]], 3) for j in range(n_nodes)},
+                "current": names[r],
+            }
+        )
+    return {"format": "continuum.monitorstats/v1", "nodes": nodes, "topics": topics, "monitors": monitors}
+
+
+def solve(doc: dict, **options) -> tuple[float, object]:
+    stats = MonitorStats.from_dict(doc)
+    t0 = time.perf_counter()
+    result = allocate(stats, **options)
+    return (time.perf_counter() - t0) * 1000, result
+
+
+def line(label: str, ms: float, r) -> str:
+    state = r.status if r.feasible or r.status != "overloaded" else "overloaded"
+    gap = f"gap {r.gap:.1%}" if r.status == "time_limit" else ""
+    return (
+        f"{label:<34} {ms:9.1f} ms  {state:<10} {gap:<10} delay {r.objective:10.1f}  {len(r.migrations):4d} migrations"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--time-limit", type=float, default=5.0)
+    parser.add_argument("--quick", action="store_true", help="fewer and smaller fleets")
+    args = parser.parse_args()
+    tl = args.time_limit
+
+    profile = [100, 100, 60, 40, 30, 25, 20, 15, 10, 10, 20, 40, 80, 100]
+    times, statuses = [], []
+    for avail in profile:
+        ms, r = solve(case_study_1(avail), time_limit=tl)
+        times.append(ms)
+        statuses.append(r.status)
+    print(
+        f"case study 1 (50 x 3 x 5), {len(profile)} periods: mean {statistics.mean(times):.1f} ms, "
+        f"max {max(times):.1f} ms, statuses {sorted(set(statuses))}  (thesis: 27 ms per period)"
+    )
+    ms, r = solve(case_study_2(0), time_limit=tl)
+    print(line("case study 2 (201 x 3 x 20)", ms, r))
+    print(f"  monitors per unit: { {j: sum(1 for v in r.allocation.values() if v == j) for j in r.cpu} }")
+
+    sizes = [(100, 5), (250, 10), (500, 10), (1000, 20)] if not args.quick else [(100, 5), (250, 10)]
+    for uniform in (True, False):
+        kind = "uniform" if uniform else "heterogeneous"
+        for n_mon, n_nodes in sizes:
+            doc = fleet(n_mon, n_nodes, seed=n_mon + n_nodes, uniform=uniform)
+            ms, r = solve(doc, time_limit=tl)
+            print(line(f"fleet {kind} {n_mon} x {n_nodes}", ms, r))
+            if n_nodes >= 10:
+                ms, r = solve(doc, time_limit=tl, max_candidates=3)
+                print(line("  ... max_candidates=3", ms, r))
+    doc = fleet(1000, 20, seed=1020, uniform=True)
+    ms, r = solve(doc, time_limit=1.0)
+    print(line("fleet uniform 1000 x 20, 1 s limit", ms, r))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,887 @@
+"""Monitor allocation MILP (thesis §3.5, Eqs. 3.21-3.22; spec 03 §10-§11.2).
+
+The coordinator places every monitor on one computing unit so that the total delay of the topics the
+monitors receive is minimal and no unit exceeds its CPU budget. Linear 0/1 form (spec 03 §10.2), with
+monitors i, units j, topics k and S_k the monitors whose assertion reads topic k::
+
+    minimise   Σ_k Σ_j delay[k,j]·y[k,j]  +  ε·Σ_i (1 - x[i,cur(i)])
+    subject to Σ_j x[i,j] = 1                                                   for every monitor i
+               y[k,j] >= x[i,j]                                                 for every k, i in S_k, j
+               Σ_i monitorCPU[i,j]·x[i,j] + Σ_k topicCPU[k,j]·y[k,j] <= cap[j]   for every unit j
+    x binary, 0 <= y <= 1 (y is integral at the optimum: it is pushed down to max_i x[i,j])
+
+Readings (spec 03 §15 #10-#12 and §10.2 proposals), each a parameter:
+  * ``literal_topic_coupling=False``: Eq. 3.21 read literally ORs over *all* monitors (a unit that hosts
+    any monitor receives every topic); the default charges a topic only where a monitor reading it runs.
+  * ``cap[j] = max(0, availableCPU[j] - (100 - threshold[j]))`` keeps the unit's total CPU under its
+    threshold (100 when none is given).
+  * ``epsilon = 1e-3`` migration penalty: among equally good allocations the current one wins, so an
+    unchanged input causes no migration.
+  * Statistics of a monitor on a unit where it never ran: the last value observed there
+    (:class:`MonitorAllocator` keeps them), else the value on its current unit scaled by
+    ``speed[cur] / speed[j]`` (``speed`` is an optional per-node field, default 1).
+  * SMA(``window=10``) low-pass filter over the statistics fed to the MILP (:class:`StatsFilter`).
+  * Infeasible means overload: the capacity rows get slacks s_j >= 0; the total overload Σ s_j is
+    minimised first and the delay second (lexicographically, in two solves, instead of a big-M weight).
+    Units with s_j > 0 are *overloaded* and :func:`overload_plan` applies the two strategies of §11.2:
+    strategy 1 raises each monitor's priority with its active instances; strategy 2 lets monitors marked
+    ``tolerant`` drop old events (with a monitor reset), lowest priority first, until they cover the excess.
+
+How it is solved (equivalent to the form above, faster): monitors with identical statistics form a
+class and the model counts them per unit (n[c,j], integer) instead of placing them one by one; a binary
+z[g,j] says that some monitor reading topic set g runs on j (n[c,j] <= |c|·z[g,j], y[k,j] >= z[g,j]),
+and "spread" cuts Σ_j z[g,j] >= L_g state how many units a group must at least use when its monitors
+cannot all fit on one. HiGHS (highspy) solves it, warm-started with a greedy allocation, within a time
+limit (the allocation period); past it the best allocation found is returned with its optimality gap.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections import deque
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import highspy
+import numpy as np
+from scipy.sparse import coo_matrix, csr_matrix
+
+from .errors import InputError
+
+FORMAT = "continuum.monitorstats/v1"
+
+
+# ===================================================================================================
+# Statistics (the continuum.monitorstats/v1 contract)
+# ===================================================================================================
+
+
+@dataclass
+class MonitorStats:
+    nodes: list[str]
+    available: dict[str, float]
+    threshold: dict[str, float]
+    speed: dict[str, float]
+    topics: list[str]
+    delay: dict[str, dict[str, float]]  # topic -> node -> ms
+    topic_cpu: dict[str, dict[str, float]]  # topic -> node -> % of the node
+    monitors: list[str]
+    monitor_topics: dict[str, list[str]]
+    monitor_cpu: dict[str, dict[str, float]]  # monitor -> node -> % (possibly partial)
+    current: dict[str, str | None]
+    tolerant: dict[str, bool] = field(default_factory=dict)
+    active_instances: dict[str, int] = field(default_factory=dict)
+
+    @classmethod
+    def from_dict(cls, doc: Mapping) -> MonitorStats:
+        """Validate a ``continuum.monitorstats/v1`` document; every error names the offending element."""
+        if not isinstance(doc, Mapping):
+            raise InputError("monitor statistics must be a JSON object")
+        if doc.get("format", FORMAT) != FORMAT:
+            raise InputError(f"format must be {FORMAT!r}, not {doc.get('format')!r}", field="format")
+        nodes, available, threshold, speed = _nodes(doc.get("nodes"))
+        topics, delay, topic_cpu = _topics(doc.get("topics", []), nodes)
+        stats = cls(nodes, available, threshold, speed, topics, delay, topic_cpu, [], {}, {}, {})
+        _monitors(doc.get("monitors", []), stats)
+        return stats
+
+    def copy(self) -> MonitorStats:
+        return MonitorStats(
+            list(self.nodes),
+            dict(self.available),
+            dict(self.threshold),
+            dict(self.speed),
+            list(self.topics),
+            {k: dict(v) for k, v in self.delay.items()},
+            {k: dict(v) for k, v in self.topic_cpu.items()},
+            list(self.monitors),
+            {k: list(v) for k, v in self.monitor_topics.items()},
+            {k: dict(v) for k, v in self.monitor_cpu.items()},
+            dict(self.current),
+            dict(self.tolerant),
+            dict(self.active_instances),
+        )
+
+    def capacity(self) -> dict[str, float]:
+        return {j: max(0.0, self.available[j] - (100.0 - self.threshold[j])) for j in self.nodes}
+
+
+def _number(value: Any, where: str, minimum: float | None = 0.0, maximum: float | None = None) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{where}: expected a number, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise InputError(f"{where}: must be >= {minimum:g}, got {value:g}")
+    if maximum is not None and value > maximum:
+        raise InputError(f"{where}: must be <= {maximum:g}, got {value:g}")
+    return float(value)
+
+
+def _name(item: Any, where: str) -> str:
+    if not isinstance(item, Mapping):
+        raise InputError(f"{where}: expected an object")
+    name = item.get("name")
+    if not isinstance(name, str) or not name:
+        raise InputError(f"{where}: missing 'name'")
+    return name
+
+
+def _nodes(items: Any):
+    if not isinstance(items, list) or not items:
+        raise InputError("'nodes' must be a non-empty list", field="nodes")
+    nodes, available, threshold, speed = [], {}, {}, {}
+    for n, item in enumerate(items):
+        name = _name(item, f"nodes[{n}]")
+        if name in available:
+            raise InputError(f"node {name!r} is listed twice", field="nodes")
+        nodes.append(name)
+        available[name] = _number(item.get("available_cpu"), f"node {name!r}: available_cpu", 0, 100)
+        threshold[name] = _number(item.get("threshold", 100), f"node {name!r}: threshold", 0, 100)
+        speed[name] = _number(item.get("speed", 1.0), f"node {name!r}: speed", 1e-9)
+    return nodes, available, threshold, speed
+
+
+def _per_node(values: Any, where: str, nodes: Sequence[str]) -> dict[str, float]:
+    if values is None:
+        return {}
+    if not isinstance(values, Mapping):
+        raise InputError(f"{where}: expected an object mapping node names to numbers")
+    out = {}
+    for node, v in values.items():
+        if node not in nodes:
+            raise InputError(f"{where}: unknown node {node!r}")
+        out[node] = _number(v, f"{where}[{node}]")
+    return out
+
+
+def _topics(items: Any, nodes: list[str]):
+    if not isinstance(items, list):
+        raise InputError("'topics' must be a list", field="topics")
+    topics, delay, cpu = [], {}, {}
+    for n, item in enumerate(items):
+        name = _name(item, f"topics[{n}]")
+        if name in delay:
+            raise InputError(f"topic {name!r} is listed twice", field="topics")
+        topics.append(name)
+        delay[name] = _per_node(item.get("delay"), f"topic {name!r}: delay", nodes)
+        cpu[name] = _per_node(item.get("cpu"), f"topic {name!r}: cpu", nodes)
+    return topics, delay, cpu
+
+
+def _monitors(items: Any, stats: MonitorStats) -> None:
+    if not isinstance(items, list):
+        raise InputError("'monitors' must be a list", field="monitors")
+    for n, item in enumerate(items):
+        name = _name(item, f"monitors[{n}]")
+        if name in stats.monitor_cpu:
+            raise InputError(f"monitor {name!r} is listed twice", field="monitors")
+        reads = item.get("topics", [])
+        if not isinstance(reads, list) or not all(isinstance(t, str) for t in reads):
+            raise InputError(f"monitor {name!r}: 'topics' must be a list of topic names")
+        for t in reads:
+            if t not in stats.delay:
+                raise InputError(f"monitor {name!r}: unknown topic {t!r}")
+            missing = [j for j in stats.nodes if j not in stats.delay[t]]
+            if missing:
+                raise InputError(f"topic {t!r} (read by monitor {name!r}): no delay for node {missing[0]!r}")
+        current = item.get("current")
+        if current is not None and current not in stats.available:
+            raise InputError(f"monitor {name!r}: current node {current!r} is not a listed node")
+        cpu = _per_node(item.get("cpu"), f"monitor {name!r}: cpu", stats.nodes)
+        if not cpu:
+            raise InputError(f"monitor {name!r}: no CPU statistic on any node")
+        stats.monitors.append(name)
+        stats.monitor_topics[name] = list(dict.fromkeys(reads))
+        stats.monitor_cpu[name] = cpu
+        stats.current[name] = current
+        stats.tolerant[name] = bool(item.get("tolerant", item.get("allow_event_dropping", False)))
+        stats.active_instances[name] = int(_number(item.get("active_instances", 0), f"monitor {name!r}: active"))
+
+
+# ===================================================================================================
+# Filtering and completing the statistics
+# ===================================================================================================
+
+
+class StatsFilter:
+    """Simple moving average over the last ``window`` statistics (spec 03 §10.2, SMA(10))."""
+
+    def __init__(self, window: int = 10):
+        if window < 1:
+            raise InputError("stats filter window must be >= 1", field="window")
+        self.window = window
+        self._series: dict[tuple, deque[float]] = {}
+
+    def _avg(self, key: tuple, value: float) -> float:
+        series = self._series.setdefault(key, deque(maxlen=self.window))
+        series.append(value)
+        return sum(series) / len(series)
+
+    def update(self, stats: MonitorStats) -> MonitorStats:
+        out = stats.copy()
+        for j in out.nodes:
+            out.available[j] = self._avg(("avail", j), stats.available[j])
+        for k in out.topics:
+            for j, v in stats.delay[k].items():
+                out.delay[k][j] = self._avg(("delay", k, j), v)
+            for j, v in stats.topic_cpu[k].items():
+                out.topic_cpu[k][j] = self._avg(("tcpu", k, j), v)
+        for i in out.monitors:
+            for j, v in stats.monitor_cpu[i].items():
+                out.monitor_cpu[i][j] = self._avg(("mcpu", i, j), v)
+        return out
+
+
+def complete_cpu(stats: MonitorStats, observed: Mapping[tuple[str, str], float] | None = None) -> np.ndarray:
+    """monitorCPU[i, j] for every unit: measured, else last observed there, else scaled by node speed."""
+    observed = observed or {}
+    cpu = np.zeros((len(stats.monitors), len(stats.nodes)))
+    for a, i in enumerate(stats.monitors):
+        given = stats.monitor_cpu[i]
+        cur = stats.current[i] if stats.current[i] in given else next(iter(given))
+        for b, j in enumerate(stats.nodes):
+            if j in given:
+                cpu[a, b] = given[j]
+            elif (i, j) in observed:
+                cpu[a, b] = observed[(i, j)]
+            else:
+                cpu[a, b] = given[cur] * stats.speed[cur] / stats.speed[j]
+    return cpu
+
+
+# ===================================================================================================
+# The MILP
+# ===================================================================================================
+
+
+@dataclass
+class Allocation:
+    feasible: bool
+    objective: float  # Σ delay of the topics received (ms), without the ε term
+    allocation: dict[str, str]
+    cpu: dict[str, float]  # planned CPU share per node (% of the node)
+    capacity: dict[str, float]
+    overloaded: dict[str, float]  # node -> CPU over its capacity (only when infeasible)
+    migrations: list[str]
+    received: dict[str, list[str]]  # node -> topics it must receive
+    solve_time_ms: float
+    status: str  # "optimal", "time_limit" (feasible, not proven optimal) or "overloaded"
+    gap: float = 0.0
+    priorities: dict[str, int] = field(default_factory=dict)
+    drop_events: list[str] = field(default_factory=list)
+    unresolved: dict[str, float] = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {
+            "feasible": self.feasible,
+            "objective": self.objective,
+            "allocation": self.allocation,
+            "cpu": self.cpu,
+            "capacity": self.capacity,
+            "overloaded": self.overloaded,
+            "migrations": self.migrations,
+            "received": self.received,
+            "priorities": self.priorities,
+            "drop_events": self.drop_events,
+            "unresolved_overload": self.unresolved,
+            "solve_time_ms": self.solve_time_ms,
+            "status": self.status,
+            "gap": self.gap,
+        }
+
+
+@dataclass
+class _Classes:
+    """Monitors with identical statistics (topics, CPU per unit, current unit) are interchangeable: the
+    model counts how many of each class go to each unit instead of placing them one by one, which removes
+    the symmetry that otherwise makes branch-and-bound enumerate equivalent allocations."""
+
+    members: list[list[int]]  # class -> monitor indices
+    cpu: np.ndarray  # class x unit
+    current: list[int | None]  # class -> unit index
+    group: list[int]  # class -> topic-set group
+    group_topics: list[list[int]]  # group -> topic indices
+    allowed: np.ndarray | None = None  # class x unit, when candidate units are restricted
+
+
+def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool) -> _Classes:
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    topic_ix = {k: t for t, k in enumerate(stats.topics)}
+    by_key: dict[tuple, int] = {}
+    groups: dict[tuple, int] = {}
+    members: list[list[int]] = []
+    current: list[int | None] = []
+    group: list[int] = []
+    for a, i in enumerate(stats.monitors):
+        topics = (
+            tuple(range(len(stats.topics))) if literal else tuple(sorted(topic_ix[k] for k in stats.monitor_topics[i]))
+        )
+        cur = None if stats.current[i] is None else node_ix[stats.current[i]]
+        key = (topics, cur, cpu[a].tobytes())
+        if key not in by_key:
+            by_key[key] = len(members)
+            members.append([])
+            current.append(cur)
+            group.append(groups.setdefault(topics, len(groups)))
+        members[by_key[key]].append(a)
+    group_topics = [list(t) for t in sorted(groups, key=groups.get)]
+    class_cpu = np.array([cpu[m[0]] for m in members])
+    return _Classes(members, class_cpu, current, group, group_topics)
+
+
+@dataclass
+class _Model:
+    c: np.ndarray
+    a: csr_matrix
+    lo: np.ndarray
+    hi: np.ndarray
+    integrality: np.ndarray
+    ub: np.ndarray
+    n_x: int
+    y0: int
+    z0: int
+    s0: int
+
+
+def _build(
+    stats: MonitorStats,
+    cl: _Classes,
+    epsilon: float,
+    slack: bool,
+    delay_weight: float = 1.0,
+    max_excess: float | None = None,
+) -> _Model:
+    """Variables: n[c,j] (monitors of class c on unit j, integer), y[k,j] (topic k received on j),
+    z[g,j] (some monitor of topic-set group g on j, binary), [s_j capacity slacks]."""
+    j_count, k_count = len(stats.nodes), len(stats.topics)
+    c_count, g_count = len(cl.members), len(cl.group_topics)
+    n_x, n_y, n_z, n_s = c_count * j_count, k_count * j_count, g_count * j_count, j_count if slack else 0
+    y0, z0, s0 = n_x, n_x + n_y, n_x + n_y + n_z
+    n = s0 + n_s
+    size = np.array([len(m) for m in cl.members], dtype=float)
+    delay = np.array([[stats.delay[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics]).reshape(-1)
+    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics]).reshape(-1)
+    units = np.arange(j_count)
+
+    c = np.zeros(n)
+    c[y0:z0] = delay_weight * delay + 1e-6  # the tiny cost keeps unneeded topics unreceived
+    for a, cur in enumerate(cl.current):
+        if cur is not None:
+            c[a * j_count + cur] -= epsilon
+    if slack:
+        c[s0:] = 1.0 if delay_weight == 0 else 0.0
+
+    rows: list[np.ndarray] = []
+    cols: list[np.ndarray] = []
+    vals: list[np.ndarray] = []
+    lo: list[np.ndarray] = []
+    hi: list[np.ndarray] = []
+    count = 0
+
+    def add(r: np.ndarray, col: np.ndarray, v: np.ndarray, n_rows: int, low: np.ndarray, high: np.ndarray) -> None:
+        nonlocal count
+        rows.append(r + count)
+        cols.append(col)
+        vals.append(v)
+        lo.append(low)
+        hi.append(high)
+        count += n_rows
+
+    # Σ_j n[c,j] = |c|
+    add(np.repeat(np.arange(c_count), j_count), np.arange(n_x), np.ones(n_x), c_count, size, size)
+    # n[c,j] - |c|·z[g(c),j] <= 0
+    r = np.arange(n_x)
+    zcol = z0 + (np.repeat(np.array(cl.group), j_count) * j_count + np.tile(units, c_count))
+    add(
+        np.concatenate([r, r]),
+        np.concatenate([r, zcol]),
+        np.concatenate([np.ones(n_x), -np.repeat(size, j_count)]),
+        n_x,
+        np.full(n_x, -np.inf),
+        np.zeros(n_x),
+    )
+    # z[g,j] - y[k,j] <= 0 for k in T_g
+    pairs = np.array([(g, k) for g, ks in enumerate(cl.group_topics) for k in ks], dtype=int).reshape(-1, 2)
+    m = len(pairs) * j_count
+    if m:
+        zc = z0 + (pairs[:, 0:1] * j_count + units).reshape(-1)
+        yc = y0 + (pairs[:, 1:2] * j_count + units).reshape(-1)
+        r = np.arange(m)
+        add(
+            np.concatenate([r, r]),
+            np.concatenate([zc, yc]),
+            np.concatenate([np.ones(m), -np.ones(m)]),
+            m,
+            np.full(m, -np.inf),
+            np.zeros(m),
+        )
+    cap = stats.capacity()
+    if not slack:  # spread cuts: valid only when capacities are hard
+        for g, need in _spread_bounds(cl, [cap[j] for j in stats.nodes], by="group"):
+            add(
+                np.zeros(j_count, dtype=int),
+                z0 + g * j_count + units,
+                np.ones(j_count),
+                1,
+                np.array([need]),
+                np.array([np.inf]),
+            )
+        for k, need in _spread_bounds(cl, [cap[j] for j in stats.nodes], by="topic"):
+            add(
+                np.zeros(j_count, dtype=int),
+                y0 + k * j_count + units,
+                np.ones(j_count),
+                1,
+                np.array([need]),
+                np.array([np.inf]),
+            )
+    # capacity: Σ cpu·n + Σ topicCPU·y - s <= cap
+    cr = [np.tile(units, c_count), np.tile(units, k_count)]
+    cc = [np.arange(n_x), y0 + np.arange(n_y)]
+    cv = [cl.cpu.reshape(-1), tcpu]
+    if slack:
+        cr.append(units)
+        cc.append(s0 + units)
+        cv.append(-np.ones(j_count))
+    add(
+        np.concatenate(cr),
+        np.concatenate(cc),
+        np.concatenate(cv),
+        j_count,
+        np.full(j_count, -np.inf),
+        np.array([cap[j] for j in stats.nodes]),
+    )
+
+    if slack and max_excess is not None:  # phase 2 of the overload solve: keep the minimum total excess
+        add(np.zeros(j_count, dtype=int), s0 + units, np.ones(j_count), 1, np.array([-np.inf]), np.array([max_excess]))
+    a = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(count, n)).tocsr()
+    integrality = np.zeros(n)
+    integrality[:n_x] = 1
+    integrality[z0:s0] = 1
+    ub = np.ones(n)
+    ub[:n_x] = np.repeat(size, j_count)
+    if cl.allowed is not None:
+        ub[:n_x] *= cl.allowed.reshape(-1)
+    ub[s0:] = np.inf
+    return _Model(c, a, np.concatenate(lo), np.concatenate(hi), integrality, ub, n_x, y0, z0, s0)
+
+
+def _spread_bounds(cl: _Classes, cap: list[float], by: str) -> list[tuple[int, int]]:
+    """Lower bounds on how many units a topic-set group (or a topic's readers) must be spread over.
+
+    If the monitors of a group cannot all fit on one unit, some other unit hosts one of them and receives
+    the group's topics: Σ_j z[g,j] >= L_g, where L_g is the fewest units whose capacities could hold every
+    member (each unit counted for the most members it could host alone). These cuts are valid for every
+    integer allocation and close most of the LP gap when a publishing unit is overloaded.
+    """
+    if by == "group":
+        sets: dict[int, list[int]] = {}
+        for c, g in enumerate(cl.group):
+            sets.setdefault(g, []).append(c)
+    else:
+        sets = {}
+        for c, g in enumerate(cl.group):
+            for k in cl.group_topics[g]:
+                sets.setdefault(k, []).append(c)
+    out = []
+    for key, classes in sets.items():
+        sizes = np.array([len(cl.members[c]) for c in classes])
+        total = int(sizes.sum())
+        hosts = []
+        for j, capacity in enumerate(cap):
+            per = np.repeat(cl.cpu[classes, j], sizes)
+            per.sort()
+            hosts.append(int(np.searchsorted(np.cumsum(per), capacity + 1e-9, side="right")))
+        hosts.sort(reverse=True)
+        covered, need = 0, 0
+        for h in hosts:
+            if covered >= total:
+                break
+            covered += h
+            need += 1
+        if need >= 2:
+            out.append((key, need))
+    return out
+
+
+@dataclass
+class _Solved:
+    status: str  # "optimal", "time_limit", "infeasible", "error"
+    x: np.ndarray | None
+    gap: float
+    message: str
+
+
+def _solve(model: _Model, start: np.ndarray | None, time_limit: float, gap: float) -> _Solved:
+    """Solve with HiGHS (highspy), passing ``start`` as the incumbent when it is a feasible allocation."""
+    h = highspy.Highs()
+    h.setOptionValue("output_flag", False)
+    h.setOptionValue("time_limit", float(time_limit))
+    h.setOptionValue("mip_rel_gap", float(gap))
+    h.setOptionValue("threads", 1)
+    lp = highspy.HighsLp()
+    a = model.a.tocsc()
+    lp.num_col_, lp.num_row_ = a.shape[1], a.shape[0]
+    lp.col_cost_ = model.c
+    lp.col_lower_ = np.zeros(a.shape[1])
+    lp.col_upper_ = model.ub
+    lp.row_lower_ = model.lo
+    lp.row_upper_ = model.hi
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = a.indptr
+    lp.a_matrix_.index_ = a.indices
+    lp.a_matrix_.value_ = a.data
+    lp.integrality_ = [
+        highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous for v in model.integrality
+    ]
+    h.passModel(lp)
+    if start is not None:
+        sol = highspy.HighsSolution()
+        sol.col_value = list(start)
+        sol.value_valid = True
+        h.setSolution(sol)
+    h.run()
+    status = h.getModelStatus()
+    info = h.getInfo()
+    has_x = info.primal_solution_status == 2  # kSolutionStatusFeasible
+    x = np.array(h.getSolution().col_value) if has_x else None
+    gap_value = float(info.mip_gap) if has_x and math.isfinite(info.mip_gap) else 0.0
+    if status == highspy.HighsModelStatus.kOptimal:
+        return _Solved("optimal", x, gap_value, "optimal")
+    if status == highspy.HighsModelStatus.kInfeasible:
+        return _Solved("infeasible", None, 0.0, "infeasible")
+    if status in (highspy.HighsModelStatus.kTimeLimit, highspy.HighsModelStatus.kInterrupt) or has_x:
+        return _Solved("time_limit", x, gap_value, h.modelStatusToString(status))
+    return _Solved("error", None, 0.0, h.modelStatusToString(status))
+
+
+def allocate(
+    stats: MonitorStats | Mapping,
+    *,
+    epsilon: float = 1e-3,
+    literal_topic_coupling: bool = False,
+    observed: Mapping[tuple[str, str], float] | None = None,
+    time_limit: float = 10.0,
+    mip_rel_gap: float = 1e-4,
+    max_candidates: int | None = None,
+) -> Allocation:
+    """Solve Eqs. 3.21-3.22 for one set of statistics; fall back to the minimum-overload allocation.
+
+    ``mip_rel_gap`` is HiGHS's optimality tolerance (its default, 0.01 %). A greedy allocation is handed
+    to the solver as its first incumbent; when the solver stops at ``time_limit`` seconds the best
+    allocation found so far is returned with ``status="time_limit"`` and the remaining relative ``gap``.
+
+    ``max_candidates`` (default None: every unit) is a size reduction for large fleets, not part of the
+    thesis: each monitor may then only go to its current unit or to one of the ``max_candidates`` units
+    where its topics arrive soonest, and "optimal" means optimal over those candidates.
+    """
+    if not isinstance(stats, MonitorStats):
+        stats = MonitorStats.from_dict(stats)
+    started = time.perf_counter()
+    cpu = complete_cpu(stats, observed)
+    lit = literal_topic_coupling
+    if not stats.monitors:
+        return _result(stats, cpu, {}, True, "optimal", 0.0, started, lit)
+    cl = _classes(stats, cpu, lit)
+    if max_candidates is not None:
+        cl.allowed = _candidates(stats, cl, max_candidates)
+    greedy, fits = _greedy(stats, cl)
+
+    def left() -> float:  # the three solves share one time budget
+        return max(0.05, time_limit - (time.perf_counter() - started))
+
+    model = _build(stats, cl, epsilon, slack=False)
+    res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap)
+    if res.x is not None:
+        return _result(stats, cpu, _placement(stats, cl, res.x), True, res.status, res.gap, started, lit)
+    if res.status == "error":
+        raise InputError(f"the allocation MILP failed: {res.message}")
+    # Infeasible, or no allocation found in time: minimise the total excess first, then the delay among
+    # minimum-excess allocations (the slack model always has a solution: the greedy one).
+    phase1 = _build(stats, cl, 0.0, slack=True, delay_weight=0.0)
+    r1 = _solve(phase1, _vector(phase1, stats, cl, greedy), left(), mip_rel_gap)
+    if r1.x is None:
+        return _result(stats, cpu, greedy, fits, "time_limit", 1.0, started, lit)
+    excess = float(r1.x[phase1.s0 :].sum())
+    phase2 = _build(stats, cl, epsilon, slack=True, max_excess=excess * (1 + 1e-7) + 1e-7)
+    r2 = _solve(phase2, r1.x, left(), mip_rel_gap)
+    best = r2 if r2.x is not None else r1
+    placement = _placement(stats, cl, best.x)
+    if excess <= 1e-7:  # the first solve only ran out of time: this allocation fits
+        return _result(stats, cpu, placement, True, "time_limit", best.gap, started, lit)
+    proven = res.status == "infeasible" or r1.status == "optimal"
+    return _result(stats, cpu, placement, False, "overloaded" if proven else "time_limit", best.gap, started, lit)
+
+
+def _candidates(stats: MonitorStats, cl: _Classes, k: int) -> np.ndarray:
+    if k < 1:
+        raise InputError("max_candidates must be >= 1", field="max_candidates")
+    delay = np.array([[stats.delay[t].get(j, 0.0) for j in stats.nodes] for t in stats.topics]).reshape(
+        -1, len(stats.nodes)
+    )
+    allowed = np.zeros((len(cl.members), len(stats.nodes)), dtype=bool)
+    for c in range(len(cl.members)):
+        topics = cl.group_topics[cl.group[c]]
+        cost = delay[topics].sum(axis=0) if topics else np.zeros(len(stats.nodes))
+        allowed[c, np.argsort(cost, kind="stable")[:k]] = True
+        if cl.current[c] is not None:
+            allowed[c, cl.current[c]] = True
+    return allowed
+
+
+def _greedy(stats: MonitorStats, cl: _Classes) -> tuple[dict[str, str], bool]:
+    """A quick allocation: keep monitors where they are if everything fits, else place the largest
+    monitors first on the unit that adds the least delay among those with room. ``fits`` tells whether
+    every capacity holds."""
+    cap = stats.capacity()
+    nodes = stats.nodes
+    topic_ix = {k: t for t, k in enumerate(stats.topics)}
+    reads = {a: cl.group_topics[cl.group[c]] for c, members in enumerate(cl.members) for a in members}
+    cls_of = {a: c for c, members in enumerate(cl.members) for a in members}
+    delay = np.array([[stats.delay[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    del topic_ix
+
+    def attempt(order: list[int], stay: bool) -> tuple[dict[str, str], bool]:
+        left = np.array([cap[j] for j in nodes], dtype=float)
+        got: list[set[int]] = [set() for _ in nodes]
+        out: dict[str, str] = {}
+        ok = True
+        for a in order:
+            c = cls_of[a]
+            need = reads[a]
+            options = []
+            for b in range(len(nodes)):
+                if cl.allowed is not None and not cl.allowed[c, b]:
+                    continue
+                new = [k for k in need if k not in got[b]]
+                extra_cpu = cl.cpu[c, b] + sum(tcpu[k, b] for k in new)
+                prefer = 0 if stay and cl.current[c] == b else 1
+                options.append((prefer, sum(delay[k, b] for k in new), -left[b], b, extra_cpu, new))
+            options.sort()
+            choice = next((o for o in options if o[4] <= left[o[3]] + 1e-9), None)
+            if choice is None:
+                ok = False
+                choice = max(options, key=lambda o: left[o[3]] - o[4])
+            b = choice[3]
+            left[b] -= choice[4]
+            got[b].update(choice[5])
+            out[stats.monitors[a]] = nodes[b]
+        return out, ok
+
+    by_size = sorted(range(len(stats.monitors)), key=lambda a: -float(cl.cpu[cls_of[a]].max()))
+    repaired = _repair(stats, cl, delay, tcpu)
+    if repaired is not None:
+        return repaired, True
+    kept, ok = attempt(by_size, stay=True)
+    if ok:
+        return kept, True
+    return attempt(by_size, stay=False)
+
+
+def _repair(stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray) -> dict[str, str] | None:
+    """Start from the current allocation and relieve overloaded units by moving monitors of one topic set
+    at a time to the unit where that costs the least added delay per unit of CPU freed (a set-union
+    knapsack heuristic). None when it gets stuck."""
+    nodes, j_count = stats.nodes, len(stats.nodes)
+    cap = np.array([stats.capacity()[j] for j in nodes])
+    cls_of = [0] * len(stats.monitors)
+    for c, members in enumerate(cl.members):
+        for a in members:
+            cls_of[a] = c
+    allowed = cl.allowed if cl.allowed is not None else np.ones((len(cl.members), j_count), dtype=bool)
+    place = []
+    for a in range(len(stats.monitors)):
+        c = cls_of[a]
+        cur = cl.current[c]
+        if cur is None or not allowed[c, cur]:
+            cur = int(np.argmax(allowed[c]))
+        place.append(cur)
+    readers = np.zeros((len(stats.topics), j_count), dtype=int)
+    load = np.zeros(j_count)
+    for a, b in enumerate(place):
+        c = cls_of[a]
+        load[b] += cl.cpu[c, b]
+        for k in cl.group_topics[cl.group[c]]:
+            readers[k, b] += 1
+
+    def total(b: int) -> float:
+        return load[b] + float(tcpu[readers[:, b] > 0, b].sum())
+
+    for _ in range(4 * len(stats.monitors) + 10):
+        over = [(total(b) - cap[b], b) for b in range(j_count) if total(b) > cap[b] + 1e-9]
+        if not over:
+            return {stats.monitors[a]: nodes[b] for a, b in enumerate(place)}
+        excess, b = max(over)
+        on_b: dict[int, list[int]] = {}
+        for a, pb in enumerate(place):
+            if pb == b:
+                on_b.setdefault(cl.group[cls_of[a]], []).append(a)
+        best = None
+        for g, members in on_b.items():
+            members.sort(key=lambda a: -cl.cpu[cls_of[a], b])
+            topics = cl.group_topics[g]
+            for d in range(j_count):
+                if d == b:
+                    continue
+                new = [k for k in topics if readers[k, d] == 0]
+                room = cap[d] - total(d) - float(tcpu[new, d].sum())
+                moved, freed, used = [], 0.0, 0.0
+                for a in members:
+                    c = cls_of[a]
+                    if not allowed[c, d] or used + cl.cpu[c, d] > room + 1e-9:
+                        continue
+                    moved.append(a)
+                    freed += cl.cpu[c, b]
+                    used += cl.cpu[c, d]
+                    if freed >= excess - 1e-9:
+                        break
+                if moved and freed > 0:
+                    score = (float(delay[new, d].sum()) + 1e-6) / freed
+                    if best is None or score < best[0]:
+                        best = (score, d, moved)
+        if best is None:
+            return None
+        _, d, moved = best
+        for a in moved:
+            c = cls_of[a]
+            place[a] = d
+            load[b] -= cl.cpu[c, b]
+            load[d] += cl.cpu[c, d]
+            for k in cl.group_topics[cl.group[c]]:
+                readers[k, b] -= 1
+                readers[k, d] += 1
+    return None
+
+
+def _vector(model: _Model, stats: MonitorStats, cl: _Classes, placement: Mapping[str, str]) -> np.ndarray:
+    """The model's variable vector for a placement (used as the solver's starting incumbent)."""
+    j_count = len(stats.nodes)
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    x = np.zeros(len(model.c))
+    cls_of = {a: c for c, members in enumerate(cl.members) for a in members}
+    load = np.zeros(j_count)
+    for a, i in enumerate(stats.monitors):
+        c, b = cls_of[a], node_ix[placement[i]]
+        x[c * j_count + b] += 1
+        x[model.z0 + cl.group[c] * j_count + b] = 1
+        load[b] += cl.cpu[c, b]
+    for g, topics in enumerate(cl.group_topics):
+        for b in range(j_count):
+            if x[model.z0 + g * j_count + b]:
+                for k in topics:
+                    x[model.y0 + k * j_count + b] = 1
+    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics]).reshape(-1, j_count)
+    for b in range(j_count):
+        load[b] += sum(tcpu[k, b] for k in range(len(stats.topics)) if x[model.y0 + k * j_count + b])
+    if model.s0 < len(model.c):
+        cap = stats.capacity()
+        x[model.s0 :] = np.maximum(0.0, load - np.array([cap[j] for j in stats.nodes]))
+    return x
+
+
+def _placement(stats: MonitorStats, cl: _Classes, x: np.ndarray) -> dict[str, str]:
+    """Monitor -> unit from the class counts (a class's members go first to their current unit)."""
+    j_count = len(stats.nodes)
+    counts = np.rint(x[: len(cl.members) * j_count]).astype(int).reshape(len(cl.members), j_count)
+    out: dict[str, str] = {}
+    for c, members in enumerate(cl.members):
+        order = ([cl.current[c]] if cl.current[c] is not None else []) + [
+            b for b in range(j_count) if b != cl.current[c]
+        ]
+        queue = list(members)
+        for b in order:
+            for _ in range(counts[c, b]):
+                if queue:
+                    out[stats.monitors[queue.pop(0)]] = stats.nodes[b]
+        for a in queue:  # rounding safety: never leave a monitor unplaced
+            out[stats.monitors[a]] = stats.nodes[int(np.argmax(counts[c]))]
+    return {i: out[i] for i in stats.monitors}
+
+
+def _result(
+    stats: MonitorStats,
+    cpu: np.ndarray,
+    allocation: dict[str, str],
+    feasible: bool,
+    status: str,
+    gap: float,
+    started: float,
+    literal: bool,
+) -> Allocation:
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    received: dict[str, set[str]] = {j: set() for j in stats.nodes}
+    share = {j: 0.0 for j in stats.nodes}
+    for a, i in enumerate(stats.monitors):
+        j = allocation[i]
+        received[j].update(stats.topics if literal else stats.monitor_topics[i])
+        share[j] += float(cpu[a, node_ix[j]])
+    objective = 0.0
+    for j, topics in received.items():
+        for k in topics:
+            share[j] += stats.topic_cpu[k].get(j, 0.0)
+            objective += stats.delay[k].get(j, 0.0)
+    cap = stats.capacity()
+    over = {j: round(share[j] - cap[j], 9) for j in stats.nodes if share[j] > cap[j] + 1e-7}
+    migrations = [i for i in stats.monitors if stats.current[i] is not None and allocation[i] != stats.current[i]]
+    result = Allocation(
+        feasible=feasible,
+        objective=round(objective, 9),
+        allocation=allocation,
+        cpu={j: round(v, 9) for j, v in share.items()},
+        capacity=cap,
+        overloaded=over if not feasible else {},
+        migrations=migrations,
+        received={j: sorted(t) for j, t in received.items()},
+        solve_time_ms=round((time.perf_counter() - started) * 1000, 3),
+        status=status,
+        gap=gap,
+    )
+    if not feasible:
+        overload_plan(stats, cpu, result)
+    return result
+
+
+def overload_plan(stats: MonitorStats, cpu: np.ndarray, result: Allocation) -> None:
+    """The two overload strategies of §11.2 on the overloaded units (fills priorities/drop_events)."""
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    mon_ix = {i: a for a, i in enumerate(stats.monitors)}
+    for j, excess in result.overloaded.items():
+        here = [i for i in stats.monitors if result.allocation[i] == j]
+        # strategy 1: priority proportional to active instances (lowest when none are active)
+        for i in here:
+            result.priorities[i] = stats.active_instances.get(i, 0)
+        # strategy 2: tolerant monitors drop old events and reset, least urgent first
+        remaining = excess
+        for i in sorted(here, key=lambda i: (stats.active_instances.get(i, 0), i)):
+            if remaining <= 1e-9:
+                break
+            if stats.tolerant.get(i):
+                result.drop_events.append(i)
+                remaining -= float(cpu[mon_ix[i], node_ix[j]])
+        if remaining > 1e-9:
+            result.unresolved[j] = round(remaining, 9)
+
+
+# ===================================================================================================
+# The coordinator's periodic allocator
+# ===================================================================================================
+
+
+class MonitorAllocator:
+    """Runs the MILP every period on SMA-filtered statistics and remembers per-unit monitor CPU."""
+
+    def __init__(self, window: int = 10, **options: Any):
+        self.filter = StatsFilter(window)
+        self.options = options
+        self.observed: dict[tuple[str, str], float] = {}
+
+    def step(self, stats: MonitorStats | Mapping) -> Allocation:
+        if not isinstance(stats, MonitorStats):
+            stats = MonitorStats.from_dict(stats)
+        filtered = self.filter.update(stats)
+        for i, per_node in filtered.monitor_cpu.items():
+            for j, v in per_node.items():
+                self.observed[(i, j)] = v
+        return allocate(filtered, observed=self.observed, **self.options)
