@@ -62,6 +62,7 @@ INSTALLED_APPS = [
     "apps.containers",
     "apps.realtime",
     "apps.heft4k",
+    "apps.verification",
     "apps.dashboard",
 ]
 

@@ -30,22 +30,25 @@ MONITORS = {
 pytestmark = pytest.mark.services
 
 
-def _redis_or_skip():
+REDIS_URL = os.environ.get("CONTINUUM_TEST_REDIS_URL", "redis://127.0.0.1:6379/15")
+
+
+def _redis_or_fail():
     try:
-        redis.Redis(socket_connect_timeout=1).ping()
-    except Exception:
-        pytest.skip("no Redis at 127.0.0.1:6379")
+        redis.Redis.from_url(REDIS_URL, socket_connect_timeout=1).ping()
+    except redis.RedisError as exc:
+        pytest.fail(f"Redis is not reachable at {REDIS_URL} ({exc}); scripts/test starts it")
 
 
 @pytest.fixture
 def network():
-    _redis_or_skip()
-    bus = Bus(prefix=f"cvtest:{uuid.uuid4().hex[:10]}")
+    _redis_or_fail()
+    bus = Bus(REDIS_URL, prefix=f"cvtest:{uuid.uuid4().hex[:10]}")
     procs = {}
 
     def start(name, *args):
         cmd = [sys.executable, "-m", "continuum.verification_runtime.handler", "--name", name,
-               "--prefix", bus.prefix, "--stats-period", "0.1", *args]  # fmt: skip
+               "--redis", REDIS_URL, "--prefix", bus.prefix, "--stats-period", "0.1", *args]  # fmt: skip
         env = {**os.environ, "PYTHONPATH": str(ROOT)}
         procs[name] = subprocess.Popen(cmd, cwd=ROOT, env=env)
         return procs[name]
