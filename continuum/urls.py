@@ -6,6 +6,7 @@ from rest_framework.routers import DefaultRouter
 
 from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
 from apps.jobs.api import JobViewSet
+from apps.realtime.api import register_routes as register_realtime
 from apps.scheduling.api import ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
 from apps.workloads.api import ApplicationViewSet
@@ -18,6 +19,7 @@ router.register("links", LinkViewSet)
 router.register("applications", ApplicationViewSet)
 router.register("schedules", ScheduleViewSet)
 router.register("jobs", JobViewSet)
+register_realtime(router)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
@@ -27,5 +29,6 @@ urlpatterns = [
     path("admin/", admin.site.urls),
     path("login/", auth_views.LoginView.as_view(), name="login"),
     path("logout/", auth_views.LogoutView.as_view(), name="logout"),
+    path("realtime/", include("apps.realtime.urls")),
     path("", include("apps.dashboard.urls")),
 ]
