@@ -22,6 +22,7 @@ from collections.abc import Iterable
 from datetime import UTC, datetime
 from typing import Any
 
+import urllib3
 from kubernetes.client import ApiClient
 from kubernetes.client.exceptions import ApiException
 
@@ -36,6 +37,17 @@ STRATEGIC_PATCH = "application/strategic-merge-patch+json"
 #: Node labels that carry the RT attributes Continuum keeps (spec 03 3.3 [PROPOSAL]).
 CRITICALITY_LABEL = "rt.scheduling/criticality"
 THRESHOLD_LABEL = "rt.scheduling/threshold"
+
+#: What a call to the API may raise: an error answer, an unreachable server, an unusable kubeconfig.
+KUBE_ERRORS = (ApiException, OSError, urllib3.exceptions.HTTPError, ValueError)
+
+
+def problem(exc: BaseException) -> str:
+    """One line saying why a call failed."""
+    if isinstance(exc, ApiException | OSError | urllib3.exceptions.HTTPError):
+        return describe(exc)
+    return str(exc)
+
 
 _POSITIVE = {"type": "number", "minimum": 0, "exclusiveMinimum": True}
 

@@ -27,10 +27,8 @@ from typing import Any
 from django.db import transaction
 from django.db.models import Q
 from django.utils import timezone
-from kubernetes.client.exceptions import ApiException
 
 from apps.clusters.models import Cluster, ComputeNode
-from apps.kube.gateway import describe
 from continuum.engine.errors import InputError
 from continuum.engine.rt_victims import (
     ClusterMonitor,
@@ -44,7 +42,7 @@ from continuum.engine.rt_victims import (
     MonitoringReport as EngineReport,
 )
 
-from .kube import has_api, kube_for, replacement_pod
+from .kube import KUBE_ERRORS, has_api, kube_for, problem, replacement_pod
 from .models import DNS_SUBDOMAIN, Monitoring, MonitoringReport, NodeTaint, RTEvent, RTPod, RTPolicy
 
 log = logging.getLogger(__name__)
@@ -367,21 +365,20 @@ def _evict(cluster: Cluster, policy: RTPolicy, event: RTEvent, victim: RTPod, ta
     try:
         kube.set_taint(event.node, taint.as_dict())
         NodeTaint.objects.filter(pk=taint.pk).update(applied_at=timezone.now())
-    except (ApiException, OSError, ValueError) as exc:
-        message = describe(exc) if isinstance(exc, ApiException | OSError) else str(exc)
-        NodeTaint.objects.filter(pk=taint.pk).update(error=message[:500])
+    except KUBE_ERRORS as exc:
+        NodeTaint.objects.filter(pk=taint.pk).update(error=problem(exc)[:500])
     pod_doc = None
     if not victim.owned and policy.recreate_orphans:
         try:  # the spec to recreate it from (the ledger keeps no full spec)
             pod_doc = kube.get(f"/api/v1/namespaces/{victim.namespace}/pods/{victim.name}")
-        except (ApiException, OSError) as exc:
-            log.info("cannot read %s before evicting it: %s", victim.key, exc)
+        except KUBE_ERRORS as exc:
+            log.info("cannot read %s before evicting it: %s", victim.key, problem(exc))
     event.eviction_sent_at = timezone.now()
     try:
         kube.delete_pod(victim.namespace, victim.name, victim.uid or None)
         event.eviction_done_at = timezone.now()
-    except (ApiException, OSError) as exc:
-        event.eviction_error = describe(exc)[:1000]
+    except KUBE_ERRORS as exc:
+        event.eviction_error = problem(exc)[:1000]
         RTPod.objects.filter(pk=victim.pk).update(deleted_at=None)
     if pod_doc is not None and not event.eviction_error:
         try:
@@ -390,8 +387,8 @@ def _evict(cluster: Cluster, policy: RTPolicy, event: RTEvent, victim: RTPod, ta
             RTPod.objects.filter(pk=victim.pk).update(
                 uid=created["metadata"].get("uid", ""), node="", bound_at=None, deleted_at=None, phase="Pending"
             )
-        except (ApiException, OSError) as exc:
-            event.eviction_error = f"evicted, but the replacement was refused: {describe(exc)}"[:1000]
+        except KUBE_ERRORS as exc:
+            event.eviction_error = f"evicted, but the replacement was refused: {problem(exc)}"[:1000]
     _response(event)
     event.save(update_fields=fields)
 
@@ -442,9 +439,8 @@ def lift_expired_taints(cluster: Cluster | None = None, now: datetime | None = N
             if has_api(taint.cluster):
                 try:
                     kube_for(taint.cluster).set_taint(taint.node.name, taint.as_dict(), present=False)
-                except (ApiException, OSError, ValueError) as exc:
-                    message = describe(exc) if isinstance(exc, ApiException | OSError) else str(exc)
-                    NodeTaint.objects.filter(pk=taint.pk).update(error=message[:500])
+                except KUBE_ERRORS as exc:
+                    NodeTaint.objects.filter(pk=taint.pk).update(error=problem(exc)[:500])
                     continue  # try again next time
             with transaction.atomic():
                 node = ComputeNode.objects.select_for_update().get(pk=taint.node_id)

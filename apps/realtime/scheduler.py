@@ -33,10 +33,9 @@ from typing import Any
 from django.db import close_old_connections, connection, transaction
 from django.utils import timezone
 from kubernetes import client, watch
-from kubernetes.client.exceptions import ApiException
 
 from apps.clusters.models import Cluster, ComputeNode
-from apps.kube.gateway import api_client_for, describe, node_fields
+from apps.kube.gateway import api_client_for, node_fields
 from continuum.engine import rt_kube
 from continuum.engine.errors import InputError
 from continuum.engine.placement import Decision
@@ -52,6 +51,7 @@ from continuum.engine.rt_model import (
 
 from . import monitoring, sync
 from .kube import (
+    KUBE_ERRORS,
     MONITORING_GROUP,
     MONITORING_PLURAL,
     MONITORING_VERSION,
@@ -61,6 +61,7 @@ from .kube import (
     Kube,
     kube_for,
     parse_time,
+    problem,
     requests_of,
 )
 from .models import MonitoringReport, RealTime, RTDecision, RTPlan, RTPod, RTPolicy
@@ -237,6 +238,8 @@ class RTScheduler:
         self.last_error = ""
         self.explained: dict[str, str] = {}  # pod uid -> last message told to the pod
         self.threads: list[threading.Thread] = []
+        self._watches: set[watch.Watch] = set()
+        self._watch_lock = threading.Lock()
         self.ingested = 0
 
     # ---- the loop --------------------------------------------------------------------------------------------
@@ -258,10 +261,10 @@ class RTScheduler:
                     expiry = monitoring.next_taint_expiry(cluster)
                     if expiry is not None:
                         wait = min(wait, expiry + 0.01)
-                except Exception as exc:
+                except Exception as exc:  # a failing cycle must never end the process
                     failures += 1
                     self.errors += 1
-                    self.last_error = describe(exc) if isinstance(exc, ApiException | OSError) else f"{exc}"
+                    self.last_error = problem(exc)
                     wait = min(MAX_BACKOFF, self.period * 2**failures)
                     log.warning("RT scheduler cycle failed (%s); retrying in %.1f s", self.last_error, wait)
                     close_old_connections()
@@ -273,10 +276,25 @@ class RTScheduler:
         finally:
             stop.set()
             self.stopping.set()
+            self._close_watches()
+            deadline = time.monotonic() + 10
             for t in self.threads:
-                t.join(timeout=5)
+                t.join(timeout=max(0.0, deadline - time.monotonic()))
             connection.close()
         return self.cycles
+
+    def _close_watches(self) -> None:
+        """Interrupt the watch connections (a blocked read would otherwise wait for the server's timeout)."""
+        with self._watch_lock:
+            watches = list(self._watches)
+        for w in watches:
+            w.stop()
+            resp = getattr(w, "_resp", None)
+            if resp is not None:
+                try:
+                    resp.shutdown() if hasattr(resp, "shutdown") else resp.close()
+                except Exception as exc:  # best effort while stopping
+                    log.debug("closing a watch: %s", exc)
 
     def cycle(self) -> CycleResult:
         cluster = Cluster.objects.get(pk=self.cluster_id)
@@ -456,7 +474,7 @@ class RTScheduler:
                 self.explained.pop(uid, None)
                 try:
                     kube.event(v.pod, "Scheduled", f"Successfully assigned {v.key} to {_d.node}")
-                except (ApiException, OSError) as exc:
+                except KUBE_ERRORS as exc:
                     log.info("no Scheduled event for %s: %s", v.key, exc)
                 continue
             uid = v.pod["metadata"].get("uid", "")
@@ -465,7 +483,7 @@ class RTScheduler:
             try:
                 kube.explain_pending(v.pod, message)
                 self.explained[uid] = message
-            except (ApiException, OSError) as exc:
+            except KUBE_ERRORS as exc:
                 log.info("cannot explain %s: %s", v.key, exc)
 
     # ---- watches ----------------------------------------------------------------------------------------------
@@ -483,21 +501,28 @@ class RTScheduler:
                 with api_client_for(cluster) as api_client:
                     target(cluster, api_client, stop)
                 failures = 0
-            except Exception as exc:
+            except Exception as exc:  # watches come back after any failure
+                if stop.is_set():
+                    break
                 failures += 1
                 log.debug("watch %s ended: %s", target.__name__, exc)
                 stop.wait(min(MAX_BACKOFF, 0.5 * 2**failures))
-            finally:
-                close_old_connections()
         connection.close()
 
     def _stream(self, func, stop: threading.Event, *args, **kwargs):
         w = watch.Watch()
-        for event in w.stream(func, *args, deserialize=False, timeout_seconds=30, _request_timeout=(5, 40), **kwargs):
-            if stop.is_set():
-                w.stop()
-                return
-            yield event
+        with self._watch_lock:
+            self._watches.add(w)
+        try:
+            for event in w.stream(func, *args, deserialize=False, timeout_seconds=20, _request_timeout=(5, 30),
+                                  **kwargs):  # fmt: skip
+                if stop.is_set():
+                    w.stop()
+                    return
+                yield event
+        finally:
+            with self._watch_lock:
+                self._watches.discard(w)
 
     def _watch_pods(self, cluster: Cluster, api_client, stop: threading.Event) -> None:
         core = client.CoreV1Api(api_client)
@@ -575,7 +600,7 @@ class RTScheduler:
             kube_for(cluster).patch_status(
                 MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL, meta["namespace"], meta["name"], status
             )
-        except (ApiException, OSError, KeyError) as exc:
+        except (*KUBE_ERRORS, KeyError) as exc:
             log.info("cannot write the status of Monitoring %s: %s", meta.get("name"), exc)
 
 

@@ -22,15 +22,14 @@ from collections.abc import Callable
 from typing import Any
 
 from django.db import transaction
-from kubernetes.client.exceptions import ApiException
 
 from apps.clusters.models import Cluster, ComputeNode
-from apps.kube.gateway import describe
 from continuum.engine.errors import InputError
 from continuum.engine.rt_model import RT_TAINT, realtime_from_dict
 
 from .kube import (
     CRITICALITY_LABEL,
+    KUBE_ERRORS,
     MONITORING_GROUP,
     MONITORING_PLURAL,
     MONITORING_VERSION,
@@ -40,6 +39,7 @@ from .kube import (
     THRESHOLD_LABEL,
     Kube,
     kube_for,
+    problem,
 )
 from .models import Monitoring, RealTime, RealTimeWcet
 
@@ -92,8 +92,8 @@ def push_realtime(row: RealTime, kube: Kube | None = None) -> bool:
         kube = kube or kube_for(row.cluster)
         kube.ensure_namespace(row.namespace)
         stored = kube.put_object(REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL, row.to_resource())
-    except (ApiException, OSError, ValueError, InputError) as exc:
-        message = describe(exc) if isinstance(exc, ApiException | OSError) else str(exc)
+    except KUBE_ERRORS as exc:
+        message = problem(exc)
         RealTime.objects.filter(pk=row.pk).update(sync_state=RealTime.SyncState.ERROR, sync_error=message[:500])
         row.sync_state, row.sync_error = RealTime.SyncState.ERROR, message[:500]
         return False
@@ -110,8 +110,8 @@ def delete_realtime_object(row: RealTime) -> str | None:
     """Delete the row's object from the API (best effort); the reason when it could not be done."""
     try:
         kube_for(row.cluster).delete_object(REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL, row.namespace, row.name)
-    except (ApiException, OSError, ValueError) as exc:
-        return describe(exc) if isinstance(exc, ApiException | OSError) else str(exc)
+    except KUBE_ERRORS as exc:
+        return problem(exc)
     return None
 
 
@@ -196,8 +196,8 @@ def sync_node_rt(cluster: Cluster, kube: Kube) -> dict[str, Any]:
             try:
                 kube.update_node(name, change)
                 out["tainted"].append(name)
-            except (ApiException, ValueError) as exc:
-                out["errors"][name] = describe(exc) if isinstance(exc, ApiException) else str(exc)
+            except KUBE_ERRORS as exc:
+                out["errors"][name] = problem(exc)
         elif has_taint:
             row.rt = True
             fields = ["rt"]
@@ -233,8 +233,8 @@ def push_monitorings(cluster: Cluster, kube: Kube, limit: int = 200) -> dict[str
                 )
                 rv = stored["metadata"].get("resourceVersion", "")
                 OWN_WRITES.append((cluster.pk, row.name, rv))
-        except (ApiException, ValueError) as exc:
-            out["errors"][row.name] = describe(exc) if isinstance(exc, ApiException) else str(exc)
+        except KUBE_ERRORS as exc:
+            out["errors"][row.name] = problem(exc)
             continue
         Monitoring.objects.filter(pk=row.pk).update(resource_version=rv)
         # Synced only if no newer report arrived meanwhile.
