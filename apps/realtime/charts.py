@@ -57,7 +57,7 @@ def utilization_figure(nodes: Sequence[Mapping]) -> go.Figure:
             x=thresholds,
             mode="markers",
             name="threshold (M x 0.95)",
-            marker={"symbol": "line-ns-open", "size": 26, "line": {"width": 3, "color": "#1f2933"}},
+            marker={"symbol": "line-ns-open", "size": 26, "color": "#1f2933", "line": {"width": 3, "color": "#1f2933"}},
             hovertemplate="%{y}<br>threshold %{x:.3f}<extra></extra>",
         )
     )
@@ -168,10 +168,12 @@ def timeline_figure(
                 name="node tainted",
             )
         )
-    _base_layout(fig, height=max(280, 90 + 190 * len(nodes)))
+    height = max(280, 110 + 190 * len(nodes))
+    _base_layout(fig, height=height)
     fig.update_layout(
-        legend={"orientation": "h", "yanchor": "bottom", "y": 1.03, "xanchor": "left", "x": 0},
-        margin={"l": 10, "r": 20, "t": 70, "b": 10},
+        # Above the first panel's title (subplot titles sit just above their panel).
+        legend={"orientation": "h", "yanchor": "bottom", "y": 1 + 40 / height, "xanchor": "left", "x": 0},
+        margin={"l": 10, "r": 20, "t": 90, "b": 10},
     )
     fig.update_yaxes(title_text="missed / period", rangemode="tozero", gridcolor="#e4e7eb")
     fig.update_xaxes(gridcolor="#e4e7eb")

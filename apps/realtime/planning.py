@@ -29,17 +29,18 @@ def db_rt_nodes(cluster: Cluster) -> list[RTNode]:
     """The engine's nodes of a stored cluster; the monitor's taints carry their expiry (``until``)."""
     now = timezone.now()
     timed: dict[int, list[NodeTaint]] = {}
-    for t in NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True, expires_at__gt=now):
+    for t in NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True):
         timed.setdefault(t.node_id, []).append(t)
     out = []
     for n in cluster.nodes.order_by("name"):
         mine = timed.get(n.pk, [])
+        # The monitor's taints count with their expiry (one past its time is as good as lifted).
         taints = [
             Taint.parse(t, f"node {n.name!r}")
             for t in n.taints
             if not any(t.get("key") == m.key and t.get("effect") == m.effect for m in mine)
         ]
-        taints += [Taint(m.key, m.value, m.effect, until=m.expires_at.timestamp()) for m in mine]
+        taints += [Taint(m.key, m.value, m.effect, until=m.expires_at.timestamp()) for m in mine if m.expires_at > now]
         if n.rt and not any(t.key == RT_TAINT.key for t in taints):
             taints.append(RT_TAINT)
         if n.status != ComputeNode.Status.READY:
@@ -60,12 +61,15 @@ def db_rt_nodes(cluster: Cluster) -> list[RTNode]:
     return out
 
 
-def bound_ledger(cluster: Cluster, nodes: Iterable[RTNode]) -> rt_kube.Ledger:
-    """The reservations of the pods bound now (the RT scheduler's ledger rows)."""
+def bound_ledger(cluster: Cluster, nodes: Iterable[RTNode], replaced: Iterable[str] = ()) -> rt_kube.Ledger:
+    """The reservations of the pods bound now (the RT scheduler's ledger rows), except the pods of the RealTime
+    objects named in ``replaced`` (the what-if places those again)."""
     names = [n.name for n in nodes]
+    skip = set(replaced)
     bindings = {}
-    for p in RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True).exclude(node=""):
-        if p.node in names:
+    pods = RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True).exclude(node="").select_related("realtime")
+    for p in pods:
+        if p.node in names and not (p.realtime_id and p.realtime.name in skip):
             bindings[p.key] = rt_kube.Binding(p.key, p.node, p.utilization or 0.0, p.cpu, p.memory_mib, p.criticality)
     return rt_kube.Ledger(names, bindings)
 
@@ -117,5 +121,5 @@ def whatif(
         raise InputError(f"cluster {cluster.name!r} has no nodes", "cluster")
     names = [n.name for n in nodes]
     containers = containers_for(cluster, realtime_ids, rtset, names)
-    ledger = bound_ledger(cluster, nodes) if with_bound else None
+    ledger = bound_ledger(cluster, nodes, [c.name for c in containers]) if with_bound else None
     return rt_kube.schedule(containers, nodes, params_for(cluster, params), ledger, now=time.time())

@@ -88,7 +88,9 @@ def cluster_page(request: HttpRequest, pk: int) -> HttpResponse:
     since = now - timedelta(minutes=minutes)
 
     pods = list(RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True).select_related("realtime"))
-    active_taints = list(NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True).select_related("node"))
+    active_taints = list(
+        NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True, expires_at__gt=now).select_related("node")
+    )
     nodes = _node_rows(cluster, pods, {t.node.name for t in active_taints})
     util_fig = to_html(charts.utilization_figure(nodes), div_id="utilization-chart") if nodes else None
 
@@ -122,11 +124,14 @@ def cluster_page(request: HttpRequest, pk: int) -> HttpResponse:
         {"node": e.node, "time": e.received_at, "kind": e.kind, "victim": e.victim, "container": e.container}
         for e in events
     ]
-    taints = NodeTaint.objects.filter(cluster=cluster).filter(Q(lifted_at__isnull=True) | Q(lifted_at__gte=since))
-    taint_rows = [
-        {"node": t.node.name, "start": max(t.created, since), "end": t.lifted_at or min(t.expires_at, now)}
-        for t in taints.select_related("node")
-    ]
+    taints = NodeTaint.objects.filter(cluster=cluster, expires_at__gte=since).filter(
+        Q(lifted_at__isnull=True) | Q(lifted_at__gte=since)
+    )
+    taint_rows = []
+    for t in taints.select_related("node", "event"):
+        start = t.event.received_at if t.event else t.created
+        end = min(t.lifted_at or t.expires_at, t.expires_at, now)
+        taint_rows.append({"node": t.node.name, "start": max(start, since), "end": end})
     timeline = None
     if report_rows or event_rows:
         fig = charts.timeline_figure(report_rows, event_rows, taint_rows, policy.threshold_period, now)

@@ -375,3 +375,16 @@ def test_rt_schedule_command_on_a_stored_cluster(rt_cluster, capsys):
     result = json.loads(capsys.readouterr().out)
     assert result["placements"] == [{"container": "arm", "node": "node2", "score": pytest.approx(1 - 3.8 / 8.33 / 3.8)}]
     assert result["utilization"]["node2"] == pytest.approx(3.8 / 8.33)
+
+
+def test_whatif_replaces_the_pods_of_its_objects_and_ignores_expired_taints(api, rt_cluster):
+    arm = make_rt(rt_cluster, "arm", "C", 1, 1, {"node2": 0.95})
+    for i in range(4):  # node2 is full, but only with arm's own pods: the what-if places arm again
+        make_pod(rt_cluster, f"arm-{i}", "node2", "C", realtime=arm, utilization=0.95)
+    node2 = rt_cluster.nodes.get(name="node2")
+    node2.taints = [{"key": "rt.monitoring/violation", "value": "true", "effect": "NoSchedule"}]
+    node2.save()
+    NodeTaint.objects.create(cluster=rt_cluster, node=node2, expires_at=timezone.now() - timedelta(seconds=1))
+    job = api.post("/api/v1/rt-plans/whatif/", {"cluster": rt_cluster.pk}, format="json").data
+    plan = RTPlan.objects.get(job_id=job["id"])
+    assert plan.plan["placements"] == [{"container": "arm", "node": "node2", "score": pytest.approx(0.75)}]
