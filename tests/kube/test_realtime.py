@@ -16,7 +16,6 @@ from kubernetes import client, config
 from apps.realtime.models import Monitoring, NodeTaint, RealTime, RTDecision, RTEvent, RTPolicy
 from apps.realtime.scheduler import RTScheduler
 from tests.kubeapi import free_port, kubeconfig_text
-
 from tests.realtime.conftest import RT_NODES
 
 pytestmark = [pytest.mark.kube, pytest.mark.django_db(transaction=True)]
