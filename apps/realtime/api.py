@@ -58,7 +58,7 @@ class ClusterScoped(FleetScopedMixin):
 
 def _visible_cluster(request, pk) -> Cluster:
     try:
-        return Cluster.objects.get(pk=int(pk), fleet__in=visible_fleets(request))
+        return Cluster.objects.select_related("rt_policy").get(pk=int(pk), fleet__in=visible_fleets(request))
     except (Cluster.DoesNotExist, TypeError, ValueError) as exc:
         raise ValidationError({"cluster": [f"no cluster {pk!r} among your fleets' clusters"]}) from exc
 
@@ -197,8 +197,12 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
         payload = request.data
         cluster = self._cluster(request, payload)
         try:
+            policy = cluster.rt_policy
+        except RTPolicy.DoesNotExist:
+            policy = RTPolicy.for_cluster(cluster)
+        try:
             reports = monitoring.parse_batch(payload)
-            result = monitoring.ingest(cluster, reports)
+            result = monitoring.ingest(cluster, reports, policy=policy)
         except InputError as exc:
             raise ValidationError({exc.field or "reports": [str(exc)]}) from exc
         return Response({"cluster": cluster.pk, **result}, status=status.HTTP_201_CREATED)
@@ -210,7 +214,7 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
             if isinstance(pk, bool) or not isinstance(pk, int | str):
                 raise ValidationError({"cluster": ["the id of one of your clusters"]})
             return _visible_cluster(request, pk)
-        clusters = list(Cluster.objects.filter(fleet__in=visible_fleets(request))[:2])
+        clusters = list(Cluster.objects.select_related("rt_policy").filter(fleet__in=visible_fleets(request))[:2])
         if len(clusters) != 1:
             raise ValidationError({"cluster": ["name the cluster (id): you have several or none"]})
         return clusters[0]

@@ -33,6 +33,7 @@ from continuum.engine.rt_model import RT_SCHEDULER_NAME
 REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL = "rt.scheduling", "v1", "realtimes"
 MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL = "rt.monitoring", "v1alpha1", "monitorings"
 MERGE_PATCH = "application/merge-patch+json"
+JSON_PATCH = "application/json-patch+json"
 STRATEGIC_PATCH = "application/strategic-merge-patch+json"
 #: Node labels that carry the RT attributes Continuum keeps (spec 03 3.3 [PROPOSAL]).
 CRITICALITY_LABEL = "rt.scheduling/criticality"
@@ -342,7 +343,22 @@ class Kube:
         raise KubeError(f"node {name}: kept changing while we wrote its taints")
 
     def set_taint(self, node: str, taint: dict, present: bool = True) -> dict | None:
-        """Add (or remove) one taint, matched on key and effect."""
+        """Add (or remove) one taint, matched on key and effect.
+
+        Adding first tries one JSON-patch append (one round trip: the reconcile phase is on the clock); the API
+        refuses it when the node has no taint list or already has that key and effect, and then the node is
+        read and rewritten.
+        """
+        if present:
+            body = {"key": taint["key"], "value": taint.get("value") or "", "effect": taint["effect"]}
+            try:
+                return self.request(
+                    "PATCH", f"/api/v1/nodes/{node}", [{"op": "add", "path": "/spec/taints/-", "value": body}],
+                    content_type=JSON_PATCH,
+                )  # fmt: skip
+            except ApiException as exc:
+                if exc.status not in (409, 422):
+                    raise
 
         def change(obj: dict):
             spec = obj.setdefault("spec", {})
@@ -387,18 +403,19 @@ class Kube:
             return False, f"binding refused: {describe(exc)}"
         return True, f"bound to {node}"
 
-    def delete_pod(self, namespace: str, name: str, uid: str | None = None) -> bool:
-        """Evict: delete the pod with grace period 0 (the kill of Fig. 3.36); False when it was gone already."""
+    def delete_pod(self, namespace: str, name: str, uid: str | None = None) -> dict | None:
+        """Evict: delete the pod with grace period 0 (the kill of Fig. 3.36). Returns the deleted pod (the API
+        answers with it), or None when it was gone already (or replaced by another pod of the same name)."""
         body: dict[str, Any] = {"apiVersion": "v1", "kind": "DeleteOptions", "gracePeriodSeconds": 0}
         if uid:
             body["preconditions"] = {"uid": uid}
         try:
-            self.request("DELETE", f"/api/v1/namespaces/{namespace}/pods/{name}", body)
-            return True
+            answer = self.request("DELETE", f"/api/v1/namespaces/{namespace}/pods/{name}", body)
         except ApiException as exc:
             if exc.status in (404, 409):
-                return False
+                return None
             raise
+        return answer if isinstance(answer, dict) and answer.get("kind") == "Pod" else {}
 
     def create_pod(self, namespace: str, body: dict) -> dict:
         return self.request("POST", self.pods_path(namespace), body)
