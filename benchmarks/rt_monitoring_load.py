@@ -58,6 +58,57 @@ def pct(values: list[float], q: float) -> float:
     return statistics.quantiles(values, n=1000, method="inclusive")[round(q * 10) - 1]
 
 
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time of a process (0 once it is gone)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def children(pid: int) -> list[int]:
+    try:
+        return [int(c) for c in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+    except OSError:
+        return []
+
+
+def postgres_backends() -> list[int]:
+    import psycopg
+
+    with psycopg.connect(f"{PG}/postgres", autocommit=True) as conn:
+        rows = conn.execute("SELECT pid FROM pg_stat_activity WHERE datname = %s", (DB_NAME,)).fetchall()
+    return [r[0] for r in rows]
+
+
+class CpuMeter:
+    """CPU seconds used by each part while the load runs (the machine is shared: wall times alone mislead)."""
+
+    def __init__(self, gunicorn_pid: int, kube_pids: list[int]) -> None:
+        self.parts = {"gunicorn": lambda: children(gunicorn_pid), "kube-apiserver+etcd": lambda: kube_pids}
+        self.start: dict[str, dict[int, float]] = {}
+
+    def _sample(self) -> dict[str, dict[int, float]]:
+        out = {name: {pid: cpu_seconds(pid) for pid in pids()} for name, pids in self.parts.items()}
+        out["PostgreSQL"] = {pid: cpu_seconds(pid) for pid in postgres_backends()}
+        import resource
+
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        out["load generator"] = {0: usage.ru_utime + usage.ru_stime}
+        return out
+
+    def begin(self) -> None:
+        self.start = self._sample()
+        self.load_before = os.getloadavg()
+
+    def end(self) -> dict[str, float]:
+        now = self._sample()
+        self.load_after = os.getloadavg()
+        return {name: sum(v - self.start.get(name, {}).get(pid, 0.0) for pid, v in pids.items())
+                for name, pids in now.items()}  # fmt: skip
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -155,8 +206,21 @@ def seed(args, kubeconfig: str) -> list[dict]:
 def start_gunicorn(args, env: dict, port: int) -> subprocess.Popen:
     log = open("/tmp/continuum-rt-load-gunicorn.log", "w")  # noqa: SIM115 - lives as long as the server
     proc = subprocess.Popen(
-        [sys.executable, "-m", "gunicorn", "continuum.wsgi:application", "-b", f"127.0.0.1:{port}",
-         "-w", str(args.workers), "--backlog", "2048", "--timeout", "60", "--preload"],  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "gunicorn",
+            "continuum.wsgi:application",
+            "-b",
+            f"127.0.0.1:{port}",
+            "-w",
+            str(args.workers),
+            "--backlog",
+            "2048",
+            "--timeout",
+            "60",
+            "--preload",
+        ],
         cwd=ROOT,
         env=env,
         stdout=log,
@@ -233,7 +297,7 @@ async def post(session, url, headers, payload, n, violation, sem, results) -> No
     )  # fmt: skip
 
 
-async def drive(url: str, fleets: list[dict], args) -> tuple[list, float]:
+async def drive(url: str, fleets: list[dict], args, meter: CpuMeter) -> tuple[list, float]:
     import aiohttp
 
     results: list = []
@@ -247,12 +311,14 @@ async def drive(url: str, fleets: list[dict], args) -> tuple[list, float]:
                 for _ in range(max(1, 2 * args.workers // len(fleets)))
             ))  # fmt: skip
         t0 = time.monotonic() + 0.5
+        meter.begin()
         await asyncio.gather(*(fleet_load(session, url, f, args, t0, results, i) for i, f in enumerate(fleets)))
+        meter.cpu = meter.end()
     return results, t0
 
 
 # ---- report -------------------------------------------------------------------------------------------------
-def report(args, results: list, t0: float, fleets: list[dict]) -> None:
+def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) -> None:
     from apps.realtime.models import MonitoringReport, RTEvent
 
     sent = sum(r["n"] for r in results)
@@ -267,8 +333,11 @@ def report(args, results: list, t0: float, fleets: list[dict]) -> None:
         if r["status"] == 201:
             seconds[int(r["done"] - t0)] = seconds.get(int(r["done"] - t0), 0) + r["accepted"]
     steady = [seconds.get(s, 0) for s in range(1, int(args.duration) - 1)]
-    events = list(RTEvent.objects.filter(kind="eviction").values("received_at", "eviction_sent_at",
-                                                                  "eviction_done_at", "eviction_error", "response"))
+    events = list(
+        RTEvent.objects.filter(kind="eviction").values(
+            "received_at", "eviction_sent_at", "eviction_done_at", "eviction_error", "response"
+        )
+    )
     ok = [e for e in events if e["eviction_sent_at"] and not e["eviction_error"]]
     server = sorted(1000 * (e["eviction_sent_at"] - e["received_at"]).total_seconds() for e in ok)
     server_done = sorted(1000 * (e["eviction_done_at"] - e["received_at"]).total_seconds() for e in ok
@@ -280,7 +349,15 @@ def report(args, results: list, t0: float, fleets: list[dict]) -> None:
     print(f"\nRT monitoring endpoint under load: {args.fleets} fleets x {args.nodes} nodes, batches of {args.batch}, "
           f"target {args.rate:g} reports/s for {args.duration:g} s, gunicorn -w {args.workers}, PostgreSQL, "
           f"kube-apiserver")  # fmt: skip
-    print(f"  machine: {os.cpu_count()} cores")
+    print(f"  machine: {os.cpu_count()} cores, shared; load average {meter.load_before[0]:.2f} before, "
+          f"{meter.load_after[0]:.2f} after")  # fmt: skip
+    cpu = meter.cpu
+    print("  CPU seconds during the load: " + ", ".join(f"{k} {v:.1f}" for k, v in cpu.items())
+          + f" (of {2 * span:.0f} core-seconds)")  # fmt: skip
+    server_cpu = cpu["gunicorn"] + cpu["PostgreSQL"]
+    print(f"  endpoint cost: {1000 * cpu['gunicorn'] / max(1, len(results)):.2f} ms of Django CPU per request, "
+          f"{1000 * server_cpu / max(1, acked) * 1000:.0f} ms of Django + PostgreSQL CPU per 1000 reports "
+          f"(capacity of 2 idle cores ~ {2 / (server_cpu / max(1, acked)):.0f} reports/s)")  # fmt: skip
     print(f"  reports sent {sent}, acknowledged {acked}, stored {stored}, lost {sent - stored}; "
           f"failed requests {len(failed)} of {len(results)}")  # fmt: skip
     for r in failed[:3]:
@@ -301,8 +378,10 @@ def report(args, results: list, t0: float, fleets: list[dict]) -> None:
         if trans_json:
             print(f"  HTTP_trans(JSON) incl. queueing (ms): mean {statistics.fmean(trans_json):.1f}  "
                   f"max {max(trans_json):.1f}")  # fmt: skip
-    print("  thesis (Table 4.35, 18 containers, one robot, congested WiFi): 92.03 ms mean, 408.29 ms worst "
-          "from the crossing miss (incl. the 10 Hz update wait)")
+    print(
+        "  thesis (Table 4.35, 18 containers, one robot, congested WiFi): 92.03 ms mean, 408.29 ms worst "
+        "from the crossing miss (incl. the 10 Hz update wait)"
+    )
     goal = acked / span >= 1000 and sent == stored and server and pct(client, 99) < 100
     print(f"  goal (>= 1000 reports/s, none lost, p99 report->eviction < 100 ms): {'met' if goal else 'NOT met'}")
 
@@ -332,8 +411,9 @@ def main() -> None:
         from django.db import connection
 
         connection.close()
-        results, t0 = asyncio.run(drive(f"http://127.0.0.1:{port}/api/v1/rt-reports/", fleets, args))
-        report(args, results, t0, fleets)
+        meter = CpuMeter(gunicorn.pid, [p.pid for p in server.procs])
+        results, t0 = asyncio.run(drive(f"http://127.0.0.1:{port}/api/v1/rt-reports/", fleets, args, meter))
+        report(args, results, t0, fleets, meter)
     finally:
         if gunicorn is not None:
             gunicorn.terminate()
