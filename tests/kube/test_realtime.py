@@ -5,6 +5,7 @@ scheduler process (running in a thread), a missed-deadline report, the eviction,
 re-binding of the evicted pod on another node, and the taint lifted when its time is up.
 """
 
+import io
 import threading
 import time
 from datetime import UTC, datetime, timedelta
@@ -263,3 +264,20 @@ def test_scheduler_survives_an_unreachable_api(api, kube_server):
     assert sched.run(max_cycles=3) == 3
     assert sched.errors == 3 and "unreachable" in sched.last_error
     assert time.monotonic() - began < 30
+
+
+def test_rt_scheduler_command_binds_once_and_refuses_model_only_clusters(kube, rt_kube_cluster, api):
+    from django.core.management import CommandError, call_command
+
+    cluster, ns = rt_kube_cluster, rt_kube_cluster.namespace
+    body = {"cluster": cluster.pk, "name": "cam", "criticality": "A", "period": 10, "deadline": 10,
+            "wcets": [{"node": "node1", "wcet": 2}]}  # fmt: skip
+    assert api.post("/api/v1/realtimes/", body, format="json").status_code == 201
+    kube.create_namespaced_pod(ns, pod("cam", "cam"))
+    out = io.StringIO()
+    call_command("rt_scheduler", "--cluster", str(cluster.pk), "--once", stdout=out)
+    assert f"bound {ns}/cam -> node1" in out.getvalue()
+    assert node_of(kube, ns, "cam") == "node1"
+    model_only = api.post("/api/v1/clusters/import/", {"name": "paper", "nodes": [{"name": "x"}]}, format="json")
+    with pytest.raises(CommandError, match="model-only cluster"):
+        call_command("rt_scheduler", "--cluster", str(model_only.data["id"]), "--once")

@@ -388,3 +388,12 @@ def test_whatif_replaces_the_pods_of_its_objects_and_ignores_expired_taints(api,
     job = api.post("/api/v1/rt-plans/whatif/", {"cluster": rt_cluster.pk}, format="json").data
     plan = RTPlan.objects.get(job_id=job["id"])
     assert plan.plan["placements"] == [{"container": "arm", "node": "node2", "score": pytest.approx(0.75)}]
+
+
+def test_the_beat_task_lifts_expired_taints(api, rt_cluster, node0_pods):
+    from apps.realtime.tasks import rt_lift_taints
+
+    post(api, rt_cluster, report(period=30, total=30))
+    assert rt_lift_taints() == 0
+    NodeTaint.objects.update(expires_at=timezone.now() - timedelta(seconds=1))
+    assert rt_lift_taints() == 1 and rt_cluster.nodes.get(name="node0").taints == []
