@@ -307,12 +307,15 @@ def reconcile(
             for p in pods
         ]
         monitor = ClusterMonitor(monitor_policy)
-        last = (
-            RTEvent.objects.filter(cluster=cluster, container=violator.key)
-            .order_by("-received_at")
-            .values_list("received_at", "missed_total")
-            .first()
-        )
+        # The monitor's only state, the last action per container, matters for the total trigger's cooldown.
+        last = None
+        if trigger == "total":
+            last = (
+                RTEvent.objects.filter(cluster=cluster, container=violator.key)
+                .order_by("-received_at")
+                .values_list("received_at", "missed_total")
+                .first()
+            )
         if last is not None:
             monitor.last_action[violator.key] = (last[0].timestamp(), last[1])
         report = EngineReport(r.node, violator.key, r.missed_period, r.missed_total, now_s)
