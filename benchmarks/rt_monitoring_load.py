@@ -45,6 +45,7 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--duration", type=float, default=20, help="seconds of load")
     p.add_argument("--violation-every", type=float, default=2.0, help="seconds between violations, per fleet")
     p.add_argument("--workers", type=int, default=4, help="gunicorn worker processes")
+    p.add_argument("--threads", type=int, default=1, help="threads per gunicorn worker (gthread when > 1)")
     p.add_argument("--concurrency", type=int, default=4, help="requests in flight per fleet at most")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     return p.parse_args()
@@ -220,6 +221,8 @@ def start_gunicorn(args, env: dict, port: int) -> subprocess.Popen:
             "--timeout",
             "60",
             "--preload",
+            "--threads",
+            str(args.threads),
         ],
         cwd=ROOT,
         env=env,
@@ -335,10 +338,12 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
     steady = [seconds.get(s, 0) for s in range(1, int(args.duration) - 1)]
     events = list(
         RTEvent.objects.filter(kind="eviction").values(
-            "received_at", "eviction_sent_at", "eviction_done_at", "eviction_error", "response"
+            "sent_at", "received_at", "eviction_sent_at", "eviction_done_at", "eviction_error", "response"
         )
     )
     ok = [e for e in events if e["eviction_sent_at"] and not e["eviction_error"]]
+    # The fleets stamp sentAt with this machine's clock: report sent -> eviction sent, as Eq. 3.19 counts it.
+    e2e = sorted(1000 * (e["eviction_sent_at"] - e["sent_at"]).total_seconds() for e in ok if e["sent_at"])
     server = sorted(1000 * (e["eviction_sent_at"] - e["received_at"]).total_seconds() for e in ok)
     server_done = sorted(1000 * (e["eviction_done_at"] - e["received_at"]).total_seconds() for e in ok
                          if e["eviction_done_at"])  # fmt: skip
@@ -346,9 +351,11 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
     trans_json = [e["response"].get("trans_json") for e in ok if "trans_json" in e["response"].get("measured", [])]
     alerts = RTEvent.objects.filter(kind="alert").count()
 
-    print(f"\nRT monitoring endpoint under load: {args.fleets} fleets x {args.nodes} nodes, batches of {args.batch}, "
-          f"target {args.rate:g} reports/s for {args.duration:g} s, gunicorn -w {args.workers}, PostgreSQL, "
-          f"kube-apiserver")  # fmt: skip
+    print(
+        f"\nRT monitoring endpoint under load: {args.fleets} fleets x {args.nodes} nodes, batches of {args.batch}, "
+        f"target {args.rate:g} reports/s for {args.duration:g} s, gunicorn -w {args.workers} --threads "
+        f"{args.threads}, PostgreSQL, kube-apiserver"
+    )
     print(f"  machine: {os.cpu_count()} cores, shared; load average {meter.load_before[0]:.2f} before, "
           f"{meter.load_after[0]:.2f} after")  # fmt: skip
     cpu = meter.cpu
@@ -373,6 +380,8 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
               f"{pct(server, 99):.1f}  max {server[-1]:.1f}")  # fmt: skip
         print(f"  report received -> eviction answered (ms):       p50 {pct(server_done, 50):.1f}  p99 "
               f"{pct(server_done, 99):.1f}  max {server_done[-1]:.1f}")  # fmt: skip
+        print(f"  report sent -> eviction sent (ms, Eq. 3.19 without the update wait): p50 {pct(e2e, 50):.1f}  p99 "
+              f"{pct(e2e, 99):.1f}  max {e2e[-1]:.1f}")  # fmt: skip
         print(f"  report sent -> eviction answered (ms, client):   p50 {pct(client, 50):.1f}  p99 "
               f"{pct(client, 99):.1f}  max {client[-1]:.1f}")  # fmt: skip
         if trans_json:
@@ -382,7 +391,7 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
         "  thesis (Table 4.35, 18 containers, one robot, congested WiFi): 92.03 ms mean, 408.29 ms worst "
         "from the crossing miss (incl. the 10 Hz update wait)"
     )
-    goal = acked / span >= 1000 and sent == stored and server and pct(client, 99) < 100
+    goal = acked / span >= 1000 and sent == stored and e2e and pct(e2e, 99) < 100
     print(f"  goal (>= 1000 reports/s, none lost, p99 report->eviction < 100 ms): {'met' if goal else 'NOT met'}")
 
 

@@ -1,8 +1,9 @@
 """The cluster-level monitor: store missed-deadline reports and reconcile each one (thesis 3.4, Fig. 3.36).
 
 Reports arrive over REST (a robot fleet's batch) or as updates of Monitoring custom objects; both go through
-:func:`ingest`. Storing is two bulk statements (every report, then the latest counters per container).
-Only a report over a threshold (the engine's ``is_violation``) costs more: :func:`reconcile` locks the
+:func:`ingest`. Storing is two bulk statements (every report, then the latest counters per container); the
+request is acknowledged only after them. Only a report over a threshold (the engine's ``is_violation``) costs
+more, and it is handled before the batch is stored, since the eviction is on the clock: :func:`reconcile` locks the
 node row (one reconcile per node at a time), reads the pods on the node from the RT scheduler's ledger
 (:class:`~apps.realtime.models.RTPod`), and lets the engine's ``ClusterMonitor`` pick the victim by the
 cluster's policy. Then, outside the transaction, the node is tainted and the victim deleted with grace
@@ -196,17 +197,19 @@ def ingest(
     for r in reports:  # the last report of a container in the batch wins
         latest[r.name] = (cluster.pk, r.name, node_ids[r.node], r.container, r.pod, r.missed_period, r.missed_total,
                           at, synced, "")  # fmt: skip
+    # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. The fleet's
+    # request is answered (acknowledged) only once every report is stored, whatever happened before.
+    events = []
+    for r, trigger in violations:
+        event = reconcile(cluster, policy, monitor_policy, r, trigger, received)
+        if event is not None:
+            events.append(event)
     with transaction.atomic():
         # Two statements per batch, without the ORM's per-object work (this endpoint takes thousands a second).
         insert_rows(MonitoringReport, REPORT_COLUMNS, rows)
         # Sorted, so that concurrent batches lock the rows in the same order (no deadlock).
         insert_rows(Monitoring, LATEST_COLUMNS, [latest[k] for k in sorted(latest)],
                     conflict=("cluster_id", "name"), update=LATEST_COLUMNS[2:-1])  # fmt: skip
-    events = []
-    for r, trigger in violations:
-        event = reconcile(cluster, policy, monitor_policy, r, trigger, received)
-        if event is not None:
-            events.append(event)
     return {
         "accepted": len(reports),
         "violations": len(violations),
