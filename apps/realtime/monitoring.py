@@ -340,7 +340,7 @@ def reconcile(
                 **base,
             )
         victim = next(p for p in pods if p.key == decision.victim)
-        event = RTEvent.objects.create(
+        event = RTEvent(
             kind=RTEvent.Kind.EVICTION,
             victim=victim.key,
             message=f"{violator.key} missed {r.missed_period} deadlines in the period ({r.missed_total} in total)",
@@ -348,62 +348,64 @@ def reconcile(
             reconcile_done_at=done,
             **base,
         )
-        RTPod.objects.filter(pk=victim.pk).update(deleted_at=done)
         taint = decision.taint
         expires = datetime.fromtimestamp(taint.until, UTC) if taint and taint.until is not None else done
-        node_taint = NodeTaint.objects.create(
-            cluster=cluster, node=node, key=taint.key, value=taint.value, effect=taint.effect, event=event,
-            expires_at=expires,
-        )  # fmt: skip
+        node_taint = NodeTaint(cluster=cluster, node=node, key=taint.key, value=taint.value, effect=taint.effect,
+                               expires_at=expires)  # fmt: skip
+        # Still holding the node's row lock (one reconcile per node at a time), the API calls come first: the
+        # eviction is on the clock (Eq. 3.19), the bookkeeping below is not.
+        deleted = _evict(cluster, event, victim, node_taint)
+        _response(event)
+        event.save()
+        node_taint.event = event
+        node_taint.save()
+        if not (event.eviction_sent_at and event.eviction_error):  # evicted (or decided, on a model-only cluster)
+            RTPod.objects.filter(pk=victim.pk).update(deleted_at=event.eviction_done_at or done)
         if not any(t.get("key") == taint.key and t.get("effect") == taint.effect for t in node.taints):
             node.taints = [*node.taints, node_taint.as_dict()]
             node.save(update_fields=["taints"])
-    _evict(cluster, policy, event, victim, node_taint)
+    if deleted and not victim.owned and policy.recreate_orphans:
+        _recreate(cluster, event, victim, deleted)
     return event
 
 
-def _evict(cluster: Cluster, policy: RTPolicy, event: RTEvent, victim: RTPod, taint: NodeTaint) -> None:
-    """Taint the node, delete the victim (grace period 0), recreate it if nobody else will; record the times.
-
-    The database is written after the API calls: the eviction is on the clock (Eq. 3.19), the bookkeeping is not.
-    """
-    fields = ["eviction_sent_at", "eviction_done_at", "eviction_error", "recreated", "response", "response_ms"]
+def _evict(cluster: Cluster, event: RTEvent, victim: RTPod, taint: NodeTaint) -> dict | None:
+    """Taint the node, then delete the victim with grace period 0; records the times and errors on ``event`` and
+    ``taint`` (not saved). Returns the deleted pod as the API answered it."""
     if not has_api(cluster):
         event.eviction_error = "model-only cluster (no kubeconfig): nothing to evict"
-        _response(event)
-        event.save(update_fields=fields)
-        return
+        return None
     kube = kube_for(cluster)
-    taint_update: dict = {}
     try:
         kube.set_taint(event.node, taint.as_dict())
-        taint_update["applied_at"] = timezone.now()
+        taint.applied_at = timezone.now()
     except KUBE_ERRORS as exc:
-        taint_update["error"] = problem(exc)[:500]
-    deleted = None
+        taint.error = problem(exc)[:500]
     event.eviction_sent_at = timezone.now()
     try:
         deleted = kube.delete_pod(victim.namespace, victim.name, victim.uid or None)
-        event.eviction_done_at = timezone.now()
-        if deleted is None:
-            event.message = f"{event.message}; {victim.key} was gone already"[:1000]
     except KUBE_ERRORS as exc:
         event.eviction_error = problem(exc)[:1000]
-    NodeTaint.objects.filter(pk=taint.pk).update(**taint_update)
-    if event.eviction_error:
-        RTPod.objects.filter(pk=victim.pk).update(deleted_at=None)
-    elif deleted and not victim.owned and policy.recreate_orphans:
-        # The API answered the DELETE with the pod: recreate it from that, as its ReplicaSet would.
-        try:
-            created = kube.create_pod(victim.namespace, replacement_pod(deleted))
-            event.recreated = created["metadata"]["name"]
-            RTPod.objects.filter(pk=victim.pk).update(
-                uid=created["metadata"].get("uid", ""), node="", bound_at=None, deleted_at=None, phase="Pending"
-            )
-        except KUBE_ERRORS as exc:
-            event.eviction_error = f"evicted, but the replacement was refused: {problem(exc)}"[:1000]
-    _response(event)
-    event.save(update_fields=[*fields, "message"])
+        return None
+    event.eviction_done_at = timezone.now()
+    if deleted is None:
+        event.message = f"{event.message}; {victim.key} was gone already"[:1000]
+    return deleted
+
+
+def _recreate(cluster: Cluster, event: RTEvent, victim: RTPod, deleted: dict) -> None:
+    """A pod no controller owns would be lost: recreate it (from the DELETE's answer), as a ReplicaSet would."""
+    try:
+        created = kube_for(cluster).create_pod(victim.namespace, replacement_pod(deleted))
+    except KUBE_ERRORS as exc:
+        event.eviction_error = f"evicted, but the replacement was refused: {problem(exc)}"[:1000]
+        RTEvent.objects.filter(pk=event.pk).update(eviction_error=event.eviction_error)
+        return
+    event.recreated = created["metadata"]["name"]
+    RTEvent.objects.filter(pk=event.pk).update(recreated=event.recreated)
+    RTPod.objects.filter(pk=victim.pk).update(
+        uid=created["metadata"].get("uid", ""), node="", bound_at=None, deleted_at=None, phase="Pending"
+    )
 
 
 def _response(event: RTEvent) -> None:
