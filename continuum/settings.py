@@ -172,6 +172,8 @@ CELERY_BROKER_TRANSPORT_OPTIONS = {
     "unacked_restore_throttle": int(os.environ.get("CELERY_RESTORE_THROTTLE", 10)),
 }
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
+# `celery -A continuum beat`: lifts RT-Kube's expired node taints (the rt_scheduler process does it too).
+CELERY_BEAT_SCHEDULE = {"rt-lift-taints": {"task": "continuum.rt_lift_taints", "schedule": 5.0}}
 
 # ---- Continuum ------------------------------------------------------------------------------------
 # HEFT's average computation cost: "mean" (literature, Topcuoglu) or "max" (thesis Fig. 3.1). Spec 01 2.1.

@@ -8,6 +8,7 @@ from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
 from apps.containers.api import ClusteringViewSet, PlacementViewSet, RosGraphViewSet
 from apps.heft4k.api import RemapEventViewSet
 from apps.jobs.api import JobViewSet
+from apps.realtime.api import register_routes as register_realtime
 from apps.scheduling.api import ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
 from apps.workloads.api import ApplicationViewSet
@@ -24,6 +25,7 @@ router.register("rosgraphs", RosGraphViewSet)
 router.register("clusterings", ClusteringViewSet)
 router.register("placements", PlacementViewSet)
 router.register("remaps", RemapEventViewSet)
+register_realtime(router)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
@@ -34,6 +36,7 @@ urlpatterns = [
     path("login/", auth_views.LoginView.as_view(), name="login"),
     path("logout/", auth_views.LogoutView.as_view(), name="logout"),
     path("ros/", include("apps.containers.urls")),
+    path("realtime/", include("apps.realtime.urls")),
     path("", include("apps.dashboard.urls")),
     path("", include("apps.heft4k.urls")),
 ]

@@ -287,23 +287,31 @@ def cluster_to_dict(nodes: Iterable[RTNode]) -> dict[str, Any]:
 
 # ---- the RealTime resource (Listing 3.33) ----------------------------------------------------------------
 def realtime_resource(container: RTContainer, namespace: str | None = None) -> dict[str, Any]:
-    """The ``RealTime`` object of Listing 3.33 for one RT container, with the listing's exact field names."""
+    """The ``RealTime`` object of Listing 3.33 for one RT container, with the listing's exact field names.
+
+    [PROPOSAL] The listing has no place for the container's stateless flag and resource requests; they go
+    to the optional ``spec.stateless``, ``spec.cpu`` (cores) and ``spec.memoryMib``, written only when set.
+    """
     if not container.is_rt:
         raise InputError(f"container {container.name!r}: a non-RT container has no RealTime resource", "criticality")
     metadata: dict[str, Any] = {"name": container.name}
     if namespace:
         metadata["namespace"] = namespace
-    return {
-        "apiVersion": REALTIME_API_VERSION,
-        "kind": REALTIME_KIND,
-        "metadata": metadata,
-        "spec": {
-            "criticality": container.criticality,
-            "rtPeriod": _plain(container.period),
-            "rtDeadline": _plain(container.deadline),
-            "rtWcets": [{"node": node, "rtWcet": _plain(w)} for node, w in container.wcet.items()],
-        },
+    spec: dict[str, Any] = {
+        "criticality": container.criticality,
+        "rtPeriod": _plain(container.period),
+        "rtDeadline": _plain(container.deadline),
+        "rtWcets": [{"node": node, "rtWcet": _plain(w)} for node, w in container.wcet.items()],
     }
+    # [PROPOSAL] extension fields, written only when they differ from the default so that the listing's
+    # objects stay exactly the listing.
+    if container.stateless:
+        spec["stateless"] = True
+    if container.cpu:
+        spec["cpu"] = _plain(container.cpu)
+    if container.memory_mib:
+        spec["memoryMib"] = _plain(container.memory_mib)
+    return {"apiVersion": REALTIME_API_VERSION, "kind": REALTIME_KIND, "metadata": metadata, "spec": spec}
 
 
 def realtime_to_yaml(containers: Iterable[RTContainer], namespace: str | None = None) -> str:
@@ -341,7 +349,8 @@ def realtime_from_dict(doc: Any, index: int = 0, known_nodes: Iterable[str] | No
             raise InputError(f"{where}: node {entry['node']!r} appears twice in spec.rtWcets", "rtWcets")
         wcet[entry["node"]] = entry["rtWcet"]
     flat = {"name": name, "criticality": crit, "period": spec["rtPeriod"], "deadline": spec["rtDeadline"],
-            "wcet": wcet, "stateless": False}  # fmt: skip
+            "wcet": wcet, "stateless": spec.get("stateless", False), "cpu": spec.get("cpu"),
+            "memory_mib": spec.get("memoryMib")}  # fmt: skip
     try:
         return container_from_dict(flat, index, known_nodes)
     except InputError as exc:

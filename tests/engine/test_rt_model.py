@@ -1,6 +1,7 @@
 """RT task model, contracts and the RealTime resource of Listing 3.33 (thesis 2.4, 3.4)."""
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -194,3 +195,16 @@ def test_deployment_manifest_links_by_label():
     toleration = {"key": "RealTime", "operator": "Equal", "value": "RT", "effect": "NoSchedule"}
     assert tpl["spec"]["tolerations"] == [toleration]
     assert tpl["spec"]["containers"][0]["resources"] == {"requests": {"cpu": "500m"}}
+
+
+def test_realtime_extension_fields_are_written_only_when_set_and_read_back():
+    [c] = rtset_from_dict({"containers": [rt(stateless=True, cpu=0.5, memory_mib=128)]})
+    spec = realtime_resource(c)["spec"]
+    assert (spec["stateless"], spec["cpu"], spec["memoryMib"]) == (True, 0.5, 128)
+    assert realtime_from_yaml(realtime_to_yaml([c])) == [replace(c, arrival=0.0)]
+    [plain] = rtset_from_dict({"containers": [rt()]})
+    assert set(realtime_resource(plain)["spec"]) == {"criticality", "rtPeriod", "rtDeadline", "rtWcets"}
+    bad = realtime_resource(c)
+    bad["spec"]["cpu"] = -1
+    with pytest.raises(InputError, match="RealTime 'x': cpu must be positive"):
+        realtime_from_yaml(yaml.safe_dump(bad))

@@ -1,4 +1,9 @@
-"""``python manage.py rt_schedule RTSET --cluster FILE [--json]``: RT-Kube's sort/filter/score/bind (thesis 3.4)."""
+"""``python manage.py rt_schedule RTSET --cluster FILE [--json]``: RT-Kube's sort/filter/score/bind (thesis 3.4).
+
+With ``--cluster-id ID`` instead of ``--cluster FILE`` the what-if runs on a stored cluster: its nodes (RT
+attributes, taints, the monitor's active taints), the reservations of its bound pods, and its RealTime
+objects when no RTSET is given (the same pass as the ``rt_whatif`` job, without storing the plan).
+"""
 
 from __future__ import annotations
 
@@ -7,7 +12,7 @@ from typing import Any
 from continuum.commands import EngineCommand
 from continuum.engine import rt_kube
 from continuum.engine.errors import InputError
-from continuum.engine.rt_model import cluster_from_dict, realtime_from_yaml, rtset_from_dict
+from continuum.engine.rt_model import cluster_from_dict, realtime_from_yaml, rtset_from_dict, rtset_to_dict
 
 
 class Command(EngineCommand):
@@ -18,8 +23,15 @@ class Command(EngineCommand):
 
     def add_arguments(self, parser) -> None:
         super().add_arguments(parser)
-        parser.add_argument("rtset", help="continuum.rtset/v1 JSON file, or a YAML file of RealTime resources")
-        parser.add_argument("--cluster", required=True, help="continuum.cluster/v1 file")
+        parser.add_argument(
+            "rtset", nargs="?", help="continuum.rtset/v1 JSON file, or a YAML file of RealTime resources"
+        )
+        target = parser.add_mutually_exclusive_group(required=True)
+        target.add_argument("--cluster", help="continuum.cluster/v1 file")
+        target.add_argument("--cluster-id", type=int, help="a stored cluster (default RTSET: its RealTime objects)")
+        parser.add_argument(
+            "--fresh", action="store_true", help="with --cluster-id: ignore the pods bound now (empty ledger)"
+        )
         parser.add_argument("--k", type=float, default=None, help="Eq. 3.18's K (default 2)")
         parser.add_argument(
             "--b-score-argument",
@@ -36,6 +48,10 @@ class Command(EngineCommand):
         parser.add_argument("--explain", action="store_true", help="list every node's filter or score")
 
     def run(self, **options: Any) -> dict:
+        if options.get("cluster_id") is not None:
+            return self.run_stored(**options)
+        if not options.get("rtset"):
+            raise InputError("give the RTSET file (or --cluster-id to use a stored cluster's RealTime objects)")
         nodes = cluster_from_dict(self.read_json(options["cluster"]))
         names = [n.name for n in nodes]
         path = options["rtset"]
@@ -50,6 +66,27 @@ class Command(EngineCommand):
             if options.get(opt) is not None:
                 kwargs[key] = options[opt]
         plan = rt_kube.schedule(containers, nodes, rt_kube.RTKubeParams(**kwargs))
+        result = plan.to_dict()
+        if options.get("explain"):
+            result["explain"] = rt_kube.explain(plan)
+        return result
+
+    def run_stored(self, **options: Any) -> dict:
+        from apps.clusters.models import Cluster
+        from apps.realtime import planning
+
+        cluster = Cluster.objects.filter(pk=options["cluster_id"]).first()
+        if cluster is None:
+            raise InputError(f"cluster {options['cluster_id']} does not exist", "cluster")
+        rtset = None
+        path = options.get("rtset")
+        if path and path.endswith((".yaml", ".yml")):
+            names = [n.name for n in cluster.nodes.all()]
+            rtset = rtset_to_dict(realtime_from_yaml(self.read_text(path), names))
+        elif path:
+            rtset = self.read_json(path)
+        params = {k: options[k] for k in ("k", "b_score_argument", "sort_tiebreak") if options.get(k) is not None}
+        plan = planning.whatif(cluster, rtset=rtset, params=params, with_bound=not options.get("fresh"))
         result = plan.to_dict()
         if options.get("explain"):
             result["explain"] = rt_kube.explain(plan)

@@ -1,0 +1,290 @@
+"""RT-Kube's REST API (spec 03 16.1): RealTime objects, policies, the monitoring endpoint, what the
+scheduler and the monitor did. Every queryset is limited to the caller's fleets (via the cluster)."""
+
+from __future__ import annotations
+
+import yaml
+from django.core.exceptions import ValidationError as DjangoValidationError
+from django.db import transaction
+from django.http import HttpResponse
+from drf_spectacular.utils import OpenApiParameter, extend_schema
+from rest_framework import mixins, status, viewsets
+from rest_framework.decorators import action
+from rest_framework.exceptions import ValidationError
+from rest_framework.response import Response
+
+from apps.clusters.models import Cluster
+from apps.jobs.serializers import JobSerializer
+from apps.jobs.services import start_job
+from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.scoping import visible_fleets
+from continuum.engine.errors import InputError
+from continuum.engine.rt_model import REALTIME_KIND, realtime_from_yaml, realtime_to_yaml, rtset_from_dict
+
+from . import monitoring, planning, sync
+from .kube import has_api
+from .models import (
+    Monitoring,
+    MonitoringReport,
+    NodeTaint,
+    RealTime,
+    RealTimeWcet,
+    RTDecision,
+    RTEvent,
+    RTPlan,
+    RTPod,
+    RTPolicy,
+)
+from .serializers import (
+    ClusterRefSerializer,
+    MonitoringReportSerializer,
+    MonitoringSerializer,
+    NodeTaintSerializer,
+    RealTimeImportSerializer,
+    RealTimeSerializer,
+    ReportBatchSerializer,
+    RTDecisionSerializer,
+    RTEventSerializer,
+    RTPlanSerializer,
+    RTPodSerializer,
+    RTPolicySerializer,
+    WhatIfSerializer,
+)
+
+
+class ClusterScoped(FleetScopedMixin):
+    fleet_lookup = "cluster__fleet"
+
+
+def _visible_cluster(request, pk) -> Cluster:
+    try:
+        return Cluster.objects.select_related("rt_policy").get(pk=int(pk), fleet__in=visible_fleets(request))
+    except (Cluster.DoesNotExist, TypeError, ValueError) as exc:
+        raise ValidationError({"cluster": [f"no cluster {pk!r} among your fleets' clusters"]}) from exc
+
+
+class RealTimeViewSet(ClusterScoped, viewsets.ModelViewSet):
+    """RealTime objects (Listing 3.33). Saving one writes it to the cluster's Kubernetes API as well."""
+
+    queryset = RealTime.objects.select_related("cluster").prefetch_related("wcets__node")
+    serializer_class = RealTimeSerializer
+    filterset_fields = ["cluster", "namespace", "criticality", "sync_state"]
+    search_fields = ["name"]
+    ordering_fields = ["name", "criticality", "period", "created"]
+
+    def perform_create(self, serializer):
+        row = serializer.save()
+        if has_api(row.cluster):
+            sync.push_realtime(row)
+
+    perform_update = perform_create
+
+    def perform_destroy(self, instance):
+        if has_api(instance.cluster) and instance.uid:
+            problem = sync.delete_realtime_object(instance)
+            if problem:
+                raise ValidationError({"non_field_errors": [f"not deleted from Kubernetes: {problem}"]})
+        instance.delete()
+
+    @extend_schema(responses={(200, "application/yaml"): str})
+    @action(detail=True, methods=["get"])
+    def yaml(self, request, pk=None):
+        """The object as Listing 3.33 writes it."""
+        return HttpResponse(self.get_object().to_yaml(), content_type="application/yaml")
+
+    @extend_schema(
+        parameters=[OpenApiParameter("cluster", int, required=True)], responses={(200, "application/yaml"): str}
+    )
+    @action(detail=False, methods=["get"])
+    def export(self, request):
+        """Every RealTime object of a cluster as one YAML stream."""
+        cluster = _visible_cluster(request, request.query_params.get("cluster"))
+        rows = self.get_queryset().filter(cluster=cluster)
+        text = realtime_to_yaml([r.to_engine() for r in rows]) if rows else ""
+        return HttpResponse(text, content_type="application/yaml")
+
+    @extend_schema(request=RealTimeImportSerializer, responses={201: RealTimeSerializer(many=True)})
+    @action(detail=False, methods=["post"], url_path="import")
+    def import_yaml(self, request):
+        """Create (or replace) RealTime objects from YAML; all or nothing."""
+        s = RealTimeImportSerializer(data=request.data, context=self.get_serializer_context())
+        s.is_valid(raise_exception=True)
+        cluster = s.validated_data["cluster"]
+        rows = import_realtimes(cluster, s.validated_data["yaml"], s.validated_data.get("namespace"))
+        if has_api(cluster):
+            for row in rows:
+                sync.push_realtime(row)
+        return Response(
+            RealTimeSerializer(rows, many=True, context=self.get_serializer_context()).data,
+            status=status.HTTP_201_CREATED,
+        )
+
+    @extend_schema(request=ClusterRefSerializer, responses={202: JobSerializer})
+    @action(detail=False, methods=["post"])
+    def sync(self, request):
+        """Start a job: install the CRDs, mirror node RT attributes, RealTime objects and Monitoring counters."""
+        s = ClusterRefSerializer(data=request.data, context=self.get_serializer_context())
+        s.is_valid(raise_exception=True)
+        cluster = s.validated_data["cluster"]
+        if not has_api(cluster):
+            raise ValidationError({"cluster": [f"cluster {cluster.name!r} has no kubeconfig: nothing to sync with"]})
+        args = {"cluster": cluster.pk}
+        if s.validated_data.get("namespace"):
+            args["namespace"] = s.validated_data["namespace"]
+        job = start_job("rt_sync", cluster.fleet, args, request.user)
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+
+def import_realtimes(cluster: Cluster, text: str, namespace: str | None = None) -> list[RealTime]:
+    """Rows from a YAML stream of RealTime objects (validated by the engine); InputError names the culprit."""
+    nodes = {n.name: n for n in cluster.nodes.all()}
+    containers = realtime_from_yaml(text, nodes)
+    # The engine validated the stream; read the namespaces it does not model.
+    docs = [d for d in yaml.safe_load_all(text) if isinstance(d, dict) and d.get("kind") == REALTIME_KIND]
+    rows = []
+    with transaction.atomic():
+        for c, doc in zip(containers, docs, strict=True):
+            ns = (doc.get("metadata") or {}).get("namespace") or namespace or cluster.namespace
+            row = RealTime.objects.filter(cluster=cluster, namespace=ns, name=c.name).first() or RealTime(
+                cluster=cluster, namespace=ns, name=c.name
+            )
+            row.criticality, row.period, row.deadline = c.criticality, c.period, c.deadline
+            row.stateless, row.cpu, row.memory_mib = c.stateless, c.cpu, c.memory_mib
+            row.dirty = True
+            try:
+                row.full_clean(exclude=["cluster", "uid", "resource_version", "sync_error"], validate_unique=False)
+            except DjangoValidationError as exc:
+                raise ValidationError({k: [f"{c.name}: {m}" for m in v] for k, v in exc.message_dict.items()}) from exc
+            row.save()
+            row.wcets.all().delete()
+            RealTimeWcet.objects.bulk_create(
+                RealTimeWcet(realtime=row, node=nodes[n], wcet=w, position=i) for i, (n, w) in enumerate(c.wcet.items())
+            )
+            rows.append(row)
+    return rows
+
+
+class RTPolicyViewSet(ClusterScoped, mixins.CreateModelMixin, mixins.UpdateModelMixin, viewsets.ReadOnlyModelViewSet):
+    """Per cluster: thresholds and victim policy of the monitor, Eq. 3.18's parameters of the scheduler."""
+
+    queryset = RTPolicy.objects.select_related("cluster")
+    serializer_class = RTPolicySerializer
+    filterset_fields = ["cluster"]
+
+
+class MonitoringViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
+    """The latest counters of each monitored container (Listing 3.37)."""
+
+    queryset = Monitoring.objects.select_related("node")
+    serializer_class = MonitoringSerializer
+    filterset_fields = ["cluster", "node__name", "container_name"]
+
+
+class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.ReadOnlyModelViewSet):
+    """Missed-deadline reports. POST a batch: ``{"cluster": id, "reports": [Monitoring objects or specs]}``.
+
+    Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node taint,
+    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch (400).
+    """
+
+    queryset = MonitoringReport.objects.all()
+    serializer_class = MonitoringReportSerializer
+    filterset_fields = ["cluster", "node", "container_name", "violation", "source"]
+    ordering_fields = ["received_at"]
+
+    @extend_schema(request=ReportBatchSerializer, responses={201: dict})
+    def create(self, request, *args, **kwargs):
+        payload = request.data
+        cluster = self._cluster(request, payload)
+        try:
+            policy = cluster.rt_policy
+        except RTPolicy.DoesNotExist:
+            policy = RTPolicy.for_cluster(cluster)
+        try:
+            reports = monitoring.parse_batch(payload)
+            result = monitoring.ingest(cluster, reports, policy=policy)
+        except InputError as exc:
+            raise ValidationError({exc.field or "reports": [str(exc)]}) from exc
+        return Response({"cluster": cluster.pk, **result}, status=status.HTTP_201_CREATED)
+
+    @staticmethod
+    def _cluster(request, payload) -> Cluster:
+        pk = payload.get("cluster") if isinstance(payload, dict) else None
+        if pk is not None:
+            if isinstance(pk, bool) or not isinstance(pk, int | str):
+                raise ValidationError({"cluster": ["the id of one of your clusters"]})
+            return _visible_cluster(request, pk)
+        clusters = list(Cluster.objects.select_related("rt_policy").filter(fleet__in=visible_fleets(request))[:2])
+        if len(clusters) != 1:
+            raise ValidationError({"cluster": ["name the cluster (id): you have several or none"]})
+        return clusters[0]
+
+
+class RTEventViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
+    """What the reconcile phase did: evictions (with Eq. 3.19's timestamps) and alerts."""
+
+    queryset = RTEvent.objects.all()
+    serializer_class = RTEventSerializer
+    filterset_fields = ["cluster", "kind", "node", "container"]
+    ordering_fields = ["received_at", "response_ms"]
+
+
+class NodeTaintViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
+    queryset = NodeTaint.objects.select_related("node")
+    serializer_class = NodeTaintSerializer
+    filterset_fields = ["cluster", "node", "key"]
+
+
+class RTPodViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
+    """The pods the RT scheduler sees, with their node and reserved utilization."""
+
+    queryset = RTPod.objects.all()
+    serializer_class = RTPodSerializer
+    filterset_fields = ["cluster", "namespace", "node", "criticality"]
+
+
+class RTDecisionViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
+    """The scheduler process's decisions, each with every node's filter or score."""
+
+    queryset = RTDecision.objects.all()
+    serializer_class = RTDecisionSerializer
+    filterset_fields = ["cluster", "outcome", "namespace", "pod", "node"]
+
+
+class RTPlanViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
+    """Placement runs: what-if jobs and scheduler cycles (the engine's PlacementPlan)."""
+
+    queryset = RTPlan.objects.all()
+    serializer_class = RTPlanSerializer
+    filterset_fields = ["cluster", "kind"]
+
+    @extend_schema(request=WhatIfSerializer, responses={202: JobSerializer})
+    @action(detail=False, methods=["post"])
+    def whatif(self, request):
+        """Start a what-if job: RT-Kube's sort/filter/score over RealTime objects and/or an rtset document."""
+        s = WhatIfSerializer(data=request.data, context=self.get_serializer_context())
+        s.is_valid(raise_exception=True)
+        data = s.validated_data
+        cluster = data["cluster"]
+        # Bad parameters or containers are the caller's error (400), not a failed job.
+        planning.params_for(cluster, data.get("params"))
+        if data.get("containers") is not None:
+            rtset_from_dict(data["containers"], list(cluster.nodes.values_list("name", flat=True)))
+        args = {"cluster": cluster.pk, "with_bound": data["with_bound"]}
+        for key in ("realtimes", "containers", "params"):
+            if key in data:
+                args[key] = data[key]
+        job = start_job("rt_whatif", cluster.fleet, args, request.user)
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+
+def register_routes(router) -> None:
+    router.register("realtimes", RealTimeViewSet)
+    router.register("rt-policies", RTPolicyViewSet)
+    router.register("rt-monitorings", MonitoringViewSet)
+    router.register("rt-reports", MonitoringReportViewSet)
+    router.register("rt-events", RTEventViewSet)
+    router.register("rt-taints", NodeTaintViewSet)
+    router.register("rt-pods", RTPodViewSet)
+    router.register("rt-decisions", RTDecisionViewSet)
+    router.register("rt-plans", RTPlanViewSet)

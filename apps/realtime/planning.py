@@ -1,0 +1,125 @@
+"""What-if placement (thesis 3.4, Algorithms 3-4): the engine's RT-Kube pass over containers on a stored cluster.
+
+The cluster's nodes come from its node rows (RT attributes, taints, and the monitor's active timed taints);
+with ``with_bound`` the pass starts from the reservations of the pods the RT scheduler has bound (the
+ledger), as the real scheduler would. The result is the engine's ``PlacementPlan``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+from django.utils import timezone
+
+from apps.clusters.models import Cluster, ComputeNode
+from continuum.engine import rt_kube
+from continuum.engine.errors import InputError
+from continuum.engine.placement import PlacementPlan
+from continuum.engine.rt_model import RT_TAINT, RTContainer, RTNode, Taint, rtset_from_dict
+
+from .models import NodeTaint, RealTime, RTPod, RTPolicy
+
+NOT_READY = Taint("node.kubernetes.io/not-ready", "", "NoSchedule")
+PARAM_KEYS = ("k", "b_score_argument", "sort_tiebreak")
+
+
+def db_rt_nodes(cluster: Cluster) -> list[RTNode]:
+    """The engine's nodes of a stored cluster; the monitor's taints carry their expiry (``until``)."""
+    now = timezone.now()
+    timed: dict[int, list[NodeTaint]] = {}
+    for t in NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True):
+        timed.setdefault(t.node_id, []).append(t)
+    out = []
+    for n in cluster.nodes.order_by("name"):
+        mine = timed.get(n.pk, [])
+        # The monitor's taints count with their expiry (one past its time is as good as lifted).
+        taints = [
+            Taint.parse(t, f"node {n.name!r}")
+            for t in n.taints
+            if not any(t.get("key") == m.key and t.get("effect") == m.effect for m in mine)
+        ]
+        taints += [Taint(m.key, m.value, m.effect, until=m.expires_at.timestamp()) for m in mine if m.expires_at > now]
+        if n.rt and not any(t.key == RT_TAINT.key for t in taints):
+            taints.append(RT_TAINT)
+        if n.status != ComputeNode.Status.READY:
+            taints.append(NOT_READY)
+        threshold = n.rt_threshold if n.rt_threshold is not None else n.cpu * 0.95
+        out.append(
+            RTNode(
+                n.name,
+                n.rt,
+                n.criticality or None,
+                n.cpu or 1.0,
+                float(n.memory_mib),
+                threshold,
+                tuple(taints),
+                dict(n.labels),
+            )
+        )
+    return out
+
+
+def bound_ledger(cluster: Cluster, nodes: Iterable[RTNode], replaced: Iterable[str] = ()) -> rt_kube.Ledger:
+    """The reservations of the pods bound now (the RT scheduler's ledger rows), except the pods of the RealTime
+    objects named in ``replaced`` (the what-if places those again)."""
+    names = [n.name for n in nodes]
+    skip = set(replaced)
+    bindings = {}
+    pods = RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True).exclude(node="").select_related("realtime")
+    for p in pods:
+        if p.node in names and not (p.realtime_id and p.realtime.name in skip):
+            bindings[p.key] = rt_kube.Binding(p.key, p.node, p.utilization or 0.0, p.cpu, p.memory_mib, p.criticality)
+    return rt_kube.Ledger(names, bindings)
+
+
+def params_for(cluster: Cluster, overrides: Mapping[str, Any] | None) -> rt_kube.RTKubeParams:
+    policy = RTPolicy.for_cluster(cluster)
+    kwargs = {"k": policy.k, "b_score_argument": policy.b_score_argument, "sort_tiebreak": policy.sort_tiebreak}
+    for key, value in (overrides or {}).items():
+        if key not in PARAM_KEYS:
+            raise InputError(f"unknown parameter {key!r} (known: {', '.join(PARAM_KEYS)})", "params")
+        kwargs[key] = value
+    return rt_kube.RTKubeParams(**kwargs)
+
+
+def containers_for(
+    cluster: Cluster, realtime_ids: list[int] | None, rtset: Mapping | None, node_names: list[str]
+) -> list[RTContainer]:
+    containers: list[RTContainer] = []
+    if rtset is not None:
+        containers += rtset_from_dict(rtset, node_names)
+    rows = RealTime.objects.filter(cluster=cluster).prefetch_related("wcets__node")
+    if realtime_ids is not None:
+        rows = rows.filter(pk__in=realtime_ids)
+        missing = sorted(set(realtime_ids) - set(rows.values_list("pk", flat=True)))
+        if missing:
+            raise InputError(f"RealTime {missing[0]} is not in cluster {cluster.name!r}", "realtimes")
+    elif rtset is not None:
+        rows = rows.none()
+    containers += [row.to_engine(node_names) for row in rows]
+    seen: set[str] = set()
+    for c in containers:
+        if c.name in seen:
+            raise InputError(f"container {c.name!r} appears twice", "containers")
+        seen.add(c.name)
+    if not containers:
+        raise InputError(f"cluster {cluster.name!r} has no RealTime objects and no containers were given", "containers")
+    return containers
+
+
+def whatif(
+    cluster: Cluster,
+    realtime_ids: list[int] | None = None,
+    rtset: Mapping | None = None,
+    params: Mapping[str, Any] | None = None,
+    with_bound: bool = True,
+) -> PlacementPlan:
+    nodes = db_rt_nodes(cluster)
+    if not nodes:
+        raise InputError(f"cluster {cluster.name!r} has no nodes", "cluster")
+    names = [n.name for n in nodes]
+    containers = containers_for(cluster, realtime_ids, rtset, names)
+    ledger = bound_ledger(cluster, nodes, [c.name for c in containers]) if with_bound else None
+    return rt_kube.schedule(containers, nodes, params_for(cluster, params), ledger, now=time.time())

@@ -1,0 +1,611 @@
+"""The secondary RT scheduler as a long-running process (thesis 3.4, Fig. 3.34; spec 03 4.4, 16.3).
+
+``python manage.py rt_scheduler --cluster ID`` runs :meth:`RTScheduler.run`: a level-triggered loop that
+wakes on watch events (pods with ``schedulerName: RT-scheduler``, RealTime and Monitoring objects) or
+every ``period`` seconds, and in each cycle
+
+1. lifts the monitor's node taints whose time is up;
+2. mirrors RealTime objects, node RT attributes and Monitoring counters (every ``sync_period``, or at once
+   after a watch event on RealTime objects);
+3. reads nodes and pods, and records the pods in the ledger (:class:`~apps.realtime.models.RTPod`);
+4. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
+   with the bound pods' reservations in the ledger, and binds each placed pod (Binding API);
+5. explains every pod left pending on the pod itself (``PodScheduled`` condition and a
+   ``FailedScheduling`` Event, only when the reason changes) and stores each decision with the verdict of
+   every node (:class:`~apps.realtime.models.RTDecision`).
+
+A pending pod is retried every cycle, i.e. as soon as capacity frees up (a pod deleted, a taint lifted, a
+node added). A failing cycle (API unreachable, database hiccup) is logged and retried with an exponential
+back-off: the process never crash-loops. Monitoring objects updated in the API are ingested by the watch
+thread as soon as the API reports them (the same code path as the REST endpoint).
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from typing import Any
+
+from django.db import close_old_connections, connection, transaction
+from django.utils import timezone
+from kubernetes import client, watch
+
+from apps.clusters.models import Cluster, ComputeNode
+from apps.kube.gateway import api_client_for, node_fields
+from continuum.engine import rt_kube
+from continuum.engine.errors import InputError
+from continuum.engine.placement import Decision
+from continuum.engine.rt_model import (
+    NONE,
+    RT_LABEL,
+    RT_SCHEDULER_NAME,
+    RTContainer,
+    RTNode,
+    Taint,
+    Toleration,
+)
+
+from . import monitoring, sync
+from .kube import (
+    KUBE_ERRORS,
+    MONITORING_GROUP,
+    MONITORING_PLURAL,
+    MONITORING_VERSION,
+    REALTIME_GROUP,
+    REALTIME_PLURAL,
+    REALTIME_VERSION,
+    Kube,
+    kube_for,
+    parse_time,
+    problem,
+    requests_of,
+)
+from .models import MonitoringReport, RealTime, RTDecision, RTPlan, RTPod, RTPolicy
+
+log = logging.getLogger("continuum.rt_scheduler")
+STATELESS_LABEL = "rt.monitoring/stateless"
+NOT_READY_TAINT = Taint("node.kubernetes.io/not-ready", "", "NoSchedule")
+MAX_BACKOFF = 30.0
+
+
+def pod_key(pod: dict) -> str:
+    return f"{pod['metadata']['namespace']}/{pod['metadata']['name']}"
+
+
+def is_terminated(pod: dict) -> bool:
+    return (pod.get("status") or {}).get("phase") in ("Succeeded", "Failed") or bool(
+        pod["metadata"].get("deletionTimestamp")
+    )
+
+
+def rt_nodes(cluster: Cluster, api_nodes: list[dict]) -> list[RTNode]:
+    """The engine's nodes: capacity and taints from the API, RT attributes from Continuum's node rows."""
+    rows = {n.name: n for n in cluster.nodes.all()}
+    out = []
+    for obj in api_nodes:
+        name = obj["metadata"]["name"]
+        f = node_fields(client_node(obj))
+        alloc = (obj.get("status") or {}).get("allocatable") or (obj.get("status") or {}).get("capacity") or {}
+        cpu, mem = requests_of({"spec": {"containers": [{"resources": {"requests": alloc}}]}})
+        taints = [Taint(t["key"], t.get("value") or "", t["effect"]) for t in f["taints"]]
+        if f["status"] != ComputeNode.Status.READY:
+            taints.append(NOT_READY_TAINT)
+        row = rows.get(name)
+        rt = bool(row and row.rt)
+        cpu = cpu or (row.cpu if row else 1.0) or 1.0
+        threshold = row.rt_threshold if row and row.rt_threshold is not None else cpu * 0.95
+        out.append(
+            RTNode(
+                name,
+                rt,
+                (row.criticality or None) if row else None,
+                cpu,
+                mem or float("inf"),
+                threshold,
+                tuple(taints),
+                f["labels"],
+            )
+        )
+    return out
+
+
+class client_node:
+    """Attribute access over a node's JSON, as the gateway's helpers expect from the client's models."""
+
+    def __init__(self, obj: dict) -> None:
+        meta, spec, status = obj.get("metadata") or {}, obj.get("spec") or {}, obj.get("status") or {}
+        self.metadata = _Obj(labels=meta.get("labels") or {}, name=meta.get("name"))
+        taints = [
+            _Obj(key=t.get("key"), value=t.get("value"), effect=t.get("effect")) for t in spec.get("taints") or []
+        ]
+        self.spec = _Obj(taints=taints, unschedulable=spec.get("unschedulable"))
+        info = status.get("nodeInfo") or {}
+        self.status = _Obj(
+            capacity=status.get("capacity") or {},
+            conditions=[_Obj(type=c.get("type"), status=c.get("status")) for c in status.get("conditions") or []],
+            node_info=_Obj(architecture=info.get("architecture")) if info else None,
+        )
+
+
+class _Obj:
+    def __init__(self, **kw: Any) -> None:
+        self.__dict__.update(kw)
+
+
+def tolerations_of(pod: dict) -> tuple[Toleration, ...]:
+    out = []
+    for t in (pod.get("spec") or {}).get("tolerations") or []:
+        try:
+            out.append(Toleration.parse(t, pod_key(pod)))
+        except InputError:
+            continue  # a toleration the API accepted but we do not model (e.g. tolerationSeconds only)
+    return tuple(out)
+
+
+@dataclass
+class PodView:
+    """What the scheduler knows of one pod: its JSON, its RealTime (if any) and the engine container."""
+
+    pod: dict
+    realtime: RealTime | None
+    container: RTContainer | None
+    problem: str = ""
+
+    @property
+    def key(self) -> str:
+        return pod_key(self.pod)
+
+
+def view_pod(pod: dict, realtimes: dict[tuple[str, str], RealTime], known_nodes: list[str]) -> PodView:
+    meta = pod["metadata"]
+    labels = meta.get("labels") or {}
+    cpu, mem = requests_of(pod)
+    created = parse_time(meta.get("creationTimestamp"))
+    arrival = created.timestamp() if created else 0.0
+    stateless_label = labels.get(STATELESS_LABEL) == "true"
+    rt_name = labels.get(RT_LABEL)
+    tolerations = tolerations_of(pod)
+    if not rt_name:
+        c = RTContainer(pod_key(pod), NONE, stateless=stateless_label, cpu=cpu, memory_mib=mem,
+                        tolerations=tolerations, arrival=arrival)  # fmt: skip
+        return PodView(pod, None, c)
+    row = realtimes.get((meta["namespace"], rt_name))
+    if row is None:
+        return PodView(pod, None, None, f"RealTime {rt_name!r} not found in namespace {meta['namespace']!r}")
+    try:
+        base = row.to_engine(known_nodes)
+    except InputError as exc:
+        return PodView(pod, row, None, f"RealTime {rt_name!r} is invalid: {exc}")
+    c = RTContainer(
+        pod_key(pod),
+        base.criticality,
+        base.period,
+        base.deadline,
+        base.wcet,
+        base.stateless or stateless_label,
+        cpu or base.cpu,
+        mem or base.memory_mib,
+        tolerations,
+        arrival,
+    )
+    return PodView(pod, row, c)
+
+
+def pending_message(decision: Decision, total: int) -> str:
+    reasons = decision.reasons()
+    parts = [f"{node}: {why}" for node, why in sorted(reasons.items())]
+    return f"0/{total} nodes are available to {RT_SCHEDULER_NAME}: " + "; ".join(parts)
+
+
+@dataclass
+class CycleResult:
+    bound: list[tuple[str, str]] = field(default_factory=list)
+    pending: dict[str, str] = field(default_factory=dict)
+    failed: dict[str, str] = field(default_factory=dict)
+    lifted: int = 0
+    synced: dict[str, Any] | None = None
+
+
+class RTScheduler:
+    """One cluster's RT scheduler (see the module docstring). ``namespace``: None = the cluster's, ``"*"`` = all."""
+
+    def __init__(
+        self,
+        cluster_id: int,
+        namespace: str | None = None,
+        period: float = 1.0,
+        sync_period: float = 5.0,
+        watch: bool = True,
+        on_cycle: Callable[[CycleResult], None] | None = None,
+    ) -> None:
+        self.cluster_id = cluster_id
+        self.namespace = namespace
+        self.period = period
+        self.sync_period = sync_period
+        self.use_watch = watch
+        self.on_cycle = on_cycle
+        self.wake = threading.Event()
+        self.sync_due = threading.Event()
+        self.sync_due.set()
+        self.stopping = threading.Event()
+        self.last_sync = 0.0
+        self.cycles = 0
+        self.errors = 0
+        self.last_error = ""
+        self.explained: dict[str, str] = {}  # pod uid -> last message told to the pod
+        self.threads: list[threading.Thread] = []
+        self._watches: set[watch.Watch] = set()
+        self._watch_lock = threading.Lock()
+        self.ingested = 0
+
+    # ---- the loop --------------------------------------------------------------------------------------------
+    def run(self, stop: threading.Event | None = None, max_cycles: int | None = None) -> int:
+        """Cycle until ``stop`` is set (or ``max_cycles`` ran); never raises for a failing cycle."""
+        stop = stop or self.stopping
+        failures = 0
+        if self.use_watch:
+            self._start_watches(stop)
+        try:
+            while not stop.is_set():
+                wait = self.period
+                try:
+                    result = self.cycle()
+                    failures = 0
+                    if self.on_cycle:
+                        self.on_cycle(result)
+                    cluster = Cluster.objects.get(pk=self.cluster_id)
+                    expiry = monitoring.next_taint_expiry(cluster)
+                    if expiry is not None:
+                        wait = min(wait, expiry + 0.01)
+                except Exception as exc:  # a failing cycle must never end the process
+                    failures += 1
+                    self.errors += 1
+                    self.last_error = problem(exc)
+                    wait = min(MAX_BACKOFF, self.period * 2**failures)
+                    log.warning("RT scheduler cycle failed (%s); retrying in %.1f s", self.last_error, wait)
+                    close_old_connections()
+                self.cycles += 1
+                if max_cycles is not None and self.cycles >= max_cycles:
+                    break
+                self.wake.wait(wait)
+                self.wake.clear()
+        finally:
+            stop.set()
+            self.stopping.set()
+            self._close_watches()
+            deadline = time.monotonic() + 10
+            for t in self.threads:
+                t.join(timeout=max(0.0, deadline - time.monotonic()))
+            connection.close()
+        return self.cycles
+
+    def _close_watches(self) -> None:
+        """Interrupt the watch connections (a blocked read would otherwise wait for the server's timeout)."""
+        with self._watch_lock:
+            watches = list(self._watches)
+        for w in watches:
+            w.stop()
+            resp = getattr(w, "_resp", None)
+            if resp is not None:
+                try:
+                    resp.shutdown() if hasattr(resp, "shutdown") else resp.close()
+                except Exception as exc:  # best effort while stopping
+                    log.debug("closing a watch: %s", exc)
+
+    def cycle(self) -> CycleResult:
+        cluster = Cluster.objects.get(pk=self.cluster_id)
+        kube = kube_for(cluster)
+        policy = RTPolicy.for_cluster(cluster)
+        result = CycleResult()
+        result.lifted = monitoring.lift_expired_taints(cluster)
+        if self.sync_due.is_set() or time.monotonic() - self.last_sync >= self.sync_period:
+            self.sync_due.clear()
+            result.synced = {
+                "nodes": sync.sync_node_rt(cluster, kube),
+                "realtimes": sync.sync_realtimes(cluster, kube, self.namespace),
+                "monitorings": sync.push_monitorings(cluster, kube),
+            }
+            self.last_sync = time.monotonic()
+        ns = sync.namespaces_of(cluster, self.namespace)
+        api_nodes = kube.list_nodes()
+        pods = [p for p in kube.list_pods(ns) if not is_terminated(p)]
+        nodes = rt_nodes(cluster, api_nodes)
+        names = [n.name for n in nodes]
+        rows = cluster.realtimes.prefetch_related("wcets__node")
+        if ns is not None:
+            rows = rows.filter(namespace=ns)
+        realtimes = {(r.namespace, r.name): r for r in rows}
+        views = [view_pod(p, realtimes, names) for p in pods]
+        self._record_pods(cluster, views)
+        pending = [
+            v
+            for v in views
+            if not (v.pod.get("spec") or {}).get("nodeName")
+            and (v.pod.get("spec") or {}).get("schedulerName") == RT_SCHEDULER_NAME
+        ]
+        if not pending:
+            return result
+        ledger = rt_kube.Ledger.for_nodes(nodes)
+        for v in views:
+            node = (v.pod.get("spec") or {}).get("nodeName")
+            if node and node in names and v.container is not None:
+                ledger.reserve(v.container, node)
+        schedulable = [v for v in pending if v.container is not None]
+        plan = rt_kube.schedule(
+            [v.container for v in schedulable], nodes, policy.scheduler_params(), ledger, now=time.time()
+        )
+        by_key = {v.key: v for v in pending}
+        outcomes = []
+        for d in plan.decisions:
+            v = by_key[d.item]
+            if d.node is None:
+                message = pending_message(d, len(nodes))
+                outcomes.append((v, d, RTDecision.Outcome.PENDING, message))
+                result.pending[v.key] = message
+                continue
+            meta = v.pod["metadata"]
+            ok, message = kube.bind(meta["namespace"], meta["name"], d.node, meta.get("uid"))
+            if ok:
+                result.bound.append((v.key, d.node))
+                outcomes.append((v, d, RTDecision.Outcome.BOUND, message))
+                RTPod.objects.filter(cluster=cluster, namespace=meta["namespace"], name=meta["name"]).update(
+                    node=d.node, bound_at=timezone.now(), utilization=v.container.utilization(d.node)
+                )
+            else:
+                ledger.release(d.item)
+                result.failed[v.key] = message
+                outcomes.append((v, d, RTDecision.Outcome.FAILED, message))
+        for v in pending:
+            if v.container is None:
+                d = Decision(v.key, None)
+                result.pending[v.key] = v.problem
+                outcomes.append((v, d, RTDecision.Outcome.PENDING, v.problem))
+        self._store(cluster, plan, outcomes)
+        self._explain(kube, outcomes)
+        return result
+
+    # ---- bookkeeping ---------------------------------------------------------------------------------------
+    def _record_pods(self, cluster: Cluster, views: list[PodView]) -> None:
+        """Upsert the ledger rows of the pods seen; pods gone from the API are marked deleted."""
+        now = timezone.now()
+        rows = []
+        for v in views:
+            meta, spec = v.pod["metadata"], v.pod.get("spec") or {}
+            node = spec.get("nodeName") or ""
+            c = v.container
+            containers = spec.get("containers") or [{}]
+            rows.append(
+                RTPod(
+                    cluster=cluster,
+                    namespace=meta["namespace"],
+                    name=meta["name"],
+                    uid=meta.get("uid", ""),
+                    node=node,
+                    container_name=containers[0].get("name", ""),
+                    scheduler_name=spec.get("schedulerName", ""),
+                    realtime=v.realtime,
+                    criticality=c.criticality if c else (v.realtime.criticality if v.realtime else NONE),
+                    stateless=c.stateless if c else False,
+                    cpu=c.cpu if c else 0.0,
+                    memory_mib=c.memory_mib if c else 0.0,
+                    utilization=(c.utilization(node) if c and node else None),
+                    owned=any(o.get("controller") for o in meta.get("ownerReferences") or []),
+                    phase=(v.pod.get("status") or {}).get("phase", ""),
+                    bound_at=_bound_at(v.pod) if node else None,
+                    deleted_at=None,
+                )
+            )
+        seen = {(r.namespace, r.name) for r in rows}
+        with transaction.atomic():
+            RTPod.objects.bulk_create(
+                sorted(rows, key=lambda r: (r.namespace, r.name)),
+                update_conflicts=True,
+                unique_fields=["cluster", "namespace", "name"],
+                update_fields=[
+                    "uid",
+                    "node",
+                    "container_name",
+                    "scheduler_name",
+                    "realtime",
+                    "criticality",
+                    "stateless",
+                    "cpu",
+                    "memory_mib",
+                    "utilization",
+                    "owned",
+                    "phase",
+                    "bound_at",
+                    "deleted_at",
+                    "seen",
+                ],
+            )
+            live = RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True)
+            ns = sync.namespaces_of(cluster, self.namespace)
+            if ns is not None:
+                live = live.filter(namespace=ns)
+            gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
+            if gone:
+                RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
+
+    def _store(self, cluster: Cluster, plan, outcomes: list) -> None:
+        """Store the plan and the decisions whose outcome or reason changed since the pod's last one."""
+        fresh = []
+        for v, d, outcome, message in outcomes:
+            uid = v.pod["metadata"].get("uid", "")
+            if outcome == RTDecision.Outcome.PENDING and self.explained.get(uid) == message:
+                continue
+            fresh.append((v, d, outcome, message))
+        if not fresh:
+            return
+        with transaction.atomic():
+            row = RTPlan.objects.create(
+                cluster=cluster,
+                kind=RTPlan.Kind.SCHEDULER,
+                plan={**plan.to_dict(), "explain": rt_kube.explain(plan)},
+                placed=sum(1 for _, _, o, _ in fresh if o == RTDecision.Outcome.BOUND),
+                pending=sum(1 for _, _, o, _ in fresh if o != RTDecision.Outcome.BOUND),
+            )
+            RTDecision.objects.bulk_create(
+                RTDecision(
+                    cluster=cluster,
+                    plan=row,
+                    namespace=v.pod["metadata"]["namespace"],
+                    pod=v.pod["metadata"]["name"],
+                    pod_uid=v.pod["metadata"].get("uid", ""),
+                    realtime=v.realtime,
+                    criticality=v.container.criticality if v.container else NONE,
+                    outcome=outcome,
+                    node=d.node or "",
+                    score=d.score,
+                    message=message[:1000],
+                    decision=d.to_dict(),
+                )
+                for v, d, outcome, message in fresh
+            )
+
+    def _explain(self, kube: Kube, outcomes: list) -> None:
+        for v, _d, outcome, message in outcomes:
+            if outcome == RTDecision.Outcome.BOUND:
+                uid = v.pod["metadata"].get("uid", "")
+                self.explained.pop(uid, None)
+                try:
+                    kube.event(v.pod, "Scheduled", f"Successfully assigned {v.key} to {_d.node}")
+                except KUBE_ERRORS as exc:
+                    log.info("no Scheduled event for %s: %s", v.key, exc)
+                continue
+            uid = v.pod["metadata"].get("uid", "")
+            if self.explained.get(uid) == message:
+                continue
+            try:
+                kube.explain_pending(v.pod, message)
+                self.explained[uid] = message
+            except KUBE_ERRORS as exc:
+                log.info("cannot explain %s: %s", v.key, exc)
+
+    # ---- watches ----------------------------------------------------------------------------------------------
+    def _start_watches(self, stop: threading.Event) -> None:
+        for target in (self._watch_pods, self._watch_realtimes, self._watch_monitorings):
+            t = threading.Thread(target=self._watch_loop, args=(target, stop), daemon=True, name=target.__name__)
+            t.start()
+            self.threads.append(t)
+
+    def _watch_loop(self, target, stop: threading.Event) -> None:
+        failures = 0
+        while not stop.is_set():
+            try:
+                cluster = Cluster.objects.get(pk=self.cluster_id)
+                with api_client_for(cluster) as api_client:
+                    target(cluster, api_client, stop)
+                failures = 0
+            except Exception as exc:  # watches come back after any failure
+                if stop.is_set():
+                    break
+                failures += 1
+                log.debug("watch %s ended: %s", target.__name__, exc)
+                stop.wait(min(MAX_BACKOFF, 0.5 * 2**failures))
+        connection.close()
+
+    def _stream(self, func, stop: threading.Event, *args, **kwargs):
+        w = watch.Watch()
+        with self._watch_lock:
+            self._watches.add(w)
+        try:
+            for event in w.stream(func, *args, deserialize=False, timeout_seconds=20, _request_timeout=(5, 30),
+                                  **kwargs):  # fmt: skip
+                if stop.is_set():
+                    w.stop()
+                    return
+                yield event
+        finally:
+            with self._watch_lock:
+                self._watches.discard(w)
+
+    def _watch_pods(self, cluster: Cluster, api_client, stop: threading.Event) -> None:
+        core = client.CoreV1Api(api_client)
+        ns = sync.namespaces_of(cluster, self.namespace)
+        selector = f"spec.schedulerName={RT_SCHEDULER_NAME}"
+        if ns is None:
+            func, args = core.list_pod_for_all_namespaces, ()
+        else:
+            func, args = core.list_namespaced_pod, (ns,)
+        for _ in self._stream(func, stop, *args, field_selector=selector):
+            self.wake.set()
+
+    def _custom(self, cluster: Cluster, api_client, group: str, version: str, plural: str, stop):
+        api = client.CustomObjectsApi(api_client)
+        ns = sync.namespaces_of(cluster, self.namespace)
+        if ns is None:
+            return self._stream(api.list_cluster_custom_object, stop, group, version, plural)
+        return self._stream(api.list_namespaced_custom_object, stop, group, version, ns, plural)
+
+    def _watch_realtimes(self, cluster: Cluster, api_client, stop: threading.Event) -> None:
+        for event in self._custom(cluster, api_client, REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL, stop):
+            obj = event.get("object") or {}
+            rv = (obj.get("metadata") or {}).get("resourceVersion")
+            meta = obj.get("metadata") or {}
+            known = RealTime.objects.filter(
+                cluster_id=self.cluster_id, namespace=meta.get("namespace"), name=meta.get("name"), resource_version=rv
+            ).exists()
+            if event.get("type") == "DELETED" or not known:
+                self.sync_due.set()
+                self.wake.set()
+
+    def _watch_monitorings(self, cluster: Cluster, api_client, stop: threading.Event) -> None:
+        for event in self._custom(cluster, api_client, MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL, stop):
+            if event.get("type") not in ("ADDED", "MODIFIED"):
+                continue
+            try:
+                self.ingest_object(cluster, event["object"])
+            except InputError as exc:
+                meta = event["object"].get("metadata") or {}
+                log.info("Monitoring %s/%s rejected: %s", meta.get("namespace"), meta.get("name"), exc)
+                self._status(cluster, event["object"], {"error": str(exc)})
+
+    def ingest_object(self, cluster: Cluster, obj: dict) -> dict | None:
+        """A Monitoring object changed in the API: a report, unless it only shows the counters we stored."""
+        report = monitoring.parse_report(obj, 0)
+        rv = (obj.get("metadata") or {}).get("resourceVersion", "")
+        if sync.own_write(cluster, report.name, rv):
+            return None
+        row = cluster.monitorings.filter(name=report.name).select_related("node").first()
+        if row is not None and rv and row.resource_version == rv:
+            return None
+        if (
+            row is not None
+            and row.node.name == report.node
+            and row.container_name == report.container
+            and (row.missed_period, row.missed_total) == (report.missed_period, report.missed_total)
+        ):
+            return None
+        result = monitoring.ingest(cluster, [report], MonitoringReport.Source.KUBE)
+        self.ingested += 1
+        action = result["events"][0] if result["events"] else None
+        status = {
+            "lastReport": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%S.%fZ"),
+            "violation": bool(result["violations"]),
+            "action": (f"evicted {action['victim']}" if action and action["victim"] else action["kind"])
+            if action
+            else "none",
+        }
+        self._status(cluster, obj, status)
+        return result
+
+    def _status(self, cluster: Cluster, obj: dict, status: dict) -> None:
+        meta = obj.get("metadata") or {}
+        try:
+            kube_for(cluster).patch_status(
+                MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL, meta["namespace"], meta["name"], status
+            )
+        except (*KUBE_ERRORS, KeyError) as exc:
+            log.info("cannot write the status of Monitoring %s: %s", meta.get("name"), exc)
+
+
+def _bound_at(pod: dict) -> datetime | None:
+    for c in (pod.get("status") or {}).get("conditions") or []:
+        if c.get("type") == "PodScheduled" and c.get("status") == "True":
+            return parse_time(c.get("lastTransitionTime"))
+    return parse_time(pod["metadata"].get("creationTimestamp"))

@@ -1,0 +1,280 @@
+from django.db import transaction
+from drf_spectacular.types import OpenApiTypes
+from drf_spectacular.utils import extend_schema_field
+from rest_framework import serializers
+
+from apps.clusters.models import Cluster
+from apps.clusters.serializers import VisibleClusterField
+from continuum.engine.errors import InputError
+
+from .models import (
+    Monitoring,
+    MonitoringReport,
+    NodeTaint,
+    RealTime,
+    RealTimeWcet,
+    RTDecision,
+    RTEvent,
+    RTPlan,
+    RTPod,
+    RTPolicy,
+    engine_container,
+)
+
+#: Engine field names -> the API's.
+ENGINE_FIELDS = {"wcet": "wcets", "memory_mib": "memory_mib", "containers": "wcets"}
+
+
+def engine_error(exc: InputError, known: set[str]) -> serializers.ValidationError:
+    name = ENGINE_FIELDS.get(exc.field or "", exc.field or "")
+    return serializers.ValidationError({name if name in known else "non_field_errors": [str(exc)]})
+
+
+@extend_schema_field(OpenApiTypes.INT)
+class ClusterIdField(VisibleClusterField):
+    """The id of one of the caller's clusters (typed for the API docs)."""
+
+
+class WcetSerializer(serializers.Serializer):
+    node = serializers.CharField(max_length=253)
+    wcet = serializers.FloatField(help_text="ms")
+
+
+class RealTimeSerializer(serializers.ModelSerializer):
+    """A RealTime object (Listing 3.33). ``wcets`` keeps the order of ``spec.rtWcets``."""
+
+    cluster = VisibleClusterField()
+    namespace = serializers.CharField(max_length=63, required=False, help_text="default: the cluster's namespace")
+    wcets = WcetSerializer(many=True)
+    utilization = serializers.SerializerMethodField(help_text="WCET(node) / period per node")
+
+    class Meta:
+        model = RealTime
+        fields = [
+            "id",
+            "cluster",
+            "namespace",
+            "name",
+            "criticality",
+            "period",
+            "deadline",
+            "wcets",
+            "stateless",
+            "cpu",
+            "memory_mib",
+            "utilization",
+            "sync_state",
+            "sync_error",
+            "uid",
+            "resource_version",
+            "created",
+            "updated",
+        ]
+        read_only_fields = ["sync_state", "sync_error", "uid", "resource_version", "created", "updated"]
+        # The (cluster, namespace, name) uniqueness is checked in validate() with a message naming the object.
+        validators = []
+
+    def get_utilization(self, obj) -> dict[str, float]:
+        return {w.node.name: w.wcet / obj.period for w in obj.wcets.all()} if obj.period else {}
+
+    def to_representation(self, instance):
+        data = super().to_representation(instance)
+        data["wcets"] = [{"node": w.node.name, "wcet": w.wcet} for w in instance.wcets.all()]
+        return data
+
+    def validate(self, attrs):
+        inst = self.instance
+        cluster: Cluster = attrs.get("cluster") or inst.cluster
+        if inst is not None and cluster.pk != inst.cluster_id:
+            raise serializers.ValidationError({"cluster": ["a RealTime object cannot move to another cluster"]})
+
+        def value(key, default=None):
+            return attrs[key] if key in attrs else getattr(inst, key, default)
+
+        namespace = value("namespace") or cluster.namespace
+        attrs["namespace"] = namespace
+        name = value("name")
+        wcets = attrs.get("wcets")
+        pairs = [(w["node"], w["wcet"]) for w in wcets] if wcets is not None else inst.wcet_pairs()
+        nodes = {n.name: n for n in cluster.nodes.all()}
+        try:
+            engine_container(
+                name,
+                value("criticality"),
+                value("period"),
+                value("deadline"),
+                pairs,
+                stateless=value("stateless", False),
+                cpu=value("cpu", 0.0),
+                memory_mib=value("memory_mib", 0.0),
+                known_nodes=nodes,
+            )
+        except InputError as exc:
+            raise engine_error(exc, set(self.fields)) from exc
+        clash = RealTime.objects.filter(cluster=cluster, namespace=namespace, name=name)
+        if inst is not None:
+            clash = clash.exclude(pk=inst.pk)
+        if clash.exists():
+            raise serializers.ValidationError(
+                {"name": [f"cluster {cluster.name!r} already has RealTime {namespace}/{name}"]}
+            )
+        if wcets is not None:
+            attrs["wcets"] = [(nodes[node], w) for node, w in pairs]
+        return attrs
+
+    @transaction.atomic
+    def create(self, validated):
+        wcets = validated.pop("wcets")
+        row = RealTime.objects.create(**validated, dirty=True)
+        self._write_wcets(row, wcets)
+        return row
+
+    @transaction.atomic
+    def update(self, instance, validated):
+        wcets = validated.pop("wcets", None)
+        for key, value in validated.items():
+            setattr(instance, key, value)
+        instance.dirty = True
+        instance.save()
+        if wcets is not None:
+            instance.wcets.all().delete()
+            self._write_wcets(instance, wcets)
+        return instance
+
+    @staticmethod
+    def _write_wcets(row, wcets) -> None:
+        RealTimeWcet.objects.bulk_create(
+            RealTimeWcet(realtime=row, node=node, wcet=w, position=i) for i, (node, w) in enumerate(wcets)
+        )
+
+
+class RealTimeImportSerializer(serializers.Serializer):
+    cluster = ClusterIdField()
+    namespace = serializers.CharField(max_length=63, required=False, help_text="for objects that name none")
+    yaml = serializers.CharField(help_text="RealTime objects (Listing 3.33); other kinds are skipped")
+
+
+class ClusterRefSerializer(serializers.Serializer):
+    cluster = ClusterIdField()
+    namespace = serializers.CharField(max_length=63, required=False, help_text="'*' for every namespace")
+
+
+class WhatIfSerializer(serializers.Serializer):
+    cluster = ClusterIdField()
+    realtimes = serializers.ListField(
+        child=serializers.IntegerField(), required=False, help_text="RealTime ids (default: all of the cluster)"
+    )
+    containers = serializers.JSONField(required=False, help_text="a continuum.rtset/v1 document")
+    params = serializers.DictField(required=False, help_text="k, b_score_argument, sort_tiebreak")
+    with_bound = serializers.BooleanField(default=True, help_text="start from the pods bound now")
+
+
+class RTPolicySerializer(serializers.ModelSerializer):
+    cluster = VisibleClusterField()
+
+    class Meta:
+        model = RTPolicy
+        fields = [
+            "id",
+            "cluster",
+            "threshold_period",
+            "threshold_total",
+            "update_frequency_hz",
+            "eviction_policy",
+            "linear_resource",
+            "taint_duration_s",
+            "cooldown_s",
+            "recreate_orphans",
+            "traffic",
+            "k",
+            "b_score_argument",
+            "sort_tiebreak",
+        ]
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        probe = RTPolicy(**{**({f: getattr(self.instance, f) for f in self.Meta.fields[2:]} if self.instance else {}),
+                            **{k: v for k, v in attrs.items() if k != "cluster"}})  # fmt: skip
+        try:
+            probe.monitor_policy()
+            probe.scheduler_params()
+        except InputError as exc:
+            raise engine_error(exc, set(self.fields)) from exc
+        if not isinstance(probe.traffic, dict) or not all(
+            "|" in str(k) and isinstance(v, int | float) and v >= 0 for k, v in probe.traffic.items()
+        ):
+            raise serializers.ValidationError({"traffic": ['a map of "a|b" to a non-negative number']})
+        return attrs
+
+
+class MonitoringSerializer(serializers.ModelSerializer):
+    node = serializers.SlugRelatedField(slug_field="name", read_only=True)
+
+    class Meta:
+        model = Monitoring
+        fields = ["id", "cluster", "name", "node", "container_name", "pod", "missed_period", "missed_total",
+                  "received_at", "kube_synced"]  # fmt: skip
+        read_only_fields = fields
+
+
+class MonitoringReportSerializer(serializers.ModelSerializer):
+    class Meta:
+        model = MonitoringReport
+        fields = ["id", "cluster", "name", "node", "container_name", "pod", "missed_period", "missed_total",
+                  "violation", "miss_at", "sent_at", "received_at", "source"]  # fmt: skip
+        read_only_fields = fields
+
+
+class ReportBatchSerializer(serializers.Serializer):
+    """For the API docs only: the endpoint reads the body itself (it must be fast)."""
+
+    cluster = serializers.IntegerField(required=False, help_text="default: the fleet's only cluster")
+    reports = serializers.ListField(
+        child=serializers.DictField(),
+        help_text="Monitoring objects (Listing 3.37) or their spec: node, containerName, missedDeadlinesPeriod, "
+        "missedDeadlinesTotal; optional pod, sentAt and missAt (RFC 3339 or epoch seconds)",
+    )
+
+
+class RTEventSerializer(serializers.ModelSerializer):
+    class Meta:
+        model = RTEvent
+        fields = ["id", "cluster", "kind", "node", "container", "pod", "trigger", "missed_period", "missed_total",
+                  "victim", "policy", "candidates", "message", "decision", "miss_at", "sent_at", "received_at",
+                  "reconcile_done_at", "eviction_sent_at", "eviction_done_at", "eviction_error", "recreated",
+                  "response", "response_ms"]  # fmt: skip
+        read_only_fields = fields
+
+
+class NodeTaintSerializer(serializers.ModelSerializer):
+    node = serializers.SlugRelatedField(slug_field="name", read_only=True)
+
+    class Meta:
+        model = NodeTaint
+        fields = ["id", "cluster", "node", "key", "value", "effect", "event", "created", "expires_at", "applied_at",
+                  "lifted_at", "error"]  # fmt: skip
+        read_only_fields = fields
+
+
+class RTPodSerializer(serializers.ModelSerializer):
+    class Meta:
+        model = RTPod
+        fields = ["id", "cluster", "namespace", "name", "uid", "node", "container_name", "scheduler_name", "realtime",
+                  "criticality", "stateless", "cpu", "memory_mib", "utilization", "owned", "phase", "bound_at",
+                  "deleted_at"]  # fmt: skip
+        read_only_fields = fields
+
+
+class RTDecisionSerializer(serializers.ModelSerializer):
+    class Meta:
+        model = RTDecision
+        fields = ["id", "cluster", "plan", "namespace", "pod", "pod_uid", "realtime", "criticality", "outcome", "node",
+                  "score", "message", "decision", "created"]  # fmt: skip
+        read_only_fields = fields
+
+
+class RTPlanSerializer(serializers.ModelSerializer):
+    class Meta:
+        model = RTPlan
+        fields = ["id", "cluster", "kind", "job", "placed", "pending", "plan", "created"]
+        read_only_fields = fields
