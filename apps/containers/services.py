@@ -26,7 +26,7 @@ from continuum.engine.rosgraph import (
     natural_key,
     pair,
 )
-from continuum.engine.superclustering import CONTAINERS_FORMAT, Workload, load_workload
+from continuum.engine.superclustering import CONTAINERS_FORMAT, SCORERS, Workload, load_workload
 
 from .models import Clustering, Placement
 
@@ -309,11 +309,9 @@ def why_table(plan: Mapping[str, Any], container: str) -> dict[str, Any]:
     if container not in order:
         raise KeyError(container)
     decision = plan["decisions"][order.index(container)]
-    policies: list[str] = []
-    for v in decision["verdicts"]:
-        for p in v.get("scores", {}):
-            if p not in policies:
-                policies.append(p)
+    # A fixed order: JSON stored in PostgreSQL (jsonb) does not keep the order of a plan's keys.
+    used = {p for v in decision["verdicts"] for p in v.get("scores", {})}
+    policies = sorted(used, key=lambda p: (SCORERS.index(p) if p in SCORERS else len(SCORERS), p))
     rows = []
     for v in decision["verdicts"]:
         chosen = v["node"] == decision["node"]

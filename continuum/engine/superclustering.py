@@ -468,7 +468,8 @@ def _score(
     raise InputError(f"unknown scoring policy {policy!r} (one of {', '.join(SCORERS)})", "weights")
 
 
-SCORERS = ("bandwidth", "node_affinity", "taint_toleration", "least_allocated", "balanced_allocation")
+#: The scoring policies, in the order explanations list them.
+SCORERS = ("bandwidth", "least_allocated", "balanced_allocation", "node_affinity", "taint_toleration")
 
 
 def _check_weights(weights: Mapping[str, float]) -> dict[str, float]:
