@@ -6,7 +6,7 @@ from rest_framework.routers import DefaultRouter
 
 from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
 from apps.jobs.api import JobViewSet
-from apps.scheduling.api import ScheduleViewSet
+from apps.scheduling.api import ComparisonViewSet, ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
 from apps.workloads.api import ApplicationViewSet
 
@@ -17,6 +17,7 @@ router.register("nodes", ComputeNodeViewSet)
 router.register("links", LinkViewSet)
 router.register("applications", ApplicationViewSet)
 router.register("schedules", ScheduleViewSet)
+router.register("comparisons", ComparisonViewSet)
 router.register("jobs", JobViewSet)
 
 urlpatterns = [
