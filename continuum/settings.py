@@ -61,6 +61,7 @@ INSTALLED_APPS = [
     "apps.containers",
     "apps.realtime",
     "apps.heft4k",
+    "apps.devices",
     "apps.dashboard",
 ]
 

@@ -5,6 +5,7 @@ from drf_spectacular.views import SpectacularAPIView, SpectacularRedocView, Spec
 from rest_framework.routers import DefaultRouter
 
 from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
+from apps.devices.api import DeviceProfileViewSet
 from apps.jobs.api import JobViewSet
 from apps.scheduling.api import ComparisonViewSet, ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
@@ -19,6 +20,7 @@ router.register("applications", ApplicationViewSet)
 router.register("schedules", ScheduleViewSet)
 router.register("comparisons", ComparisonViewSet)
 router.register("jobs", JobViewSet)
+router.register("devices", DeviceProfileViewSet)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
