@@ -6,6 +6,11 @@ The dashboard renders them with :func:`to_html`, which leaves plotly.js out: the
 - :func:`gantt_figure`: one row per processor, one horizontal bar per assignment. Bars are ``go.Bar`` with
   ``base=start`` and ``x=duration`` on a numeric axis; ``px.timeline`` would force a date axis and make
   model-time bars zero-wide. The critical path is a separate trace with its own colour and legend entry.
+  With several frames, bars are coloured by frame (one legend entry per frame, or a colour scale beyond
+  :data:`MAX_FRAME_TRACES` frames); the critical path keeps its own colour.
+- :func:`comparison_figure`: one Gantt chart per algorithm, one above the other on a shared time axis.
+- :func:`comparison_bars_figure`: the comparison's figures (makespan, SLR, speedup...) as bars per algorithm.
+- :func:`uma_zone_figure`: an application's CPU and GPU cache usage against a board's thresholds.
 - :func:`dag_figure`: the DAG in layers by topological level (left to right), edges as lines.
 - :func:`network_figure`: a cluster's nodes (coloured by status) and the links between them.
 """
@@ -17,6 +22,7 @@ from collections.abc import Iterable, Mapping
 from statistics import fmean
 
 import plotly.graph_objects as go
+from plotly.subplots import make_subplots
 
 from continuum.engine.dag import TaskGraph
 from continuum.engine.platform import Platform
@@ -24,6 +30,12 @@ from continuum.engine.schedule import Assignment, Schedule
 
 TASK_COLOUR = "#4c78a8"
 CRITICAL_COLOUR = "#e4572e"
+#: Frame colours (none close to the critical path's); light ones carry dark labels.
+FRAME_COLOURS = ["#4c78a8", "#54a24b", "#b279a2", "#eeca3b", "#72b7b2", "#9d755d", "#ff9da6", "#79706e"]
+LIGHT_COLOURS = {"#eeca3b", "#ff9da6", "#72b7b2"}
+#: Beyond this many frames one trace with a colour scale replaces the per-frame traces and legend entries.
+MAX_FRAME_TRACES = len(FRAME_COLOURS)
+FRAME_SCALE = "Viridis"
 STATUS_COLOURS = {"Ready": "#2e9e5b", "NotReady": "#d64545", "Unknown": "#9aa1a9"}
 CLASS_SYMBOLS = {"cpu": "circle", "gpu": "square", "fpga": "diamond"}
 EDGE_COLOUR = "#9aa5b1"
@@ -63,6 +75,45 @@ def _base_layout(fig: go.Figure, height: int) -> None:
 
 
 # ---- Gantt chart ------------------------------------------------------------------------------------
+def frame_colour(frame: int) -> str:
+    return FRAME_COLOURS[frame % len(FRAME_COLOURS)]
+
+
+def gantt_traces(
+    schedule: Schedule, on_path: set[tuple[str, int]], unit: str, *, colour_bar: dict | None = None
+) -> list[go.Bar]:
+    """The bars of ``schedule``: by frame when it has several (see the module docstring), then the critical path."""
+    frames = sorted({a.frame for a in schedule.assignments})
+    several = len(frames) > 1
+    normal = [a for a in schedule.assignments if (a.task, a.frame) not in on_path]
+    highlighted = [a for a in schedule.assignments if (a.task, a.frame) in on_path]
+    traces: list[go.Bar] = []
+    if not several:
+        traces.append(_gantt_trace(normal, "task", TASK_COLOUR, False, unit))
+    elif len(frames) <= MAX_FRAME_TRACES:
+        for f in frames:
+            colour = frame_colour(f)
+            text = "#1f2933" if colour in LIGHT_COLOURS else "white"
+            mine = [a for a in normal if a.frame == f]
+            traces.append(_gantt_trace(mine, f"frame {f}", colour, True, unit, text_colour=text))
+    else:
+        colours = [a.frame for a in normal]
+        marker = {"colorscale": FRAME_SCALE, "cmin": frames[0], "cmax": frames[-1], "showscale": True}
+        marker["colorbar"] = colour_bar or {"title": {"text": "frame"}, "thickness": 12}
+        # Viridis turns light in its upper third: dark labels there.
+        cut = frames[0] + 0.6 * (frames[-1] - frames[0])
+        text = ["#1f2933" if a.frame > cut else "white" for a in normal]
+        traces.append(_gantt_trace(normal, "frames", colours, True, unit, text_colour=text, marker_extra=marker))
+    if highlighted:
+        traces.append(_gantt_trace(highlighted, "critical path", CRITICAL_COLOUR, several, unit))
+    return traces
+
+
+def _processor_rows(schedule: Schedule, platform: Platform | None) -> list[str]:
+    rows = [p.id for p in platform.processors] if platform is not None else []
+    return rows + sorted({a.processor for a in schedule.assignments} - set(rows))
+
+
 def gantt_figure(
     schedule: Schedule,
     platform: Platform | None = None,
@@ -79,16 +130,10 @@ def gantt_figure(
         critical = schedule.critical_path(dag, platform) if dag is not None and platform is not None else []
     on_path = set(critical)
     unit = time_unit or (dag.time_unit if dag is not None else "")
-    rows = [p.id for p in platform.processors] if platform is not None else []
-    rows += sorted({a.processor for a in schedule.assignments} - set(rows))
-    frames = {a.frame for a in schedule.assignments}
-
-    normal = [a for a in schedule.assignments if (a.task, a.frame) not in on_path]
-    highlighted = [a for a in schedule.assignments if (a.task, a.frame) in on_path]
+    rows = _processor_rows(schedule, platform)
     fig = go.Figure()
-    fig.add_trace(_gantt_trace(normal, "task", TASK_COLOUR, len(frames) > 1, unit))
-    if highlighted:
-        fig.add_trace(_gantt_trace(highlighted, "critical path", CRITICAL_COLOUR, len(frames) > 1, unit))
+    for trace in gantt_traces(schedule, on_path, unit):
+        fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
         fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
@@ -133,11 +178,21 @@ def gantt_figure(
     return fig
 
 
-def _gantt_trace(assignments: list[Assignment], name: str, colour: str, show_frame: bool, unit: str) -> go.Bar:
+def _gantt_trace(
+    assignments: list[Assignment],
+    name: str,
+    colour: str | list,
+    show_frame: bool,
+    unit: str,
+    *,
+    text_colour: str | list[str] = "white",
+    marker_extra: dict | None = None,
+) -> go.Bar:
     label = (lambda a: f"{a.task} [{a.frame}]") if show_frame else (lambda a: a.task)
     suffix = f" {unit}" if unit else ""
     return go.Bar(
         name=name,
+        legendgroup=name,
         orientation="h",
         y=[a.processor for a in assignments],
         base=[a.start for a in assignments],
@@ -145,8 +200,8 @@ def _gantt_trace(assignments: list[Assignment], name: str, colour: str, show_fra
         text=[label(a) for a in assignments],
         textposition="inside",
         insidetextanchor="middle",
-        textfont={"color": "white"},
-        marker={"color": colour, "line": {"color": "white", "width": 1}},
+        textfont={"color": text_colour},
+        marker={"color": colour, "line": {"color": "white", "width": 1}, **(marker_extra or {})},
         customdata=[[a.task, a.frame, a.processor, a.start, a.finish] for a in assignments],
         hovertemplate=(
             "<b>%{customdata[0]}</b> (frame %{customdata[1]})<br>"
@@ -158,6 +213,189 @@ def _gantt_trace(assignments: list[Assignment], name: str, colour: str, show_fra
         ),
         showlegend=True,
     )
+
+
+# ---- Comparison ---------------------------------------------------------------------------------------
+def comparison_figure(
+    schedules: list[tuple[str, Schedule]],
+    platform: Platform | None = None,
+    dag: TaskGraph | None = None,
+    time_unit: str | None = None,
+) -> go.Figure:
+    """One Gantt chart per (title, schedule), stacked on a shared time axis (``make_subplots(shared_xaxes)``).
+
+    Frames share their colours across the charts (one legend entry each); every chart marks its critical
+    path (when ``dag`` and ``platform`` are given) and its makespan.
+    """
+    n = max(1, len(schedules))
+    rows_of = [_processor_rows(s, platform) for _, s in schedules]
+    heights = [40 + 30 * max(1, len(r)) for r in rows_of] or [1]
+    fig = make_subplots(
+        rows=n,
+        cols=1,
+        shared_xaxes=True,
+        vertical_spacing=min(0.12, 0.5 / n),
+        row_heights=heights if schedules else None,
+        subplot_titles=[f"{title.upper()}: makespan {_fmt(s.makespan)}" for title, s in schedules] or None,
+    )
+    unit = time_unit or (dag.time_unit if dag is not None else "")
+    shown: set[str] = set()
+    longest = max((s.makespan for _, s in schedules), default=0.0)
+    for i, (_, schedule) in enumerate(schedules, start=1):
+        on_path: set[tuple[str, int]] = set()
+        if dag is not None and platform is not None:
+            on_path = set(schedule.critical_path(dag, platform))
+        for trace in gantt_traces(schedule, on_path, unit):
+            trace.showlegend = trace.name not in shown
+            if trace.marker.showscale and i > 1:
+                trace.marker.showscale = False  # one colour bar for the whole figure
+            shown.add(trace.name)
+            fig.add_trace(trace, row=i, col=1)
+        if schedule.assignments:
+            fig.add_vline(x=schedule.makespan, line={"dash": "dash", "color": "#52606d", "width": 1}, row=i, col=1)
+        fig.update_yaxes(
+            type="category",
+            categoryorder="array",
+            categoryarray=rows_of[i - 1],
+            autorange="reversed",
+            showgrid=False,
+            row=i,
+            col=1,
+        )
+    _base_layout(fig, height=max(300, 110 + sum(heights) + 40 * n))
+    fig.update_layout(
+        barmode="overlay",
+        bargap=0.25,
+        legend={"orientation": "h", "yanchor": "bottom", "y": 1.0 + 60 / max(300, 110 + sum(heights)), "x": 0},
+        margin={"l": 10, "r": 20, "t": 90, "b": 10},
+        uniformtext={"minsize": 9, "mode": "hide"},
+    )
+    fig.update_xaxes(
+        type="linear",
+        range=[0, longest * 1.03 if longest > 0 else 1],
+        showgrid=True,
+        gridcolor="#e4e7eb",
+        zeroline=False,
+    )
+    fig.update_xaxes(title_text=f"time ({unit})" if unit else "time", row=n, col=1)
+    fig.update_annotations(font={"size": 13, "color": "#1f2933"}, xanchor="left", x=0)
+    return fig
+
+
+#: The figures drawn by :func:`comparison_bars_figure`: (result key, title, scale).
+COMPARISON_FIGURES = [
+    ("makespan", "makespan", 1.0),
+    ("slr", "SLR (makespan / critical path)", 1.0),
+    ("speedup_vs_visionworks", "speedup vs VisionWorks (%)", 100.0),
+    ("overlap", "overlap O(A)", 1.0),
+    ("xo", "exclusive overlap XO(A)", 1.0),
+    ("idle", "idle time (%)", 100.0),
+    ("mean_latency", "mean frame latency", 1.0),
+    ("throughput", "throughput (frames per time unit)", 1.0),
+]
+ALGORITHM_COLOURS = ["#4c78a8", "#f58518", "#54a24b", "#b279a2", "#9d755d", "#72b7b2", "#eeca3b", "#79706e"]
+
+
+def comparison_bars_figure(results: Mapping[str, Mapping], algorithms: list[str] | None = None) -> go.Figure:
+    """Bars per algorithm for each figure of a comparison (those present: latency and throughput with frames)."""
+    names = list(algorithms or results)
+    figures = [f for f in COMPARISON_FIGURES if any(results[a].get(f[0]) is not None for a in names)]
+    cols = 4 if len(figures) > 6 else 3
+    rows = max(1, math.ceil(len(figures) / cols))
+    fig = make_subplots(rows=rows, cols=cols, subplot_titles=[t for _, t, _ in figures], vertical_spacing=0.2)
+    colours = {a: ALGORITHM_COLOURS[i % len(ALGORITHM_COLOURS)] for i, a in enumerate(names)}
+    for i, (key, title, scale) in enumerate(figures):
+        values = [results[a].get(key) for a in names]
+        fig.add_trace(
+            go.Bar(
+                x=[a.upper() for a in names],
+                y=[None if v is None else v * scale for v in values],
+                marker={"color": [colours[a] for a in names]},
+                text=[f"{v * scale:.4g}" if v is not None else "" for v in values],
+                textposition="outside",
+                cliponaxis=False,
+                name=title,
+                hovertemplate="%{x}: %{y:.6~g}<extra>" + title + "</extra>",
+                showlegend=False,
+            ),
+            row=i // cols + 1,
+            col=i % cols + 1,
+        )
+    _base_layout(fig, height=170 + 250 * rows)
+    fig.update_layout(margin={"l": 10, "r": 10, "t": 50, "b": 10})
+    fig.update_yaxes(showgrid=True, gridcolor="#e4e7eb", zeroline=True, zerolinecolor="#9aa5b1", rangemode="tozero")
+    fig.update_annotations(font={"size": 13, "color": "#1f2933"})
+    return fig
+
+
+# ---- UMA zones ------------------------------------------------------------------------------------------
+ZONE_COLOURS = {"zc": "#c7e9c0", "gap": "#fdd9a0", "sc": "#f4b6b6"}
+
+
+def uma_zone_figure(
+    cpu_threshold: float,
+    gpu_low: float,
+    gpu_high: float | None,
+    cpu_usage: float | None = None,
+    gpu_usage: float | None = None,
+) -> go.Figure:
+    """The board's zones (thesis Fig. 3.7): GPU zone 1 (ZC = SC), zone 2 (gap under 200 %), zone 3
+    (cache-dependent); CPU not dependent / dependent. Markers show the application's Eq. 3.8-3.9 usages."""
+    top = max(100.0, (cpu_usage or 0) * 1.1, (gpu_usage or 0) * 1.1)
+    gpu_bands = [("zone 1: ZC = SC", 0.0, gpu_low, ZONE_COLOURS["zc"])]
+    if gpu_high is not None:
+        gpu_bands.append(("zone 2: gap < 200 %", gpu_low, gpu_high, ZONE_COLOURS["gap"]))
+    zone3 = gpu_high if gpu_high is not None else gpu_low
+    gpu_bands.append(("zone 3: cache-dependent", zone3, top, ZONE_COLOURS["sc"]))
+    cpu_bands = [
+        ("CPU not cache-dependent", 0.0, min(cpu_threshold, top), ZONE_COLOURS["zc"]),
+        ("CPU cache-dependent", min(cpu_threshold, top), top, ZONE_COLOURS["sc"]),
+    ]
+    fig = go.Figure()
+    for row, bands in (("GPU", gpu_bands), ("CPU", cpu_bands)):
+        for label, lo, hi, colour in bands:
+            if hi <= lo:
+                continue
+            fig.add_trace(
+                go.Bar(
+                    y=[row],
+                    x=[hi - lo],
+                    base=[lo],
+                    orientation="h",
+                    marker={"color": colour, "line": {"color": "white", "width": 2}},
+                    text=[label],
+                    textposition="inside",
+                    insidetextanchor="middle",
+                    textfont={"color": "#1f2933"},
+                    hovertemplate=f"{label}: {_fmt(lo)}-{_fmt(hi)} %<extra></extra>",
+                    showlegend=False,
+                )
+            )
+    for row, value in (("GPU", gpu_usage), ("CPU", cpu_usage)):
+        if value is not None:
+            fig.add_trace(
+                go.Scatter(
+                    x=[value],
+                    y=[row],
+                    mode="markers+text",
+                    marker={
+                        "symbol": "diamond",
+                        "size": 16,
+                        "color": "#1f2933",
+                        "line": {"color": "white", "width": 2},
+                    },
+                    text=[f"{_fmt(round(value, 2))} %"],
+                    textposition="top center",
+                    name=f"{row} usage",
+                    hovertemplate=f"{row} usage: %{{x:.4~g}} %<extra></extra>",
+                    showlegend=False,
+                )
+            )
+    _base_layout(fig, height=230)
+    fig.update_layout(barmode="overlay", bargap=0.35, margin={"l": 10, "r": 20, "t": 20, "b": 10})
+    fig.update_xaxes(title_text="cache usage (% of the device's peak)", range=[0, top], showgrid=False)
+    fig.update_yaxes(type="category", categoryorder="array", categoryarray=["GPU", "CPU"], autorange="reversed")
+    return fig
 
 
 # ---- DAG ----------------------------------------------------------------------------------------------

@@ -28,3 +28,24 @@ def num(value, digits: int = 3) -> str:
 @register.filter
 def pretty_json(value) -> str:
     return json.dumps(value, indent=2, sort_keys=True, default=str)
+
+
+@register.filter
+def percent(value, digits: int = 1) -> str:
+    """A fraction as a percentage: 0.414 -> 41.4 %."""
+    if value is None or value == "":
+        return "—"
+    try:
+        x = 100.0 * float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    return f"{num(x, digits)} %"
+
+
+@register.filter
+def speedup_pct(value) -> str:
+    """A speedup factor as a change in per cent: 1.693 -> +69.3 %, 0.8 -> -20 %."""
+    if value is None or value == "":
+        return "—"
+    x = 100.0 * (float(value) - 1.0)
+    return f"{'+' if x > 0 else ''}{num(x, 1)} %"
