@@ -49,7 +49,7 @@ def schedule_application(job, progress) -> tuple[dict, str]:
     suffix = f" ({frames} frames of {len(dag)} tasks)" if frames > 1 else ""
 
     def report(done: int, total: int) -> None:
-        progress(95 * done / max(total, 1), f"placed {done}/{total} tasks{suffix}")
+        progress(1 + 94 * done / max(total, 1), f"placed {done}/{total} tasks{suffix}")
 
     params = with_defaults(args["algorithm"], args.get("params") or {})
     result = algorithms.run(args["algorithm"], dag, platform, progress=report, **params)

@@ -234,10 +234,12 @@ def test_compare_stores_every_schedule_and_the_figures(api):
     assert Schedule.objects.count() == 3
 
 
-def test_compare_with_frames_and_per_algorithm_progress(api, monkeypatch):
+@pytest.fixture
+def progress_log(monkeypatch):
+    """Every (percent, message) a job reports, none dropped by the write throttle."""
     from apps.jobs import tasks
 
-    monkeypatch.setattr(tasks, "PROGRESS_INTERVAL", 0)  # record every progress step
+    monkeypatch.setattr(tasks, "PROGRESS_INTERVAL", 0)
     messages = []
     original = Job.objects.filter
 
@@ -254,6 +256,22 @@ def test_compare_with_frames_and_per_algorithm_progress(api, monkeypatch):
         return qs
 
     monkeypatch.setattr(Job.objects, "filter", spy)
+    return messages
+
+
+def test_schedule_job_reports_progress_over_every_frame(api, progress_log):
+    app = fig31_app(api)
+    body = {"algorithm": "gfl", "platform": BOARD_1, "frames": 50}
+    finished_job(api, api.post(f"/api/v1/applications/{app['id']}/schedule/", body, format="json"))
+    texts = [m for _, m in progress_log]
+    assert "placed 400/400 tasks (50 frames of 8 tasks)" in texts
+    assert sum("placed" in m for m in texts) >= 10  # about a hundred steps, not one at the end
+    percents = [p for p, _ in progress_log]
+    assert percents == sorted(percents) and percents[-1] == 100
+
+
+def test_compare_with_frames_and_per_algorithm_progress(api, progress_log):
+    messages = progress_log
     app = fig31_app(api)
     response = api.post(
         f"/api/v1/applications/{app['id']}/compare/",
