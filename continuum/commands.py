@@ -53,15 +53,23 @@ class EngineCommand(BaseCommand):
         except json.JSONDecodeError as exc:
             raise InputError(f"{path}: malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}") from exc
 
-    def progress_printer(self, label: str):
-        """A progress callback that draws on stderr when it is a terminal."""
-        if not sys.stderr.isatty():
+    def progress_printer(self, label: str, force: bool = False):
+        """A progress callback on stderr: one redrawn line on a terminal; with ``force`` and no terminal
+        (logs, CI), a line at every tenth of the work."""
+        tty = sys.stderr.isatty()
+        if not tty and not force:
             return None
+        last = [-1]
 
         def show(done: int, total: int) -> None:
-            sys.stderr.write(f"\r{label}: {done}/{total} ({100 * done // max(total, 1)}%)")
-            if done >= total:
-                sys.stderr.write("\n")
+            pct = 100 * done // max(total, 1)
+            if tty:
+                sys.stderr.write(f"\r{label}: {done}/{total} ({pct}%)")
+                if done >= total:
+                    sys.stderr.write("\n")
+            elif pct // 10 > last[0] or done >= total:
+                last[0] = pct // 10
+                sys.stderr.write(f"{label}: {done}/{total} ({pct}%)\n")
             sys.stderr.flush()
 
         return show

@@ -63,6 +63,7 @@ INSTALLED_APPS = [
     "apps.realtime",
     "apps.heft4k",
     "apps.verification",
+    "apps.devices",
     "apps.dashboard",
 ]
 

@@ -6,10 +6,11 @@ from rest_framework.routers import DefaultRouter
 
 from apps.clusters.api import ClusterViewSet, ComputeNodeViewSet, LinkViewSet
 from apps.containers.api import ClusteringViewSet, PlacementViewSet, RosGraphViewSet
+from apps.devices.api import DeviceProfileViewSet
 from apps.heft4k.api import RemapEventViewSet
 from apps.jobs.api import JobViewSet
 from apps.realtime.api import register_routes as register_realtime
-from apps.scheduling.api import ScheduleViewSet
+from apps.scheduling.api import ComparisonViewSet, ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
 from apps.workloads.api import ApplicationViewSet
 
@@ -20,12 +21,14 @@ router.register("nodes", ComputeNodeViewSet)
 router.register("links", LinkViewSet)
 router.register("applications", ApplicationViewSet)
 router.register("schedules", ScheduleViewSet)
+router.register("comparisons", ComparisonViewSet)
 router.register("jobs", JobViewSet)
 router.register("rosgraphs", RosGraphViewSet)
 router.register("clusterings", ClusteringViewSet)
 router.register("placements", PlacementViewSet)
 router.register("remaps", RemapEventViewSet)
 register_realtime(router)
+router.register("devices", DeviceProfileViewSet)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),

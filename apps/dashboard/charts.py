@@ -6,9 +6,13 @@ The dashboard renders them with :func:`to_html`, which leaves plotly.js out: the
 - :func:`gantt_figure`: one row per processor, one horizontal bar per assignment. Bars are ``go.Bar`` with
   ``base=start`` and ``x=duration`` on a numeric axis; ``px.timeline`` would force a date axis and make
   model-time bars zero-wide. The critical path is a separate trace with its own colour and legend entry.
-  Optionally bars are coloured by niceness (HEFT4K) and multi-core nodes get one row per CPU.
-- :func:`stacked_gantt_figure`: several schedules on one shared time axis (a HEFT4K plan and its simulated
-  run on Kubernetes, a schedule before and after a remap).
+  With several frames, bars are coloured by frame (one legend entry per frame, or a colour scale beyond
+  :data:`MAX_FRAME_TRACES` frames); the critical path keeps its own colour. Optionally bars are coloured by
+  niceness (HEFT4K) and multi-core nodes get one row per CPU. :func:`gantt_traces` alone draws the bars.
+- :func:`stacked_gantt_figure`: several schedules on one shared time axis; :func:`comparison_figure` (one
+  chart per algorithm), the HEFT4K plan and its simulated run, a schedule before and after a remap.
+- :func:`comparison_bars_figure`: the comparison's figures (makespan, SLR, speedup...) as bars per algorithm.
+- :func:`uma_zone_figure`: an application's CPU and GPU cache usage against a board's thresholds.
 - :func:`dag_figure`: the DAG in layers by topological level (left to right), edges as lines.
 - :func:`network_figure`: a cluster's nodes (coloured by status) and the links between them.
 """
@@ -21,6 +25,7 @@ from dataclasses import dataclass, field
 from statistics import fmean
 
 import plotly.graph_objects as go
+from plotly.subplots import make_subplots
 
 from continuum.engine.dag import TaskGraph
 from continuum.engine.platform import Platform
@@ -28,6 +33,12 @@ from continuum.engine.schedule import Assignment, Schedule
 
 TASK_COLOUR = "#4c78a8"
 CRITICAL_COLOUR = "#e4572e"
+#: Frame colours (none close to the critical path's); light ones carry dark labels.
+FRAME_COLOURS = ["#4c78a8", "#54a24b", "#b279a2", "#eeca3b", "#72b7b2", "#9d755d", "#ff9da6", "#79706e"]
+LIGHT_COLOURS = {"#eeca3b", "#ff9da6", "#72b7b2"}
+#: Beyond this many frames one trace with a colour scale replaces the per-frame traces and legend entries.
+MAX_FRAME_TRACES = len(FRAME_COLOURS)
+FRAME_SCALE = "Viridis"
 STATUS_COLOURS = {"Ready": "#2e9e5b", "NotReady": "#d64545", "Unknown": "#9aa1a9"}
 CLASS_SYMBOLS = {"cpu": "circle", "gpu": "square", "fpga": "diamond"}
 EDGE_COLOUR = "#9aa5b1"
@@ -88,6 +99,59 @@ class GanttPanel:
     notes: Mapping[tuple[str, int], str] = field(default_factory=dict)
 
 
+def frame_colour(frame: int) -> str:
+    return FRAME_COLOURS[frame % len(FRAME_COLOURS)]
+
+
+def gantt_traces(
+    panel: GanttPanel,
+    unit: str = "",
+    *,
+    row_of: Mapping[tuple[str, int], str] | None = None,
+    nice: tuple[int, int] | None = None,
+    frame_range: tuple[int, int] | None = None,
+) -> list[go.Bar]:
+    """The bars of one schedule, the only place that decides how a Gantt bar looks.
+
+    Colour: by niceness when ``nice`` (the colour axis's range) is given; else by frame when the schedule has
+    several (one trace per frame, or one trace on a colour scale over ``frame_range`` beyond
+    :data:`MAX_FRAME_TRACES` frames); else one colour. The ``panel.highlight`` pairs (the critical path, lost
+    or moved tasks) come last in their own trace: solid ``highlight_colour``, or outlined in it over their
+    niceness colour. ``row_of`` puts a bar on its row (a CPU lane) instead of its processor's.
+    """
+    schedule = panel.schedule
+    frames = sorted({a.frame for a in schedule.assignments})
+    several = len(frames) > 1
+    marked = set(panel.highlight)
+    normal = [a for a in schedule.assignments if (a.task, a.frame) not in marked]
+    highlighted = [a for a in schedule.assignments if (a.task, a.frame) in marked]
+
+    def bar(items: list[Assignment], name: str, colour: str | list, **style) -> go.Bar:
+        return _gantt_trace(items, name, colour, several, unit, row_of=row_of, notes=panel.notes, **style)
+
+    traces: list[go.Bar] = []
+    if nice is not None:
+        traces.append(bar(normal, "task", TASK_COLOUR, nice=nice))
+    elif not several:
+        traces.append(bar(normal, "task", TASK_COLOUR))
+    elif len(frames) <= MAX_FRAME_TRACES:
+        for f in frames:
+            colour = frame_colour(f)
+            text = "#1f2933" if colour in LIGHT_COLOURS else "white"
+            traces.append(bar([a for a in normal if a.frame == f], f"frame {f}", colour, text_colour=text))
+    else:
+        lo, hi = frame_range or (frames[0], frames[-1])
+        marker = {"colorscale": FRAME_SCALE, "cmin": lo, "cmax": hi, "showscale": True}
+        marker["colorbar"] = {"title": {"text": "frame"}, "thickness": 12}
+        # Viridis turns light in its upper third: dark labels there.
+        cut = lo + 0.6 * (hi - lo)
+        text = ["#1f2933" if a.frame > cut else "white" for a in normal]
+        traces.append(bar(normal, "frames", [a.frame for a in normal], text_colour=text, marker_extra=marker))
+    if highlighted:
+        traces.append(bar(highlighted, panel.highlight_name, panel.highlight_colour, nice=nice, outline=True))
+    return traces
+
+
 def gantt_figure(
     schedule: Schedule,
     platform: Platform | None = None,
@@ -109,9 +173,11 @@ def gantt_figure(
         critical = schedule.critical_path(dag, platform) if dag is not None and platform is not None else []
     unit = time_unit or (dag.time_unit if dag is not None else "")
     panel = GanttPanel("", schedule, platform, set(critical))
-    fig = go.Figure()
+    rows, row_of = gantt_rows(schedule, platform, lanes)
     nice = _nice_range([schedule]) if colour_by_niceness else None
-    rows = _add_gantt(fig, panel, unit, nice, lanes, set())
+    fig = go.Figure()
+    for trace in gantt_traces(panel, unit, row_of=row_of, nice=nice):
+        fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
         fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
@@ -159,30 +225,42 @@ def gantt_figure(
 
 
 def stacked_gantt_figure(
-    panels: Sequence[GanttPanel], time_unit: str = "", *, colour_by_niceness: bool = False, lanes: bool = True
+    panels: Sequence[GanttPanel],
+    time_unit: str = "",
+    *,
+    colour_by_niceness: bool = False,
+    lanes: bool = True,
+    title_sep: str = " · ",
 ) -> go.Figure:
-    """Several Gantt charts stacked on one shared time axis (predicted vs simulated, before vs after a
-    remap): each panel has its own rows and title with its makespan; legend entries appear once."""
-    from plotly.subplots import make_subplots
-
-    row_sets = [gantt_rows(p.schedule, p.platform, lanes)[0] for p in panels]
-    heights = [max(2, len(rows)) for rows in row_sets]
-    per_row = 26 if lanes else 40
-    height = sum(heights) * per_row + 95 * len(panels) + 60
+    """Several Gantt charts stacked on one shared time axis (``make_subplots(shared_xaxes=True)``): the
+    algorithms of a comparison, a HEFT4K plan and its simulated run on Kubernetes, a schedule before and
+    after a remap. Each panel has its own rows and a title ``"<title><title_sep>makespan <m>"``; bars are
+    drawn by :func:`gantt_traces`, so frames and niceness get the same colours in every panel, and each
+    legend entry (and colour bar) appears once."""
+    layout = [gantt_rows(p.schedule, p.platform, lanes) for p in panels]
+    heights = [max(2, len(rows)) for rows, _ in layout] or [1]
+    per_row = 28 if lanes else 40
+    height = sum(heights) * per_row + 95 * max(1, len(panels)) + 60
     fig = make_subplots(
-        rows=len(panels),
+        rows=max(1, len(panels)),
         cols=1,
         shared_xaxes=True,
         vertical_spacing=min(0.3, 80 / height),
         row_heights=heights,
-        subplot_titles=[f"{p.title} · makespan {_fmt(p.schedule.makespan)}" for p in panels],
+        subplot_titles=[f"{p.title}{title_sep}makespan {_fmt(p.schedule.makespan)}" for p in panels] or None,
     )
     nice = _nice_range([p.schedule for p in panels]) if colour_by_niceness else None
+    all_frames = [a.frame for p in panels for a in p.schedule.assignments]
+    frame_range = (min(all_frames), max(all_frames)) if all_frames else None
     shown: set[str] = set()
-    unit = time_unit
     end = max((p.schedule.makespan for p in panels), default=0.0)
-    for i, panel in enumerate(panels, 1):
-        rows = _add_gantt(fig, panel, unit, nice, lanes, shown, row=i)
+    for i, (panel, (rows, row_of)) in enumerate(zip(panels, layout, strict=True), start=1):
+        for trace in gantt_traces(panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range):
+            trace.showlegend = trace.name not in shown
+            if trace.marker.showscale and trace.name in shown:
+                trace.marker.showscale = False  # one colour bar for the whole figure
+            shown.add(trace.name)
+            fig.add_trace(trace, row=i, col=1)
         if panel.schedule.assignments:
             fig.add_vline(
                 x=panel.schedule.makespan, line={"dash": "dash", "color": "#52606d", "width": 1}, row=i, col=1
@@ -196,7 +274,6 @@ def stacked_gantt_figure(
             row=i,
             col=1,
         )
-        fig.update_xaxes(showgrid=True, gridcolor="#e4e7eb", zeroline=False, type="linear", row=i, col=1)
     _base_layout(fig, height=height)
     fig.update_layout(
         barmode="overlay",
@@ -209,8 +286,14 @@ def stacked_gantt_figure(
     fig.update_annotations(font={"size": 13, "color": "#323f4b"}, xanchor="left", x=0)
     if nice is not None:
         _nice_axis(fig, nice)
-    fig.update_xaxes(range=[0, end * 1.03 if end > 0 else 1])
-    fig.update_xaxes(title_text=f"time ({unit})" if unit else "time", row=len(panels), col=1)
+    fig.update_xaxes(
+        type="linear",
+        range=[0, end * 1.03 if end > 0 else 1],
+        showgrid=True,
+        gridcolor="#e4e7eb",
+        zeroline=False,
+    )
+    fig.update_xaxes(title_text=f"time ({time_unit})" if time_unit else "time", row=max(1, len(panels)), col=1)
     return fig
 
 
@@ -282,62 +365,36 @@ def _nice_axis(fig: go.Figure, nice: tuple[int, int]) -> None:
     )
 
 
-def _add_gantt(
-    fig: go.Figure,
-    panel: GanttPanel,
-    unit: str,
-    nice: tuple[int, int] | None,
-    lanes: bool,
-    shown: set[str],
-    row: int | None = None,
-) -> list[str]:
-    """Add ``panel``'s bars to ``fig`` (in subplot ``row``); returns the panel's rows."""
-    rows, row_of = gantt_rows(panel.schedule, panel.platform, lanes)
-    frames = {a.frame for a in panel.schedule.assignments}
-    marked = set(panel.highlight)
-    normal = [a for a in panel.schedule.assignments if (a.task, a.frame) not in marked]
-    highlighted = [a for a in panel.schedule.assignments if (a.task, a.frame) in marked]
-    traces = [("task", normal, TASK_COLOUR)]
-    if highlighted:
-        traces.append((panel.highlight_name, highlighted, panel.highlight_colour))
-    for name, items, colour in traces:
-        trace = _gantt_trace(items, name, colour, len(frames) > 1, unit, row_of, nice, panel.notes)
-        trace.legendgroup = name
-        trace.showlegend = name not in shown
-        shown.add(name)
-        if row is None:
-            fig.add_trace(trace)
-        else:
-            fig.add_trace(trace, row=row, col=1)
-    return rows
-
-
 def _gantt_trace(
     assignments: list[Assignment],
     name: str,
-    colour: str,
+    colour: str | list,
     show_frame: bool,
     unit: str,
+    *,
     row_of: Mapping[tuple[str, int], str] | None = None,
-    nice: tuple[int, int] | None = None,
     notes: Mapping[tuple[str, int], str] | None = None,
+    nice: tuple[int, int] | None = None,
+    outline: bool = False,
+    text_colour: str | list[str] = "white",
+    marker_extra: dict | None = None,
 ) -> go.Bar:
     label = (lambda a: f"{a.task} [{a.frame}]") if show_frame else (lambda a: a.task)
     suffix = f" {unit}" if unit else ""
     row_of = row_of or {}
     notes = notes or {}
     has_nice = any(a.niceness is not None for a in assignments)
-    marker: dict = {"color": colour, "line": {"color": "white", "width": 1}}
-    text_colour: str | list[str] = "white"
+    marker: dict = {"color": colour, "line": {"color": "white", "width": 1}, **(marker_extra or {})}
     if nice is not None:
         values = [a.niceness if a.niceness is not None else nice[1] for a in assignments]
         marker = {"color": values, "coloraxis": "coloraxis", "line": {"color": "white", "width": 1}}
-        if name != "task":  # a highlighted set keeps its colour as a thick outline
+        if outline:  # a highlighted set keeps its colour as a thick outline
             marker["line"] = {"color": colour, "width": 3}
         # Light bars (high niceness) need dark text.
         text_colour = ["#1f2933" if (v - nice[0]) / (nice[1] - nice[0]) > 0.55 else "white" for v in values]
     return go.Bar(
         name=name,
+        legendgroup=name,
         orientation="h",
         y=[row_of.get((a.task, a.frame), a.processor) for a in assignments],
         base=[a.start for a in assignments],
@@ -371,6 +428,145 @@ def _gantt_trace(
         ),
         showlegend=True,
     )
+
+
+# ---- Comparison ---------------------------------------------------------------------------------------
+def comparison_figure(
+    schedules: list[tuple[str, Schedule]],
+    platform: Platform | None = None,
+    dag: TaskGraph | None = None,
+    time_unit: str | None = None,
+) -> go.Figure:
+    """One Gantt chart per (algorithm, schedule), stacked on a shared time axis by
+    :func:`stacked_gantt_figure`: frames share their colours across the charts (one legend entry each) and
+    every chart marks its critical path (when ``dag`` and ``platform`` are given) and its makespan."""
+    panels = [
+        GanttPanel(
+            name.upper(),
+            schedule,
+            platform,
+            schedule.critical_path(dag, platform) if dag is not None and platform is not None else (),
+        )
+        for name, schedule in schedules
+    ]
+    unit = time_unit or (dag.time_unit if dag is not None else "")
+    return stacked_gantt_figure(panels, unit, title_sep=": ")
+
+
+#: The figures drawn by :func:`comparison_bars_figure`: (result key, title, scale).
+COMPARISON_FIGURES = [
+    ("makespan", "makespan", 1.0),
+    ("slr", "SLR (makespan / critical path)", 1.0),
+    ("speedup_vs_visionworks", "speedup vs VisionWorks (%)", 100.0),
+    ("overlap", "overlap O(A)", 1.0),
+    ("xo", "exclusive overlap XO(A)", 1.0),
+    ("idle", "idle time (%)", 100.0),
+    ("mean_latency", "mean frame latency", 1.0),
+    ("throughput", "throughput (frames per time unit)", 1.0),
+]
+ALGORITHM_COLOURS = ["#4c78a8", "#f58518", "#54a24b", "#b279a2", "#9d755d", "#72b7b2", "#eeca3b", "#79706e"]
+
+
+def comparison_bars_figure(results: Mapping[str, Mapping], algorithms: list[str] | None = None) -> go.Figure:
+    """Bars per algorithm for each figure of a comparison (those present: latency and throughput with frames)."""
+    names = list(algorithms or results)
+    figures = [f for f in COMPARISON_FIGURES if any(results[a].get(f[0]) is not None for a in names)]
+    cols = 4 if len(figures) > 6 else 3
+    rows = max(1, math.ceil(len(figures) / cols))
+    fig = make_subplots(rows=rows, cols=cols, subplot_titles=[t for _, t, _ in figures], vertical_spacing=0.2)
+    colours = {a: ALGORITHM_COLOURS[i % len(ALGORITHM_COLOURS)] for i, a in enumerate(names)}
+    for i, (key, title, scale) in enumerate(figures):
+        values = [results[a].get(key) for a in names]
+        fig.add_trace(
+            go.Bar(
+                x=[a.upper() for a in names],
+                y=[None if v is None else v * scale for v in values],
+                marker={"color": [colours[a] for a in names]},
+                text=[f"{v * scale:.4g}" if v is not None else "" for v in values],
+                textposition="outside",
+                cliponaxis=False,
+                name=title,
+                hovertemplate="%{x}: %{y:.6~g}<extra>" + title + "</extra>",
+                showlegend=False,
+            ),
+            row=i // cols + 1,
+            col=i % cols + 1,
+        )
+    _base_layout(fig, height=170 + 250 * rows)
+    fig.update_layout(margin={"l": 10, "r": 10, "t": 50, "b": 10})
+    fig.update_yaxes(showgrid=True, gridcolor="#e4e7eb", zeroline=True, zerolinecolor="#9aa5b1", rangemode="tozero")
+    fig.update_annotations(font={"size": 13, "color": "#1f2933"})
+    return fig
+
+
+# ---- UMA zones ------------------------------------------------------------------------------------------
+ZONE_COLOURS = {"zc": "#c7e9c0", "gap": "#fdd9a0", "sc": "#f4b6b6"}
+
+
+def uma_zone_figure(
+    cpu_threshold: float,
+    gpu_low: float,
+    gpu_high: float | None,
+    cpu_usage: float | None = None,
+    gpu_usage: float | None = None,
+) -> go.Figure:
+    """The board's zones (thesis Fig. 3.7): GPU zone 1 (ZC = SC), zone 2 (gap under 200 %), zone 3
+    (cache-dependent); CPU not dependent / dependent. Markers show the application's Eq. 3.8-3.9 usages."""
+    top = max(100.0, (cpu_usage or 0) * 1.1, (gpu_usage or 0) * 1.1)
+    gpu_bands = [("zone 1: ZC = SC", 0.0, gpu_low, ZONE_COLOURS["zc"])]
+    if gpu_high is not None:
+        gpu_bands.append(("zone 2: gap < 200 %", gpu_low, gpu_high, ZONE_COLOURS["gap"]))
+    zone3 = gpu_high if gpu_high is not None else gpu_low
+    gpu_bands.append(("zone 3: cache-dependent", zone3, top, ZONE_COLOURS["sc"]))
+    cpu_bands = [
+        ("CPU not cache-dependent", 0.0, min(cpu_threshold, top), ZONE_COLOURS["zc"]),
+        ("CPU cache-dependent", min(cpu_threshold, top), top, ZONE_COLOURS["sc"]),
+    ]
+    fig = go.Figure()
+    for row, bands in (("GPU", gpu_bands), ("CPU", cpu_bands)):
+        for label, lo, hi, colour in bands:
+            if hi <= lo:
+                continue
+            fig.add_trace(
+                go.Bar(
+                    y=[row],
+                    x=[hi - lo],
+                    base=[lo],
+                    orientation="h",
+                    marker={"color": colour, "line": {"color": "white", "width": 2}},
+                    text=[label],
+                    textposition="inside",
+                    insidetextanchor="middle",
+                    textfont={"color": "#1f2933"},
+                    hovertemplate=f"{label}: {_fmt(lo)}-{_fmt(hi)} %<extra></extra>",
+                    showlegend=False,
+                )
+            )
+    for row, value in (("GPU", gpu_usage), ("CPU", cpu_usage)):
+        if value is not None:
+            fig.add_trace(
+                go.Scatter(
+                    x=[value],
+                    y=[row],
+                    mode="markers+text",
+                    marker={
+                        "symbol": "diamond",
+                        "size": 16,
+                        "color": "#1f2933",
+                        "line": {"color": "white", "width": 2},
+                    },
+                    text=[f"{_fmt(round(value, 2))} %"],
+                    textposition="top center",
+                    name=f"{row} usage",
+                    hovertemplate=f"{row} usage: %{{x:.4~g}} %<extra></extra>",
+                    showlegend=False,
+                )
+            )
+    _base_layout(fig, height=230)
+    fig.update_layout(barmode="overlay", bargap=0.35, margin={"l": 10, "r": 20, "t": 20, "b": 10})
+    fig.update_xaxes(title_text="cache usage (% of the device's peak)", range=[0, top], showgrid=False)
+    fig.update_yaxes(type="category", categoryorder="array", categoryarray=["GPU", "CPU"], autorange="reversed")
+    return fig
 
 
 # ---- DAG ----------------------------------------------------------------------------------------------

@@ -12,16 +12,20 @@ from django.urls import reverse
 from django.views.decorators.http import require_POST
 
 from apps.clusters.models import Cluster, ComputeNode
+from apps.devices.api import advice
+from apps.devices.models import DeviceProfile
+from apps.devices.serializers import AdviceRequestSerializer
 from apps.jobs.models import Job
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
-from apps.scheduling.models import Assignment, Schedule
+from apps.scheduling.models import Assignment, Comparison, Schedule
 from apps.tenancy.scoping import visible_fleets
 from apps.workloads.models import Application
 from continuum.engine.errors import InputError
+from continuum.engine.platform import Platform
 
 from . import charts
-from .forms import ScheduleForm, UploadForm
+from .forms import AdviceForm, CompareForm, GenerateForm, ScheduleForm, UploadForm
 
 PAGE_SIZE = 25
 
@@ -44,6 +48,8 @@ def job_result_link(job: Job) -> str:
         return reverse("dashboard:schedule", args=[result["schedule"]])
     if job.state == Job.State.SUCCEEDED and isinstance(result.get("page"), str) and result["page"].startswith("/"):
         return result["page"]  # the job names its dashboard page itself
+    if job.state == Job.State.SUCCEEDED and isinstance(result.get("comparison"), int):
+        return reverse("dashboard:comparison", args=[result["comparison"]])
     return job.result_url
 
 
@@ -118,13 +124,28 @@ def application_list(request: HttpRequest) -> HttpResponse:
     fleets = visible_fleets(request)
     bound = request.method == "POST"
     form = UploadForm(request.POST if bound else None, request.FILES if bound else None, fleets=fleets)
-    status = 200
-    if request.method == "POST":
+    if bound:
         if form.is_valid():
             app = form.save(request.user)
             messages.success(request, f"Imported {app.name!r}: {app.task_count} tasks, {app.edge_count} edges.")
             return redirect("dashboard:application", pk=app.pk)
-        status = 400
+        return _application_list_page(request, fleets, form, GenerateForm(fleets=fleets), status=400)
+    return _application_list_page(request, fleets, form, GenerateForm(fleets=fleets))
+
+
+@login_required
+@require_POST
+def application_generate(request: HttpRequest) -> HttpResponse:
+    fleets = visible_fleets(request)
+    form = GenerateForm(request.POST, fleets=fleets)
+    if form.is_valid():
+        app = form.save(request.user)
+        messages.success(request, f"Generated {app.name!r}: {app.task_count} tasks, {app.edge_count} edges.")
+        return redirect("dashboard:application", pk=app.pk)
+    return _application_list_page(request, fleets, UploadForm(fleets=fleets), form, status=400)
+
+
+def _application_list_page(request, fleets, upload: UploadForm, generate: GenerateForm, status: int = 200):
     apps = (
         scoped(request, Application.objects.select_related("fleet"))
         .annotate(schedule_count=Count("schedules"))
@@ -133,7 +154,13 @@ def application_list(request: HttpRequest) -> HttpResponse:
     return render(
         request,
         "dashboard/application_list.html",
-        {"page": paginate(request, apps), "form": form, "has_fleet": fleets.exists(), "nav": "applications"},
+        {
+            "page": paginate(request, apps),
+            "form": upload,
+            "generate": generate,
+            "has_fleet": fleets.exists(),
+            "nav": "applications",
+        },
         status=status,
     )
 
@@ -141,10 +168,14 @@ def application_list(request: HttpRequest) -> HttpResponse:
 @login_required
 def application_detail(request: HttpRequest, pk: int) -> HttpResponse:
     app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
-    return _application_page(request, app, ScheduleForm(application=app))
+    return _application_page(
+        request, app, ScheduleForm(application=app), CompareForm(application=app, prefix="compare")
+    )
 
 
-def _application_page(request: HttpRequest, app: Application, form: ScheduleForm, status: int = 200) -> HttpResponse:
+def _application_page(
+    request: HttpRequest, app: Application, form: ScheduleForm, compare: CompareForm, status: int = 200
+) -> HttpResponse:
     graph = app.graph
     return render(
         request,
@@ -154,8 +185,10 @@ def _application_page(request: HttpRequest, app: Application, form: ScheduleForm
             "graph": graph,
             "figure": charts.to_html(charts.dag_figure(graph), div_id="dag-chart"),
             "form": form,
-            "schedules": app.schedules.select_related("cluster")[:20],
+            "compare": compare,
+            "schedules": app.schedules.filter(comparison=None).select_related("cluster")[:20],
             "remaps": app.remaps.select_related("schedule")[:10],
+            "comparisons": app.comparisons.select_related("cluster")[:10],
             "nav": "applications",
         },
         status=status,
@@ -168,8 +201,19 @@ def application_schedule(request: HttpRequest, pk: int) -> HttpResponse:
     app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
     form = ScheduleForm(request.POST, application=app)
     if not form.is_valid():
-        return _application_page(request, app, form, status=400)
+        return _application_page(request, app, form, CompareForm(application=app, prefix="compare"), status=400)
     job = start_job("schedule", app.fleet, form.job_arguments(), request.user)
+    return redirect("dashboard:job", pk=job.pk)
+
+
+@login_required
+@require_POST
+def application_compare(request: HttpRequest, pk: int) -> HttpResponse:
+    app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
+    form = CompareForm(request.POST, application=app, prefix="compare")
+    if not form.is_valid():
+        return _application_page(request, app, ScheduleForm(application=app), form, status=400)
+    job = start_job("compare", app.fleet, form.job_arguments(), request.user)
     return redirect("dashboard:job", pk=job.pk)
 
 
@@ -226,11 +270,15 @@ def schedule_page(request: HttpRequest, schedule: Schedule, whatif_form=None, st
         (value, label, sum(1 for r in rows if r.placement == value)) for value, label in Assignment.Placement.choices
     ]
     can_push = bool(schedule.cluster and schedule.cluster.kubeconfig)
+    cpus = {p["id"]: p.get("cores", 1) for p in schedule.platform.get("processors", []) if "id" in p}
     return render(
         request,
         "dashboard/schedule_detail.html",
         {
             "schedule": schedule,
+            "metrics": schedule_metrics(schedule.metrics, dag.time_unit),
+            "idle_rows": idle_rows(schedule.metrics, schedule.makespan, cpus),
+            "multicore": any(n > 1 for n in cpus.values()),
             "rows": rows,
             "figure": figure,
             "problem": problem,
@@ -245,6 +293,47 @@ def schedule_page(request: HttpRequest, schedule: Schedule, whatif_form=None, st
         },
         status=status,
     )
+
+
+def schedule_metrics(metrics: dict, unit: str) -> list[tuple[str, object, str]]:
+    """The figures of a schedule worth a headline: (label, value, unit or "%"), only those it has."""
+    u = f" {unit}" if unit else ""
+    rows: list[tuple[str, object, str]] = []
+    frames = metrics.get("frames") or 1
+    if frames > 1:
+        rows.append(("Frames", frames, ""))
+        rows.append(("Mean frame latency", metrics.get("mean_latency"), u))
+        if metrics.get("throughput") is not None:
+            rows.append(("Throughput", metrics["throughput"], f" frames per{u or ' time unit'}"))
+        if metrics.get("throughput_per_s") is not None:
+            rows.append(("Throughput", metrics["throughput_per_s"], " frames/s"))
+        if metrics.get("pipeline_gain") is not None:
+            rows.append(("Pipeline gain", 100 * metrics["pipeline_gain"], " %"))
+        rows.append(("Frame buffers used", metrics.get("buffers_used"), ""))
+    for key, label, scale, suffix in (
+        ("slr", "SLR", 1, ""),
+        ("idle", "Idle time", 100, " %"),
+        ("overlap", "Overlap O(A)", 1, u),
+        ("xo", "Exclusive overlap XO(A)", 1, u),
+        ("xo_efficiency", "XO efficiency", 100, " %"),
+    ):
+        if metrics.get(key) is not None:
+            rows.append((label, scale * metrics[key], suffix))
+    return rows
+
+
+def idle_rows(
+    metrics: dict, makespan: float, cpus: dict[str, int] | None = None
+) -> list[tuple[str, int, float, float | None]]:
+    """(processor, CPUs, idle time, idle %) for the idle-per-processor table; a multi-core processor's idle
+    time is CPU time (summed over its CPUs), so its % is of ``CPUs * makespan``."""
+    idle = metrics.get("idle_per_processor") or {}
+    cpus = cpus or {}
+    rows = []
+    for p, t in idle.items():
+        n = cpus.get(p, 1)
+        rows.append((p, n, t, 100 * t / (n * makespan) if makespan else None))
+    return rows
 
 
 @login_required
@@ -282,4 +371,103 @@ def job_detail(request: HttpRequest, pk) -> HttpResponse:
         request,
         "dashboard/job_detail.html",
         {"job": job, "result_link": job_result_link(job), "nav": "jobs"},
+    )
+
+
+# ---- comparisons --------------------------------------------------------------------------------------
+@login_required
+def comparison_list(request: HttpRequest) -> HttpResponse:
+    comparisons = scoped(request, Comparison.objects.select_related("fleet", "application", "cluster")).order_by(
+        "-created", "-pk"
+    )
+    return render(
+        request, "dashboard/comparison_list.html", {"page": paginate(request, comparisons), "nav": "comparisons"}
+    )
+
+
+@login_required
+def comparison_detail(request: HttpRequest, pk: int) -> HttpResponse:
+    comparison = get_object_or_404(
+        scoped(request, Comparison.objects.select_related("fleet", "application", "cluster", "job")), pk=pk
+    )
+    schedules = comparison.ordered_schedules()
+    dag = comparison.application.graph
+    platform = Platform.from_dict(comparison.platform)
+    engine = [(s.algorithm, s.to_engine()) for s in schedules]
+    problem = ""
+    try:
+        fig = charts.comparison_figure(engine, platform=platform, dag=dag)
+    except (InputError, KeyError) as exc:
+        problem = f"the application changed since this comparison was made ({exc}); critical paths are not shown"
+        fig = charts.comparison_figure(engine, platform=platform, time_unit=dag.time_unit)
+    results = comparison.result.get("results", {})
+    shown = [a for a in comparison.algorithms if a in results]
+    rows = [
+        {"algorithm": a, "schedule": next((s for s in schedules if s.algorithm == a), None), **results[a]}
+        for a in shown
+    ]
+    frames = comparison.result.get("frames", 1)
+    return render(
+        request,
+        "dashboard/comparison_detail.html",
+        {
+            "comparison": comparison,
+            "title": " vs ".join(a.upper() for a in comparison.algorithms),
+            "rows": rows,
+            "frames": frames,
+            "unit": dag.time_unit,
+            "problem": problem,
+            "gantt": charts.to_html(fig, div_id="comparison-gantt"),
+            "bars": charts.to_html(charts.comparison_bars_figure(results, shown), div_id="comparison-bars"),
+            "processor_count": len(platform.processors),
+            "relative": [(a, [comparison.result["relative"][a].get(b) for b in shown]) for a in shown],
+            "nav": "comparisons",
+        },
+    )
+
+
+# ---- devices ------------------------------------------------------------------------------------------
+@login_required
+def device_list(request: HttpRequest) -> HttpResponse:
+    return render(request, "dashboard/device_list.html", {"devices": DeviceProfile.objects.all(), "nav": "devices"})
+
+
+@login_required
+def device_detail(request: HttpRequest, slug: str) -> HttpResponse:
+    device = get_object_or_404(DeviceProfile, slug=slug)
+    form = AdviceForm(request.POST if request.method == "POST" else None)
+    answer = None
+    status = 200
+    if request.method == "POST":
+        status = 400
+        if form.is_valid():
+            serializer = AdviceRequestSerializer(data=form.request_data(), context={"device": device})
+            if serializer.is_valid():
+                try:
+                    answer = advice(device, serializer)
+                    status = 200
+                except InputError as exc:
+                    form.add_error(exc.field if exc.field in form.fields else None, str(exc))
+            else:
+                for field, errors in serializer.errors.items():
+                    for error in errors:
+                        form.add_error(field if field in form.fields else None, str(error))
+    figure = charts.uma_zone_figure(
+        device.cpu_threshold_pct,
+        device.gpu_threshold_low_pct,
+        device.gpu_threshold_high_pct,
+        answer["advice"]["cpu_usage"] if answer else None,
+        answer["advice"]["gpu_usage"] if answer else None,
+    )
+    return render(
+        request,
+        "dashboard/device_detail.html",
+        {
+            "device": device,
+            "form": form,
+            "answer": answer,
+            "figure": charts.to_html(figure, div_id="zone-chart"),
+            "nav": "devices",
+        },
+        status=status,
     )

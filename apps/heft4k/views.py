@@ -105,8 +105,12 @@ def schedule_panel(
     }
     predicted = charts.GanttPanel("Predicted (HEFT4K plan, synchronised)", engine, platform, set(critical))
     panels = [predicted]
+    frames = len({a.frame for a in engine.assignments})
     if len(dag.tasks) > SIMULATE_MAX_TASKS:
         panel["simulation_note"] = f"not simulated: more than {SIMULATE_MAX_TASKS} tasks"
+    elif frames > 1:
+        # The CFS simulator runs one instance of the DAG; it would fold the frames onto one mapping.
+        panel["simulation_note"] = f"not simulated: the CFS simulation runs one frame and this schedule has {frames}"
     else:
         simulated = run_heft4k(dag, platform, engine)
         notes = _sharing_notes(simulated, dag, platform, dag.time_unit)

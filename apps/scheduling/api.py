@@ -8,8 +8,8 @@ from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
 
-from .models import Schedule
-from .serializers import ScheduleListSerializer, ScheduleSerializer
+from .models import Comparison, Schedule
+from .serializers import ComparisonListSerializer, ComparisonSerializer, ScheduleListSerializer, ScheduleSerializer
 
 
 class ScheduleViewSet(RemapActionMixin, FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
@@ -38,3 +38,19 @@ class ScheduleViewSet(RemapActionMixin, FleetScopedMixin, mixins.DestroyModelMix
             )
         job = start_job("push_schedule", schedule.fleet, {"schedule": schedule.pk}, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+
+class ComparisonViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
+    """Comparisons of several algorithms on one application (created by ``compare`` jobs); deleting one
+    deletes the schedules it made."""
+
+    queryset = Comparison.objects.select_related("fleet")
+    filterset_fields = ["application", "cluster", "best"]
+    ordering_fields = ["created"]
+
+    def get_queryset(self):
+        qs = super().get_queryset()
+        return qs.prefetch_related("schedules") if self.action == "retrieve" else qs
+
+    def get_serializer_class(self):
+        return ComparisonListSerializer if self.action == "list" else ComparisonSerializer

@@ -14,6 +14,14 @@ class Schedule(FleetOwned):
         "clusters.Cluster", null=True, blank=True, on_delete=models.SET_NULL, related_name="schedules"
     )
     job = models.OneToOneField("jobs.Job", null=True, blank=True, on_delete=models.SET_NULL, related_name="schedule")
+    comparison = models.ForeignKey(
+        "Comparison",
+        null=True,
+        blank=True,
+        on_delete=models.CASCADE,
+        related_name="schedules",
+        help_text="the comparison that made this schedule, if any",
+    )
     platform = models.JSONField(help_text="the platform scheduled on, as continuum.platform/v1")
     algorithm = models.CharField(max_length=50)
     params = models.JSONField(default=dict, blank=True)
@@ -29,7 +37,9 @@ class Schedule(FleetOwned):
         return f"{self.algorithm} schedule of {self.application}"
 
     @classmethod
-    def store(cls, result: EngineSchedule, *, application, platform: Platform, cluster=None, job=None) -> "Schedule":
+    def store(
+        cls, result: EngineSchedule, *, application, platform: Platform, cluster=None, job=None, comparison=None
+    ) -> "Schedule":
         """Persist an engine schedule (replacing the one an earlier attempt of ``job`` stored)."""
         if job is not None:
             cls.objects.filter(job=job).delete()
@@ -38,6 +48,7 @@ class Schedule(FleetOwned):
             application=application,
             cluster=cluster,
             job=job,
+            comparison=comparison,
             platform=platform.to_dict(),
             algorithm=result.algorithm,
             params=result.params,
@@ -74,6 +85,38 @@ class Schedule(FleetOwned):
 
     def engine_platform(self) -> Platform:
         return Platform.from_dict(self.platform)
+
+
+class Comparison(FleetOwned):
+    """Several algorithms run on one application and target in one job (thesis Tables 4.1 and 4.3).
+
+    ``result`` is :func:`continuum.engine.compare.compare`'s dict (makespan, SLR, speedup against
+    VisionWorks, overlap, XO, idle time per algorithm, and the relative speeds); each algorithm's schedule is
+    a normal :class:`Schedule` row pointing here.
+    """
+
+    application = models.ForeignKey("workloads.Application", on_delete=models.CASCADE, related_name="comparisons")
+    cluster = models.ForeignKey(
+        "clusters.Cluster", null=True, blank=True, on_delete=models.SET_NULL, related_name="comparisons"
+    )
+    job = models.OneToOneField("jobs.Job", null=True, blank=True, on_delete=models.SET_NULL, related_name="comparison")
+    platform = models.JSONField(help_text="the platform compared on, as continuum.platform/v1")
+    algorithms = models.JSONField(help_text="the algorithms compared, in the order asked")
+    params = models.JSONField(default=dict, blank=True, help_text="frames, fps/period, batch, rank_mode, comm_mode")
+    result = models.JSONField(help_text="continuum.engine.compare.compare()'s figures")
+    best = models.CharField(max_length=50, blank=True)
+    created = models.DateTimeField(auto_now_add=True)
+
+    class Meta:
+        ordering = ["-created"]
+
+    def __str__(self) -> str:
+        return f"comparison of {', '.join(self.algorithms)} on {self.application}"
+
+    def ordered_schedules(self) -> list["Schedule"]:
+        """Its schedules in the order the algorithms were asked for."""
+        rank = {name: i for i, name in enumerate(self.algorithms)}
+        return sorted(self.schedules.all(), key=lambda s: (rank.get(s.algorithm, len(rank)), s.pk))
 
 
 class Assignment(models.Model):

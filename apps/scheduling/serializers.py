@@ -1,20 +1,34 @@
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
-from continuum.engine import algorithms
+from continuum.engine.algorithms import SCHEDULERS
+from continuum.engine.compare import DEFAULT_ALGORITHMS
 from continuum.engine.errors import InputError
+from continuum.engine.heft import COMM_MODES, RANK_MODES
 from continuum.engine.platform import Platform
 
-from .models import Assignment, Schedule
+from .models import Assignment, Comparison, Schedule
+
+#: Most frames one request may schedule (10 frames of a 1000-task DAG take well under a second).
+MAX_FRAMES = 1000
+FRAME_OPTIONS = ("frames", "fps", "period", "batch")
 
 
-class ScheduleRequestSerializer(serializers.Serializer):
-    """Schedule an application on a cluster (its Ready nodes) or on a platform document."""
+class TargetSerializer(serializers.Serializer):
+    """A cluster (its Ready nodes) or a ``continuum.platform/v1`` document, and the frame options."""
 
-    algorithm = serializers.ChoiceField(choices=sorted(algorithms.SCHEDULERS), default="heft")
     cluster = VisibleClusterField(required=False)
     platform = serializers.JSONField(required=False, help_text="a continuum.platform/v1 document")
-    params = serializers.DictField(required=False, default=dict, help_text="algorithm parameters, e.g. rank_mode")
+    frames = serializers.IntegerField(
+        required=False, min_value=1, max_value=MAX_FRAMES, help_text="schedule this many frames (pipelined)"
+    )
+    fps = serializers.FloatField(required=False, min_value=1e-9, help_text="camera rate: frame f released at f/fps")
+    period = serializers.FloatField(
+        required=False, min_value=0, help_text="frame period in the DAG's time unit (instead of fps)"
+    )
+    batch = serializers.IntegerField(
+        required=False, min_value=1, max_value=MAX_FRAMES, help_text="frames buffered and released together"
+    )
 
     def validate_platform(self, value):
         try:
@@ -24,9 +38,54 @@ class ScheduleRequestSerializer(serializers.Serializer):
         return value
 
     def validate(self, attrs):
+        attrs = super().validate(attrs)
         if ("cluster" in attrs) == ("platform" in attrs):
             raise serializers.ValidationError({"cluster": ["give exactly one of 'cluster' and 'platform'"]})
+        if "fps" in attrs and "period" in attrs:
+            raise serializers.ValidationError({"fps": ["give either fps or period, not both"]})
         return attrs
+
+    def frame_options(self) -> dict:
+        return {k: self.validated_data[k] for k in FRAME_OPTIONS if k in self.validated_data}
+
+
+class ScheduleRequestSerializer(TargetSerializer):
+    """Schedule an application on a cluster (its Ready nodes) or on a platform document, for one frame or
+    several (``frames``, ``fps`` or ``period``, ``batch``: thesis Eqs. 3.5-3.7)."""
+
+    algorithm = serializers.ChoiceField(choices=sorted(SCHEDULERS), default="heft")
+    params = serializers.DictField(required=False, default=dict, help_text="algorithm parameters, e.g. rank_mode")
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        clash = sorted(k for k in FRAME_OPTIONS if k in attrs and k in attrs["params"])
+        if clash:
+            raise serializers.ValidationError({clash[0]: ["given both as a field and in params; give it once"]})
+        attrs["params"] = {**attrs["params"], **{k: attrs[k] for k in FRAME_OPTIONS if k in attrs}}
+        return attrs
+
+
+class CompareRequestSerializer(TargetSerializer):
+    """Run several algorithms on one application and target and compare them (thesis Tables 4.1, 4.3)."""
+
+    algorithms = serializers.ListField(
+        child=serializers.ChoiceField(choices=sorted(SCHEDULERS)),
+        default=list(DEFAULT_ALGORITHMS),
+        min_length=1,
+        max_length=len(SCHEDULERS),
+    )
+    rank_mode = serializers.ChoiceField(
+        choices=RANK_MODES, default="max", help_text="upward-rank cost for every rank-based algorithm (thesis: max)"
+    )
+    comm_mode = serializers.ChoiceField(
+        choices=COMM_MODES, default="impl", help_text="upward-rank transfer (thesis: impl)"
+    )
+
+    def validate_algorithms(self, value):
+        dup = sorted({a for a in value if value.count(a) > 1})
+        if dup:
+            raise serializers.ValidationError(f"{dup[0]!r} is listed twice")
+        return value
 
 
 class AssignmentSerializer(serializers.ModelSerializer):
@@ -62,6 +121,7 @@ class ScheduleSerializer(serializers.ModelSerializer):
             "application",
             "cluster",
             "job",
+            "comparison",
             "algorithm",
             "params",
             "makespan",
@@ -80,3 +140,60 @@ class ScheduleSerializer(serializers.ModelSerializer):
 class ScheduleListSerializer(ScheduleSerializer):
     class Meta(ScheduleSerializer.Meta):
         fields = ["id", "fleet", "application", "cluster", "job", "algorithm", "makespan", "created"]
+
+
+class ComparisonScheduleSerializer(serializers.ModelSerializer):
+    url = serializers.HyperlinkedIdentityField(view_name="api:schedule-detail")
+
+    class Meta:
+        model = Schedule
+        fields = ["id", "url", "algorithm", "makespan"]
+        read_only_fields = fields
+
+
+class ComparisonSerializer(serializers.ModelSerializer):
+    """A comparison: per algorithm makespan, SLR, speedup against VisionWorks, O/XO, idle time (``figures``),
+    Table 4.3's relative speeds, and links to each algorithm's stored schedule."""
+
+    fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
+    figures = serializers.SerializerMethodField()
+    relative = serializers.SerializerMethodField()
+    reference_makespan = serializers.SerializerMethodField()
+    schedules = serializers.SerializerMethodField()
+
+    class Meta:
+        model = Comparison
+        fields = [
+            "id",
+            "fleet",
+            "application",
+            "cluster",
+            "job",
+            "algorithms",
+            "params",
+            "best",
+            "reference_makespan",
+            "figures",
+            "relative",
+            "schedules",
+            "platform",
+            "created",
+        ]
+        read_only_fields = fields
+
+    def get_figures(self, obj) -> dict:
+        return obj.result.get("results", {})
+
+    def get_relative(self, obj) -> dict:
+        return obj.result.get("relative", {})
+
+    def get_reference_makespan(self, obj) -> float | None:
+        return obj.result.get("reference_makespan")
+
+    def get_schedules(self, obj) -> list[dict]:
+        return ComparisonScheduleSerializer(obj.ordered_schedules(), many=True, context=self.context).data
+
+
+class ComparisonListSerializer(ComparisonSerializer):
+    class Meta(ComparisonSerializer.Meta):
+        fields = ["id", "fleet", "application", "cluster", "job", "algorithms", "params", "best", "created"]

@@ -5,11 +5,16 @@ from rest_framework.response import Response
 
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
-from apps.scheduling.serializers import ScheduleRequestSerializer
+from apps.scheduling.serializers import CompareRequestSerializer, ScheduleRequestSerializer
 from apps.tenancy.api import FleetScopedMixin
 
 from .models import Application
-from .serializers import ApplicationImportSerializer, ApplicationListSerializer, ApplicationSerializer
+from .serializers import (
+    ApplicationGenerateSerializer,
+    ApplicationImportSerializer,
+    ApplicationListSerializer,
+    ApplicationSerializer,
+)
 
 
 class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
@@ -26,8 +31,21 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
         detail=False, methods=["post"], url_path="import", parser_classes=[parsers.MultiPartParser, parsers.FormParser]
     )
     def import_file(self, request):
-        """Create an application from an uploaded DAG file (continuum JSON, WfCommons WfFormat 1.5, ...)."""
+        """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX,
+        Kasahara STG (reader ``options`` such as ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5}``) or the
+        thesis simulator's CSV. The format is ``format``, else the file extension's, else guessed."""
         serializer = ApplicationImportSerializer(data=request.data, context=self.get_serializer_context())
+        serializer.is_valid(raise_exception=True)
+        app = serializer.save()
+        return Response(
+            ApplicationSerializer(app, context=self.get_serializer_context()).data, status=status.HTTP_201_CREATED
+        )
+
+    @extend_schema(request=ApplicationGenerateSerializer, responses={201: ApplicationSerializer})
+    @action(detail=False, methods=["post"])
+    def generate(self, request):
+        """Create an application from a seeded synthetic DAG (``thesis`` Tree/Linear or ``layered``)."""
+        serializer = ApplicationGenerateSerializer(data=request.data, context=self.get_serializer_context())
         serializer.is_valid(raise_exception=True)
         app = serializer.save()
         return Response(
@@ -45,9 +63,32 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
         if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
             return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
         arguments = {"application": app.pk, "algorithm": data["algorithm"], "params": data["params"]}
-        if data.get("cluster") is not None:
-            arguments["cluster"] = data["cluster"].pk
-        else:
-            arguments["platform"] = data["platform"]
-        job = start_job("schedule", app.fleet, arguments, request.user)
+        job = start_job("schedule", app.fleet, arguments | _target_arguments(data), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+    @extend_schema(request=CompareRequestSerializer, responses={202: JobSerializer})
+    @action(detail=True, methods=["post"])
+    def compare(self, request, pk=None):
+        """Start a job that runs several algorithms on this application and target (frames optional) and stores
+        each schedule plus a comparison (makespan, SLR, speedup vs VisionWorks, overlap, idle time)."""
+        app = self.get_object()
+        serializer = CompareRequestSerializer(data=request.data, context=self.get_serializer_context())
+        serializer.is_valid(raise_exception=True)
+        data = serializer.validated_data
+        if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
+            return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
+        arguments = {
+            "application": app.pk,
+            "algorithms": data["algorithms"],
+            "rank_mode": data["rank_mode"],
+            "comm_mode": data["comm_mode"],
+            **serializer.frame_options(),
+        }
+        job = start_job("compare", app.fleet, arguments | _target_arguments(data), request.user)
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+
+def _target_arguments(data: dict) -> dict:
+    if data.get("cluster") is not None:
+        return {"cluster": data["cluster"].pk}
+    return {"platform": data["platform"]}

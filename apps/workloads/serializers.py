@@ -1,11 +1,15 @@
 from rest_framework import serializers
 
 from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer
+from continuum.engine import generators
 from continuum.engine.dag import TaskGraph
 from continuum.engine.errors import InputError
-from continuum.engine.formats import JSON_READERS, TEXT_READERS, load_dag
 
+from .importing import FORMATS, GENERATORS, generate_dag, parse_options, read_dag_file
 from .models import Application
+
+#: Largest synthetic DAG the generate endpoint makes (the engine schedules 10,000 tasks in seconds).
+MAX_GENERATED_TASKS = 20_000
 
 
 class ApplicationSerializer(FleetOwnedSerializer):
@@ -58,37 +62,98 @@ class ApplicationListSerializer(ApplicationSerializer):
         fields = [f for f in ApplicationSerializer.Meta.fields if f != "dag"]
 
 
-FORMATS = sorted({*JSON_READERS, *TEXT_READERS})
-
-
 class ApplicationImportSerializer(DefaultFleetMixin, serializers.Serializer):
-    """Upload a DAG file in any supported format (continuum JSON, WfCommons WfFormat 1.5, ...)."""
+    """Upload a DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX, Kasahara STG or the thesis CSV.
+
+    The format is ``format`` when given, else the file name's (``.stg``, ``.dax``/``.xml``, ``.csv``), else
+    guessed from the content. ``options`` (a JSON object) go to the reader, e.g. STG's
+    ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5, "seed": 7}``.
+    """
 
     fleet = FleetField(required=False)
     file = serializers.FileField()
-    format = serializers.ChoiceField(choices=FORMATS, required=False, help_text="default: guessed from the file")
+    format = serializers.ChoiceField(
+        choices=FORMATS, required=False, help_text="default: from the file name, else guessed from the content"
+    )
+    options = serializers.CharField(
+        required=False,
+        allow_blank=True,
+        help_text='reader options as a JSON object, e.g. STG: {"ccr": 1, "processors": 4, "heterogeneity": 0.5}',
+    )
     name = serializers.CharField(max_length=200, required=False)
     description = serializers.CharField(required=False, allow_blank=True, default="")
+
+    def validate_options(self, value) -> dict:
+        try:
+            return parse_options(value)
+        except InputError as exc:
+            raise serializers.ValidationError(str(exc)) from exc
 
     def validate(self, attrs):
         attrs = super().validate(attrs)
         upload = attrs["file"]
         try:
-            attrs["graph"] = load_dag(upload.read(), attrs.get("format"), name=attrs.get("name"))
+            attrs["graph"], attrs["source_format"] = read_dag_file(
+                upload.read(), upload.name, attrs.get("format"), attrs.get("options"), attrs.get("name")
+            )
         except InputError as exc:
-            raise serializers.ValidationError({"file": [f"{upload.name}: {exc}"]}) from exc
-        attrs["source_format"] = attrs.get("format") or attrs["graph"].meta.get("source_format", "continuum")
+            raise serializers.ValidationError({exc.field: [str(exc)]}) from exc
         return attrs
 
     def create(self, validated):
-        user = self.context["request"].user
-        app = Application(
-            fleet=validated["fleet"],
-            name=validated["graph"].name,
-            description=validated["description"],
-            source_format=validated["source_format"],
-            created_by=user if user.is_authenticated else None,
-        )
-        app.set_graph(validated["graph"])
-        app.save()
-        return app
+        v = validated
+        return _store(self.context["request"], v["fleet"], v["graph"], v["source_format"], v["description"])
+
+
+class ApplicationGenerateSerializer(DefaultFleetMixin, serializers.Serializer):
+    """A seeded synthetic DAG: the thesis' ``thesis`` generator (Tree/Linear OpenVX-like CPU/GPU DAGs,
+    spec 01 section 8.2) or the HEFT literature's ``layered`` random graphs (Topcuoglu et al. 2002)."""
+
+    fleet = FleetField(required=False)
+    generator = serializers.ChoiceField(choices=GENERATORS)
+    seed = serializers.IntegerField(default=0, min_value=0)
+    n = serializers.IntegerField(required=False, min_value=1, max_value=MAX_GENERATED_TASKS, help_text="tasks")
+    dag_class = serializers.ChoiceField(
+        choices=generators.SHAPES, required=False, help_text="thesis: tree or linear (default: drawn from the seed)"
+    )
+    shape = serializers.FloatField(required=False, min_value=0.01, help_text="layered: height/width shape (alpha)")
+    out_degree = serializers.FloatField(required=False, min_value=1, help_text="layered: mean out-degree")
+    ccr = serializers.FloatField(required=False, min_value=0, help_text="layered: communication-to-computation ratio")
+    mean_cost = serializers.FloatField(required=False, min_value=0.001, help_text="layered: mean task cost")
+    processors = serializers.IntegerField(
+        required=False, min_value=1, max_value=1024, help_text="layered: per-processor costs p0.. (unrelated)"
+    )
+    heterogeneity = serializers.FloatField(required=False, min_value=0, max_value=2, help_text="layered: beta")
+    name = serializers.CharField(max_length=200, required=False)
+    description = serializers.CharField(required=False, allow_blank=True, default="")
+
+    PARAMS = ("seed", "n", "dag_class", "shape", "out_degree", "ccr", "mean_cost", "processors", "heterogeneity")
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        try:
+            graph = generate_dag(attrs["generator"], **{k: attrs[k] for k in self.PARAMS if k in attrs})
+        except InputError as exc:
+            raise serializers.ValidationError({exc.field or "non_field_errors": [str(exc)]}) from exc
+        if attrs.get("name"):
+            graph.name = attrs["name"]
+        attrs["graph"] = graph
+        return attrs
+
+    def create(self, validated):
+        source = f"generator:{validated['generator']}"
+        return _store(self.context["request"], validated["fleet"], validated["graph"], source, validated["description"])
+
+
+def _store(request, fleet, graph: TaskGraph, source_format: str, description: str = "") -> Application:
+    user = request.user
+    app = Application(
+        fleet=fleet,
+        name=graph.name,
+        description=description,
+        source_format=source_format,
+        created_by=user if user.is_authenticated else None,
+    )
+    app.set_graph(graph)
+    app.save()
+    return app

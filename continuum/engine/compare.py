@@ -7,13 +7,18 @@ Table 4.3: the cell (row A, column B) is ``M_B / M_A - 1``, how much faster A is
 algorithms and G-FL_c's HEFT mapping all use the same rank reading (by default the thesis' ``max`` cost
 and implementation-kind transfers, spec 01 section 2.1) so that the comparison is like for like. The
 result is a plain JSON-able dict; the scheduling app turns it into a job and charts.
+
+Long runs: ``progress(algorithm, index, count, done, total)`` reports, per algorithm (``index`` of
+``count``, the reference included when it is not in the list), the tasks placed so far (``done`` of
+``total``; ``0, 0`` when the algorithm starts). ``on_schedule(algorithm, schedule)`` receives every
+:class:`~continuum.engine.schedule.Schedule` made, so a caller can store them without running again.
 """
 
 from __future__ import annotations
 
 import inspect
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from . import overlap as ov
@@ -22,6 +27,10 @@ from .dag import TaskGraph
 from .errors import InputError
 from .pipeline import pipeline
 from .platform import Platform
+from .schedule import Schedule
+
+#: ``progress(algorithm, index, count, done, total)``, see the module docstring.
+CompareProgress = Callable[[str, int, int, int, int], None]
 
 DEFAULT_ALGORITHMS = ("visionworks", "gfl", "gfl_c", "heft", "xeft")
 REFERENCE = "visionworks"
@@ -39,6 +48,8 @@ def compare(
     batch: int | None = None,
     rank_mode: str = "max",
     comm_mode: str = "impl",
+    progress: CompareProgress | None = None,
+    on_schedule: Callable[[str, Schedule], None] | None = None,
 ) -> dict[str, Any]:
     """Run ``algorithms`` on ``dag`` and ``platform``; see the module docstring for the figures."""
     if not algorithms:
@@ -50,12 +61,22 @@ def compare(
         )
     frame_args = {"frames": frames, "fps": fps, "period": period, "batch": batch}
     results: dict[str, dict[str, Any]] = {}
-    for name in dict.fromkeys([*algorithms, REFERENCE]):  # the reference always runs, once
+    names = list(dict.fromkeys([*algorithms, REFERENCE]))  # the reference always runs, once
+    for index, name in enumerate(names):
         accepted = inspect.signature(SCHEDULERS[name]).parameters
         params = {k: v for k, v in (("rank_mode", rank_mode), ("comm_mode", comm_mode)) if k in accepted}
+        report = None
+        if progress is not None:
+            progress(name, index, len(names), 0, 0)
+
+            def report(done: int, total: int, name: str = name, index: int = index) -> None:
+                progress(name, index, len(names), done, total)
+
         started = time.perf_counter()
-        schedule = pipeline(name, dag, platform, **frame_args, **params)
+        schedule = pipeline(name, dag, platform, progress=report, **frame_args, **params)
         elapsed = time.perf_counter() - started
+        if on_schedule is not None:
+            on_schedule(name, schedule)
         m = schedule.metrics
         row: dict[str, Any] = {"makespan": schedule.makespan, "slr": m["slr"], "runtime_s": elapsed}
         row.update({k: m[k] for k in FIGURES})

@@ -26,7 +26,7 @@ from collections.abc import Sequence
 
 from .dag import TaskGraph
 from .errors import InputError
-from .heft import Compiled, compile_problem, compiled_ranks, priority_list, schedule_list
+from .heft import Compiled, Progress, compile_problem, compiled_ranks, priority_list, schedule_list
 from .platform import Platform
 from .schedule import Assignment, Schedule
 
@@ -69,8 +69,12 @@ def gfl_frames(
     gpu_class: str = "gpu",
     rank_mode: str = "max",
     comm_mode: str = "impl",
+    progress: Progress | None = None,
 ) -> Schedule:
-    """G-FL on ``len(release)`` frames, frame ``f`` released at ``release[f]``."""
+    """G-FL on ``len(release)`` frames, frame ``f`` released at ``release[f]``.
+
+    ``progress(placed, total)`` is called about a hundred times over the run (large DAGs, many frames).
+    """
     if tie not in TIES:
         raise InputError(f"unknown tie rule {tie!r} (choose from {', '.join(TIES)})", "tie")
     prob = compile_problem(dag, platform)
@@ -133,6 +137,7 @@ def gfl_frames(
     free = [0.0] * P
     now = 0.0
     placed: list[Assignment] = []
+    step = max(1, N // 100)
     while len(placed) < N:
         progressed = False
         for p in range(P):
@@ -154,6 +159,8 @@ def gfl_frames(
             free[p] = now + w
             f, t = divmod(item, n)
             placed.append(Assignment(prob.ids[t], prob.names[p], now, now + w, f))
+            if progress and (len(placed) % step == 0 or len(placed) == N):
+                progress(len(placed), N)
             progressed = True
             for q, _ in prob.succ[t]:
                 qi = f * n + q
@@ -187,15 +194,30 @@ def gfl(
     gpu_class: str = "gpu",
     rank_mode: str = "max",
     comm_mode: str = "impl",
+    progress: Progress | None = None,
 ) -> Schedule:
     """G-FL on one frame (``mapping="heft"`` for G-FL_c)."""
     return gfl_frames(
-        dag, platform, (0.0,), mapping=mapping, tie=tie, gpu_class=gpu_class, rank_mode=rank_mode, comm_mode=comm_mode
+        dag,
+        platform,
+        (0.0,),
+        mapping=mapping,
+        tie=tie,
+        gpu_class=gpu_class,
+        rank_mode=rank_mode,
+        comm_mode=comm_mode,
+        progress=progress,
     )
 
 
 def gfl_c(
-    dag: TaskGraph, platform: Platform, *, tie: str = "id", rank_mode: str = "max", comm_mode: str = "impl"
+    dag: TaskGraph,
+    platform: Platform,
+    *,
+    tie: str = "id",
+    rank_mode: str = "max",
+    comm_mode: str = "impl",
+    progress: Progress | None = None,
 ) -> Schedule:
     """G-FL_c: G-FL with HEFT's CE kinds."""
-    return gfl(dag, platform, mapping="heft", tie=tie, rank_mode=rank_mode, comm_mode=comm_mode)
+    return gfl(dag, platform, mapping="heft", tie=tie, rank_mode=rank_mode, comm_mode=comm_mode, progress=progress)

@@ -17,7 +17,8 @@ Other Table 4.1 metrics (spec 01 section 3.3):
   over pairs of classes; T_x_excl is the total time of the tasks exclusive to class x (on the slowest
   processor of that class, so that the bound holds with per-core speeds), times the number of frames;
 - ``xo_efficiency = XO(A) / max_xo``;
-- ``idle = 1 - busy / (processors * makespan)`` [PROPOSAL: the thesis does not define it];
+- ``idle = 1 - busy / (CPUs * makespan)`` [PROPOSAL: the thesis does not define it], where a multi-core
+  processor (``Processor.cores``, HEFT4K's cluster nodes) counts each of its CPUs;
 - ``slr = makespan / CP_min``, CP_min the longest path with each task's fastest time, no transfers;
 - ``buffers_used``: the largest number of frames whose lifetimes ``[min start, max finish)`` overlap
   (spec 01 section 5.4, Table 4.4).
@@ -114,19 +115,25 @@ def busy_per_processor(schedule: Schedule, platform: Platform) -> dict[str, floa
     return busy
 
 
+def _cpus(platform: Platform) -> dict[str, int]:
+    return {p.id: max(1, p.cores) for p in platform.processors}
+
+
 def idle_per_processor(schedule: Schedule, platform: Platform) -> dict[str, float]:
-    """Makespan minus busy time, per processor (Table 4.4's idle periods)."""
+    """Makespan minus busy time, per processor (Table 4.4's idle periods); a multi-core processor's idle
+    time is summed over its CPUs (``cores * makespan - busy``), so it never goes negative."""
     span = schedule.makespan
-    return {p: span - b for p, b in busy_per_processor(schedule, platform).items()}
+    cpus = _cpus(platform)
+    return {p: cpus.get(p, 1) * span - b for p, b in busy_per_processor(schedule, platform).items()}
 
 
 def idle_fraction(schedule: Schedule, platform: Platform) -> float:
-    """``1 - busy / (processors * makespan)`` [PROPOSAL]; 0 for an empty schedule."""
+    """``1 - busy / (CPUs * makespan)`` [PROPOSAL]; 0 for an empty schedule."""
     span = schedule.makespan
     if span <= 0:
         return 0.0
     busy = sum(busy_per_processor(schedule, platform).values())
-    return 1.0 - busy / (len(platform.processors) * span)
+    return 1.0 - busy / (sum(_cpus(platform).values()) * span)
 
 
 def cp_min(dag: TaskGraph, platform: Platform) -> float:

@@ -119,19 +119,27 @@ def _rank_based(name: str) -> Callable[..., Schedule]:
 
 
 def _gfl(mapping: str) -> Callable[..., Schedule]:
-    def run(dag: TaskGraph, platform: Platform, release: Sequence[float], **params: Any) -> Schedule:
+    def run(
+        dag: TaskGraph, platform: Platform, release: Sequence[float], progress: Progress | None = None, **params: Any
+    ) -> Schedule:
         params.setdefault("mapping", mapping)
-        return gfl_frames(dag, platform, release, **params)
+        return gfl_frames(dag, platform, release, progress=progress, **params)
 
     return run
 
 
 def _vw(overlap: bool) -> Callable[..., Schedule]:
     def run(
-        dag: TaskGraph, platform: Platform, release: Sequence[float], *, in_order: bool = True, **params: Any
+        dag: TaskGraph,
+        platform: Platform,
+        release: Sequence[float],
+        *,
+        in_order: bool = True,
+        progress: Progress | None = None,
+        **params: Any,
     ) -> Schedule:
         params.setdefault("overlap", overlap)
-        return visionworks_frames(dag, platform, release, **params)  # frame order is built in
+        return visionworks_frames(dag, platform, release, progress=progress, **params)  # frame order is built in
 
     return run
 

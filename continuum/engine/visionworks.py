@@ -21,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from .dag import TaskGraph
-from .heft import Compiled, compile_problem
+from .heft import Compiled, Progress, compile_problem
 from .platform import Platform
 from .schedule import Assignment, Schedule
 
@@ -63,8 +63,9 @@ def visionworks_frames(
     *,
     overlap: bool = False,
     gpu_class: str = "gpu",
+    progress: Progress | None = None,
 ) -> Schedule:
-    """VW on ``len(release)`` frames, frame ``f`` released at ``release[f]``."""
+    """VW on ``len(release)`` frames, frame ``f`` released at ``release[f]``; ``progress(placed, total)``."""
     prob = compile_problem(dag, platform)
     mapping = local_best(prob, gpu_class)
     order = breadth_first(prob)
@@ -74,6 +75,8 @@ def visionworks_frames(
     clock = 0.0
     finish = [0.0] * (n * len(release))
     assignments = []
+    total = n * len(release)
+    step = max(1, total // 100)
     for f, rel in enumerate(release):
         base = f * n
         for t in order:
@@ -88,15 +91,26 @@ def visionworks_frames(
             finish[base + t] = s + w
             free[p] = clock = s + w
             assignments.append(Assignment(prob.ids[t], prob.names[p], s, s + w, f))
+            if progress and (len(assignments) % step == 0 or len(assignments) == total):
+                progress(len(assignments), total)
     name = "visionworks_overlap" if overlap else "visionworks"
     return Schedule(name, assignments, params={"overlap": overlap})
 
 
-def visionworks(dag: TaskGraph, platform: Platform, *, overlap: bool = False, gpu_class: str = "gpu") -> Schedule:
+def visionworks(
+    dag: TaskGraph,
+    platform: Platform,
+    *,
+    overlap: bool = False,
+    gpu_class: str = "gpu",
+    progress: Progress | None = None,
+) -> Schedule:
     """VW on one frame."""
-    return visionworks_frames(dag, platform, (0.0,), overlap=overlap, gpu_class=gpu_class)
+    return visionworks_frames(dag, platform, (0.0,), overlap=overlap, gpu_class=gpu_class, progress=progress)
 
 
-def visionworks_overlap(dag: TaskGraph, platform: Platform, *, gpu_class: str = "gpu") -> Schedule:
+def visionworks_overlap(
+    dag: TaskGraph, platform: Platform, *, gpu_class: str = "gpu", progress: Progress | None = None
+) -> Schedule:
     """VW with cross-processor overlap (spec 01 section 5.1's ``vw_overlap``)."""
-    return visionworks(dag, platform, overlap=True, gpu_class=gpu_class)
+    return visionworks(dag, platform, overlap=True, gpu_class=gpu_class, progress=progress)

@@ -13,6 +13,8 @@ ENDPOINTS = [
     "/api/v1/applications/",
     "/api/v1/schedules/",
     "/api/v1/jobs/",
+    "/api/v1/comparisons/",
+    "/api/v1/devices/",
     "/api/schema/",
 ]
 

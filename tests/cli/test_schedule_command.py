@@ -64,3 +64,22 @@ def test_task_no_processor_can_run(tmp_path):
     dag.write_text(json.dumps({"tasks": [{"id": "k", "cost": {"gpu": 1}}], "edges": []}))
     out = manage("schedule", str(dag), "--cpus", "2")
     assert out.returncode == 2 and "'k' cannot run" in out.stderr
+
+
+@pytest.mark.parametrize("algorithm", ["gfl", "xeft"])
+def test_progress_on_stderr_for_many_frames(algorithm):
+    out = manage(
+        "schedule", str(DATA / "orb_graph.csv"), "--cpus", "4", "--gpus", "1", "--algorithm", algorithm,
+        "--frames", "10", "--progress", "--json",
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)  # stdout stays pure JSON
+    lines = out.stderr.splitlines()
+    total = len(doc["assignments"])
+    assert lines[-1] == f"{algorithm}, tasks placed: {total}/{total} (100%)"
+    assert 5 <= len(lines) <= 12  # a line per tenth of the work, not one per task
+
+
+def test_no_progress_without_a_terminal_unless_asked():
+    out = manage("schedule", str(DATA / "topcuoglu.dag.json"), "--platform", str(DATA / "topcuoglu.platform.json"))
+    assert out.returncode == 0 and out.stderr == ""

@@ -169,3 +169,61 @@ def test_bad_upload_shows_the_error_in_the_page(page, live_server, operator, tmp
     alert = page.locator(".form-error").first.inner_text()
     assert "Nothing was imported" in alert and "loop.json: the graph has a cycle: a -> b -> a" in alert
     assert Application.objects.count() == 0
+
+
+COMPARISON_SCREENSHOT = SCREENSHOT.with_name("continuum-comparison.png")
+
+
+def test_compare_algorithms_and_see_stacked_gantt_charts_on_one_time_axis(page, live_server, operator, fleet):
+    from apps.scheduling.models import Comparison
+
+    app = make_application(fleet, "fig31.dag.json")
+    log_in(page, live_server)
+    page.goto(f"{live_server.url}/applications/{app.pk}/")
+
+    # Compare HEFT, XEFT and G-FL on the thesis' board (1 CPU + 1 GPU sharing memory), 2 frames.
+    form = page.locator("#compare form")
+    for name in ("visionworks", "gfl_c"):  # checked by default; leave them out
+        form.locator(f"input[name=compare-algorithms][value={name}]").uncheck()
+    form.locator("input[name=compare-target][value=platform]").check()
+    form.locator("input[name=compare-cpus]").fill("1")
+    form.locator("input[name=compare-gpus]").fill("1")
+    form.locator("input[name=compare-shared_memory]").check()
+    form.locator("summary:has-text('Frames')").click()
+    form.locator("input[name=compare-frames]").fill("2")
+    form.locator("button[type=submit]").click()
+
+    page.wait_for_selector("#job-state:has-text('Succeeded')")
+    page.click("#job-result")
+    page.wait_for_url(re.compile(r"/comparisons/\d+/$"))
+    comparison = Comparison.objects.get()
+    assert comparison.algorithms == ["heft", "xeft", "gfl"]
+
+    # Three Gantt charts, one above the other: 3 x 8 tasks x 2 frames bars, one y axis each.
+    page.wait_for_selector("#comparison-gantt .barlayer .point")
+    assert page.locator("#comparison-gantt .barlayer .point").count() == 3 * 16
+    assert page.locator("#comparison-gantt g.cartesianlayer > g.subplot").count() == 3
+    titles = page.locator("#comparison-gantt .annotation-text").all_text_contents()
+    assert [t.split(":")[0] for t in titles[:3]] == ["HEFT", "XEFT", "GFL"]
+    assert "makespan 34" in titles[1]  # XEFT_p, 2 batched frames (spec 01 section 7.5)
+    legend = page.locator("#comparison-gantt .legend").text_content()
+    assert "frame 0" in legend and "frame 1" in legend and "critical path" in legend
+
+    page.screenshot(path=str(COMPARISON_SCREENSHOT), full_page=True)
+
+    # The time axis is shared: zooming the top chart zooms the others.
+    ranges = page.evaluate(
+        """() => Plotly.relayout('comparison-gantt', {'xaxis.range': [5, 20]}).then(() => {
+            const l = document.getElementById('comparison-gantt')._fullLayout;
+            return [l.xaxis.range, l.xaxis2.range, l.xaxis3.range];
+        })"""
+    )
+    assert ranges == [[5, 20], [5, 20], [5, 20]]
+
+    # The figures side by side, and a bar chart of them.
+    table = page.locator("#comparison-table").inner_text()
+    assert "XEFT" in table and "best" in table
+    page.wait_for_selector("#comparison-bars .barlayer .point")
+    assert page.locator("#comparison-bars g.cartesianlayer > g.subplot").count() >= 6
+    assert page.errors == []
+    assert page.foreign_requests == []

@@ -427,8 +427,10 @@ def test_gantt_keeps_idle_processors_and_labels_frames():
     )
     fig = charts.gantt_figure(sched, platform=platform, critical=[("a", 1)])
     assert list(fig.layout.yaxis.categoryarray) == ["cpu0", "cpu1", "gpu0"]
-    normal, critical = bars(fig)
-    assert list(critical.text) == ["a [1]"] and sorted(normal.text) == ["a [0]", "b [1]"]
+    # Two frames: one trace per frame (what is not on the critical path), then the critical path.
+    frame0, frame1, critical = bars(fig)
+    assert (frame0.name, frame1.name, critical.name) == ("frame 0", "frame 1", "critical path")
+    assert list(critical.text) == ["a [1]"] and list(frame0.text) == ["a [0]"] and list(frame1.text) == ["b [1]"]
 
 
 def test_gantt_without_critical_path_has_no_highlight_trace():

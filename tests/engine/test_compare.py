@@ -45,3 +45,39 @@ def test_pipelined_comparison_without_reference_in_the_list(fig31):
 def test_unknown_algorithm(fig31):
     with pytest.raises(InputError, match="unknown algorithm 'cpop'"):
         compare(fig31, board(1), ["heft", "cpop"])
+
+
+def test_progress_per_algorithm_and_every_schedule_handed_over(fig31):
+    seen = []
+    schedules = {}
+    out = compare(
+        fig31,
+        board(1),
+        ["heft", "xeft"],
+        frames=3,
+        progress=lambda *args: seen.append(args),
+        on_schedule=schedules.__setitem__,
+    )
+    # The reference runs last, after the listed algorithms, and reports too.
+    assert [s[:3] for s in seen if s[3:] == (0, 0)] == [("heft", 0, 3), ("xeft", 1, 3), ("visionworks", 2, 3)]
+    for name in ("heft", "xeft", "visionworks"):
+        done = [(d, t) for n, _, _, d, t in seen if n == name and t]
+        assert done and done[-1] == (24, 24), name  # 8 tasks x 3 frames
+        assert [d for d, _ in done] == sorted(d for d, _ in done)
+    assert set(schedules) == {"heft", "xeft", "visionworks"}
+    assert {n: s.makespan for n, s in schedules.items() if n in out["results"]} == {
+        n: r["makespan"] for n, r in out["results"].items()
+    }
+    assert all({a.frame for a in s.assignments} == {0, 1, 2} for s in schedules.values())
+
+
+@pytest.mark.parametrize("algorithm", ["gfl", "gfl_c", "visionworks", "visionworks_overlap", "heft", "xeft"])
+def test_every_native_multi_frame_scheduler_reports_progress(fig31, algorithm):
+    from continuum.engine.algorithms import run
+
+    calls = []
+    schedule = run(algorithm, fig31, board(2), progress=lambda d, t: calls.append((d, t)), frames=5)
+    assert calls and calls[-1] == (40, 40) and len(schedule.assignments) == 40
+    single = []
+    run(algorithm, fig31, board(2), progress=lambda d, t: single.append((d, t)))
+    assert single[-1] == (8, 8)

@@ -237,3 +237,18 @@ def test_board_transfers_only_between_cpu_and_gpu():
     s = heft(dag, platform)
     where = placements(s)
     assert where["c"][1] == where["a"][2] + 3
+
+
+def test_idle_counts_every_cpu_of_a_multi_core_processor():
+    """A 2-CPU node running two tasks side by side is not idle (busy time may exceed the makespan)."""
+    from continuum.engine.platform import Platform, Processor
+    from continuum.engine.schedule import Assignment, Schedule
+
+    platform = Platform([Processor("node0", cores=2), Processor("gpu0", "gpu")])
+    schedule = Schedule(
+        "manual",
+        [Assignment("a", "node0", 0, 4, 0), Assignment("b", "node0", 0, 2, 0), Assignment("c", "gpu0", 1, 4, 0)],
+    )
+    # node0: 2 CPUs x 4 - (4 + 2) busy = 2 idle; gpu0: 4 - 3 = 1; idle = 1 - 9 / (3 CPUs x 4).
+    assert ov.idle_per_processor(schedule, platform) == {"node0": 2.0, "gpu0": 1.0}
+    assert ov.idle_fraction(schedule, platform) == pytest.approx(0.25)

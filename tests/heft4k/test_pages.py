@@ -229,3 +229,39 @@ def test_gantt_hover_shows_niceness_and_notes_only_when_there_are_some():
 
     plain = bars(charts.gantt_figure(heft(dag, platform), platform, dag))[0]
     assert "niceness" not in plain.hovertemplate and plain.marker.color == charts.TASK_COLOUR
+
+
+def test_multi_frame_heft4k_page_shows_the_frame_figures_and_the_heft4k_panel(member, api, cluster):
+    schedule = heft4k_schedule(api, cluster, frames=2)
+    assert schedule.metrics["frames"] == 2
+    body = member.get(reverse("dashboard:schedule", args=[schedule.pk])).content.decode()
+    # The frame figures (device-level scheduling) ...
+    assert 'id="metrics"' in body and "Mean frame latency" in body and "Frame buffers used" in body
+    # ... with idle time per CPU of the 4-CPU nodes: never negative, the CPUs shown.
+    assert 0 <= schedule.metrics["idle"] < 1 and min(schedule.metrics["idle_per_processor"].values()) >= 0
+    idle = body[body.index('id="idle-table"') :]
+    assert '<th class="num">CPUs</th>' in idle and '<td>node0</td><td class="num">4</td>' in idle
+    # ... and the HEFT4K panel: niceness colours, the what-if section; no simulation of folded frames.
+    assert 'id="what-if"' in body and '"coloraxis"' in body and "niceness: %{customdata[5]}" in body
+    assert "Not simulated: the CFS simulation runs one frame and this schedule has 2" in body
+    assert 'id="simulated-makespans"' not in body and "Simulated on Kubernetes" not in body
+    assert "Remapping needs a single-frame schedule" in body
+
+
+def test_one_gantt_implementation_for_single_and_stacked_charts():
+    """gantt_figure and stacked_gantt_figure (used by comparisons and the HEFT4K pages) draw the same bars."""
+    dag, platform, plan = fan_plan()
+    critical = set(plan.critical_path(dag, platform))
+    for nice in (False, True):
+        single = bars(charts.gantt_figure(plan, platform, dag, lanes=True, colour_by_niceness=nice))
+        stacked = bars(
+            charts.stacked_gantt_figure([charts.GanttPanel("plan", plan, platform, critical)], colour_by_niceness=nice)
+        )
+        assert [t.name for t in single] == [t.name for t in stacked] == ["task", "critical path"]
+        for a, b in zip(single, stacked, strict=True):
+            assert (list(a.y), list(a.base), list(a.x), a.marker.color) == (
+                list(b.y),
+                list(b.base),
+                list(b.x),
+                b.marker.color,
+            )

@@ -32,17 +32,28 @@ def pretty_json(value) -> str:
 
 @register.filter
 def percent(value, digits: int = 1) -> str:
-    """A fraction as a percentage: 0.193 -> 19.3%."""
+    """A fraction as a percentage: 0.414 -> 41.4 %."""
     if value is None or value == "":
         return "—"
     try:
-        return f"{num(100.0 * float(value), digits)}%"
+        return f"{num(100.0 * float(value), digits)} %"
     except (TypeError, ValueError):
         return str(value)
 
 
 @register.filter
 def change(value, digits: int = 1) -> str:
-    """A relative change as a signed percentage: 0.209 -> +20.9%, -0.05 -> -5%, 0 -> 0%."""
-    text = percent(value, digits)
-    return text if text in ("—", "0%") or text.startswith("-") or not text[0].isdigit() else f"+{text}"
+    """A relative change as a signed percentage: 0.209 -> +20.9 %, -0.05 -> -5 %, 0 -> 0 %."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return percent(value, digits)
+    return ("+" if x > 0 else "") + percent(x, digits)
+
+
+@register.filter
+def speedup_pct(value) -> str:
+    """A speedup factor as a change in per cent: 1.693 -> +69.3 %, 0.8 -> -20 %."""
+    if value is None or value == "":
+        return "—"
+    return change(float(value) - 1.0)

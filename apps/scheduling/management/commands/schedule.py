@@ -64,6 +64,11 @@ class Command(EngineCommand):
         parser.add_argument("--period", type=float, default=None, help="frame period in the DAG's time unit")
         parser.add_argument("--batch", type=int, default=None, help="frames buffered per batch")
         parser.add_argument("--param", action="append", metavar="KEY=VALUE", help="algorithm parameter")
+        parser.add_argument(
+            "--progress",
+            action="store_true",
+            help="report progress on stderr even when it is not a terminal (always shown on a terminal)",
+        )
 
     def run(self, **options: Any) -> dict:
         path = options["dag"]
@@ -78,7 +83,7 @@ class Command(EngineCommand):
         }
         params.update(_key_values(options["param"], "--param"))
         params = with_defaults(options["algorithm"], params)
-        progress = self.progress_printer("scheduling")
+        progress = self.progress_printer(f"{options['algorithm']}, tasks placed", force=options["progress"])
         schedule = algorithms.run(options["algorithm"], dag, platform, progress=progress, **params)
         return schedule.to_dict()
 
