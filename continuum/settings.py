@@ -152,6 +152,7 @@ SPECTACULAR_SETTINGS = {
     "SWAGGER_UI_DIST": "SIDECAR",
     "SWAGGER_UI_FAVICON_HREF": "SIDECAR",
     "REDOC_DIST": "SIDECAR",
+    "ENUM_NAME_OVERRIDES": {"AlgorithmEnum": "apps.scheduling.serializers.ALGORITHM_CHOICES"},
 }
 
 # ---- Celery ---------------------------------------------------------------------------------------

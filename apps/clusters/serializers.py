@@ -1,4 +1,6 @@
 from django.db import transaction
+from drf_spectacular.types import OpenApiTypes
+from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
 from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer
@@ -37,6 +39,7 @@ class ClusterSerializer(FleetOwnedSerializer):
         return bool(obj.kubeconfig)
 
 
+@extend_schema_field(OpenApiTypes.INT)
 class VisibleClusterField(serializers.PrimaryKeyRelatedField):
     def get_queryset(self):
         return Cluster.objects.filter(fleet__in=visible_fleets(self.context["request"]))

@@ -14,6 +14,10 @@ MAX_FRAMES = 1000
 FRAME_OPTIONS = ("frames", "fps", "period", "batch")
 
 
+#: The algorithms the API offers (one OpenAPI enum, AlgorithmEnum).
+ALGORITHM_CHOICES = sorted(SCHEDULERS)
+
+
 class TargetSerializer(serializers.Serializer):
     """A cluster (its Ready nodes) or a ``continuum.platform/v1`` document, and the frame options."""
 
@@ -53,7 +57,7 @@ class ScheduleRequestSerializer(TargetSerializer):
     """Schedule an application on a cluster (its Ready nodes) or on a platform document, for one frame or
     several (``frames``, ``fps`` or ``period``, ``batch``: thesis Eqs. 3.5-3.7)."""
 
-    algorithm = serializers.ChoiceField(choices=sorted(SCHEDULERS), default="heft")
+    algorithm = serializers.ChoiceField(choices=ALGORITHM_CHOICES, default="heft")
     params = serializers.DictField(required=False, default=dict, help_text="algorithm parameters, e.g. rank_mode")
 
     def validate(self, attrs):
@@ -69,7 +73,7 @@ class CompareRequestSerializer(TargetSerializer):
     """Run several algorithms on one application and target and compare them (thesis Tables 4.1, 4.3)."""
 
     algorithms = serializers.ListField(
-        child=serializers.ChoiceField(choices=sorted(SCHEDULERS)),
+        child=serializers.ChoiceField(choices=ALGORITHM_CHOICES),
         default=list(DEFAULT_ALGORITHMS),
         min_length=1,
         max_length=len(SCHEDULERS),

@@ -1,6 +1,8 @@
 """API building blocks shared by every app: fleet scoping, the fleet field, engine errors as HTTP 400."""
 
 from django.db.models import QuerySet
+from drf_spectacular.types import OpenApiTypes
+from drf_spectacular.utils import extend_schema_field
 from rest_framework import mixins, serializers, viewsets
 from rest_framework.exceptions import ValidationError
 from rest_framework.views import exception_handler as drf_exception_handler
@@ -18,6 +20,7 @@ def exception_handler(exc, context):
     return drf_exception_handler(exc, context)
 
 
+@extend_schema_field(OpenApiTypes.STR)
 class FleetField(serializers.SlugRelatedField):
     """The owning fleet by slug, limited to the fleets the caller may see (others are "not found")."""
 

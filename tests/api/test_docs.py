@@ -13,3 +13,11 @@ def test_docs_pages_use_no_cdn(api, url):
     assert response.status_code == 200
     sources = re.findall(rb'(?:src|href)="([^"]+)"', response.content)
     assert sources and all(not s.startswith((b"http:", b"https:", b"//")) for s in sources), sources
+
+
+def test_openapi_schema_builds_without_warnings(tmp_path):
+    from django.core.management import call_command
+
+    out = tmp_path / "schema.yml"
+    call_command("spectacular", "--fail-on-warn", "--validate", "--file", str(out))
+    assert "/api/v1/applications/{id}/compare/:" in out.read_text()
