@@ -635,6 +635,38 @@ def _cost_colours(values: list[float]) -> tuple[list[float], dict]:
     return values, {"colorscale": scale}
 
 
+def add_edge_traces(
+    fig: go.Figure,
+    segments: Sequence[tuple[tuple[float, float], tuple[float, float], str]],
+    *,
+    name: str,
+    hover_name: str,
+    width: float,
+    hover_size: int,
+) -> None:
+    """Draw ``segments`` ((x0, y0), (x1, y1), hover text) as lines, with an invisible marker at each middle
+    that carries the hover text (Plotly lines have no hover of their own between their points)."""
+    xs: list[float | None] = []
+    ys: list[float | None] = []
+    for (x0, y0), (x1, y1), _ in segments:
+        xs += [x0, x1, None]
+        ys += [y0, y1, None]
+    line = {"color": EDGE_COLOUR, "width": width}
+    fig.add_trace(go.Scatter(x=xs, y=ys, mode="lines", line=line, hoverinfo="skip", name=name, showlegend=False))
+    fig.add_trace(
+        go.Scatter(
+            x=[(a[0] + b[0]) / 2 for a, b, _ in segments],
+            y=[(a[1] + b[1]) / 2 for a, b, _ in segments],
+            mode="markers",
+            marker={"size": hover_size, "color": EDGE_COLOUR, "opacity": 0},
+            hovertext=[text for _, _, text in segments],
+            hoverinfo="text",
+            name=hover_name,
+            showlegend=False,
+        )
+    )
+
+
 def dag_figure(dag: TaskGraph) -> go.Figure:
     """The DAG drawn in layers by topological level; hover shows a task's costs or an edge's data."""
     pos = dag_layout(dag)
@@ -642,40 +674,14 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
     pred_count = {t: len(es) for t, es in dag.predecessors().items()}
     unit = dag.time_unit
 
-    edge_x: list[float | None] = []
-    edge_y: list[float | None] = []
-    mid_x, mid_y, mid_text = [], [], []
-    for e in dag.edges:
-        (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
-        edge_x += [x0, x1, None]
-        edge_y += [y0, y1, None]
-        mid_x.append((x0 + x1) / 2)
-        mid_y.append((y0 + y1) / 2)
-        mid_text.append(f"<b>{e.src} → {e.dst}</b><br>data: {_fmt(e.data)}")
-
     fig = go.Figure()
-    fig.add_trace(
-        go.Scatter(
-            x=edge_x,
-            y=edge_y,
-            mode="lines",
-            line={"color": EDGE_COLOUR, "width": 1.2},
-            hoverinfo="skip",
-            name="edges",
-            showlegend=False,
-        )
-    )
-    fig.add_trace(
-        go.Scatter(
-            x=mid_x,
-            y=mid_y,
-            mode="markers",
-            marker={"size": 10, "color": EDGE_COLOUR, "opacity": 0},
-            hovertext=mid_text,
-            hoverinfo="text",
-            name="edge data",
-            showlegend=False,
-        )
+    add_edge_traces(
+        fig,
+        [(pos[e.src], pos[e.dst], f"<b>{e.src} → {e.dst}</b><br>data: {_fmt(e.data)}") for e in dag.edges],
+        name="edges",
+        hover_name="edge data",
+        width=1.2,
+        hover_size=10,
     )
     tasks = list(dag.tasks.values())
     mean_cost = [fmean(t.cost.values()) for t in tasks]
@@ -790,39 +796,18 @@ def network_figure(
     status = status or {}
     pos = network_layout(platform)
     fig = go.Figure()
-    edge_x: list[float | None] = []
-    edge_y: list[float | None] = []
-    mid_x, mid_y, mid_text = [], [], []
-    for lk in platform.links:
-        (x0, y0), (x1, y1) = pos[lk.src], pos[lk.dst]
-        edge_x += [x0, x1, None]
-        edge_y += [y0, y1, None]
-        mid_x.append((x0 + x1) / 2)
-        mid_y.append((y0 + y1) / 2)
+
+    def link_hover(lk) -> str:
         bw = "unlimited" if lk.bandwidth is None else f"{_fmt(lk.bandwidth * bandwidth_scale)} {bandwidth_unit}"
-        mid_text.append(f"<b>{lk.src} ↔ {lk.dst}</b><br>bandwidth: {bw}<br>latency: {_fmt(lk.latency)} {latency_unit}")
-    fig.add_trace(
-        go.Scatter(
-            x=edge_x,
-            y=edge_y,
-            mode="lines",
-            line={"color": EDGE_COLOUR, "width": 2},
-            hoverinfo="skip",
-            name="links",
-            showlegend=False,
-        )
-    )
-    fig.add_trace(
-        go.Scatter(
-            x=mid_x,
-            y=mid_y,
-            mode="markers",
-            marker={"size": 12, "color": EDGE_COLOUR, "opacity": 0},
-            hovertext=mid_text,
-            hoverinfo="text",
-            name="link data",
-            showlegend=False,
-        )
+        return f"<b>{lk.src} ↔ {lk.dst}</b><br>bandwidth: {bw}<br>latency: {_fmt(lk.latency)} {latency_unit}"
+
+    add_edge_traces(
+        fig,
+        [(pos[lk.src], pos[lk.dst], link_hover(lk)) for lk in platform.links],
+        name="links",
+        hover_name="link data",
+        width=2,
+        hover_size=12,
     )
     # One trace per status so the legend explains the colours.
     labelled = len(platform.processors) <= 50
