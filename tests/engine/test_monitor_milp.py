@@ -242,3 +242,52 @@ def test_candidate_restriction_limits_the_units():
     result = allocate(_case_study_1(edge_available=20.0), max_candidates=1)
     assert set(result.allocation.values()) == {"edge"} and not result.feasible
     assert allocate(_case_study_1(edge_available=20.0), max_candidates=2).feasible
+
+
+def _robots_instance(rng, robots=2, per_robot=3):
+    """Robots publish their own topics; monitors read one robot's topics and run there; one shared 'mid'
+    unit with limited room: blocks per robot that must sometimes be merged."""
+    names = [f"r{r}" for r in range(robots)] + ["mid"]
+    topics, monitors = [], []
+    for r in range(robots):
+        for t in range(2):
+            topics.append({
+                "name": f"/r{r}/t{t}",
+                "delay": {j: 0.0 if j == f"r{r}" else 10.0 + rng.randint(0, 5) if j == "mid" else 20.0 for j in names},
+                "cpu": {j: 0.0 if j == f"r{r}" else round(rng.uniform(0, 1), 2) for j in names},
+            })  # fmt: skip
+        for i in range(per_robot):
+            monitors.append({
+                "name": f"m{r}_{i}",
+                "topics": rng.sample([f"/r{r}/t0", f"/r{r}/t1"], rng.randint(1, 2)),
+                "cpu": {j: round(rng.uniform(2, 6), 1) for j in names},
+                "current": f"r{r}",
+            })  # fmt: skip
+    nodes = [{"name": f"r{r}", "available_cpu": rng.uniform(4, 14)} for r in range(robots)]
+    nodes.append({"name": "mid", "available_cpu": rng.uniform(3, 16)})
+    return _doc(nodes, topics, monitors)
+
+
+@pytest.mark.parametrize("decompose", [True, False])
+def test_block_decomposition_and_relief_covers_are_exact(decompose):
+    # robot-structured instances exercise the per-robot blocks (and their merging when the shared unit
+    # overflows) and the relief-cover rows of overloaded robots; brute force is the oracle
+    rng = random.Random(11)
+    split = merged = 0
+    for trial in range(60):
+        robots = rng.choice([2, 3])
+        stats = MonitorStats.from_dict(_robots_instance(rng, robots=robots, per_robot=rng.choice([2, 3])))
+        if len(stats.monitors) > 7:
+            continue
+        result = allocate(stats, epsilon=0.0, decompose=decompose)
+        best_feasible, (min_excess, _) = _brute_force(stats)
+        if best_feasible is None:
+            assert not result.feasible and sum(result.overloaded.values()) == pytest.approx(min_excess, abs=1e-5)
+            continue
+        assert result.feasible and result.status == "optimal", trial
+        assert result.objective == pytest.approx(best_feasible, abs=1e-6), trial
+        assert all(result.cpu[j] <= result.capacity[j] + 1e-6 for j in result.cpu)
+        split += result.blocks == robots
+        merged += result.blocks < robots
+    if decompose:
+        assert split > 3 and merged > 2  # independent robots, and robots merged over the shared unit
