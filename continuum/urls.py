@@ -10,6 +10,16 @@ from apps.heft4k.api import RemapEventViewSet
 from apps.jobs.api import JobViewSet
 from apps.scheduling.api import ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
+from apps.verification.api import (
+    AllocationRunViewSet,
+    AssertionViewSet,
+    EventViewSet,
+    HandlerViewSet,
+    MigrationEventViewSet,
+    MonitorViewSet,
+    VerdictViewSet,
+    ViolationViewSet,
+)
 from apps.workloads.api import ApplicationViewSet
 
 router = DefaultRouter()
@@ -24,6 +34,14 @@ router.register("rosgraphs", RosGraphViewSet)
 router.register("clusterings", ClusteringViewSet)
 router.register("placements", PlacementViewSet)
 router.register("remaps", RemapEventViewSet)
+router.register("assertions", AssertionViewSet)
+router.register("monitors", MonitorViewSet)
+router.register("handlers", HandlerViewSet)
+router.register("violations", ViolationViewSet)
+router.register("verdicts", VerdictViewSet)
+router.register("events", EventViewSet, basename="event")
+router.register("allocations", AllocationRunViewSet)
+router.register("migrations", MigrationEventViewSet)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
@@ -36,4 +54,5 @@ urlpatterns = [
     path("ros/", include("apps.containers.urls")),
     path("", include("apps.dashboard.urls")),
     path("", include("apps.heft4k.urls")),
+    path("verification/", include("apps.verification.urls")),
 ]
