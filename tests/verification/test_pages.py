@@ -112,3 +112,16 @@ def test_allocation_run_page(member, fleet, cluster, monitored):
     r = member.get(job.result["page"])
     html = r.content.decode()
     assert r.status_code == 200 and "Allocation #" in html and "node1" in html and "optimal" in html
+
+
+def test_admin_rejects_a_malformed_assertion_and_lists_the_models(client, django_user_model, fleet, monitored):
+    admin = django_user_model.objects.create_superuser("root", password="root-pass-123")
+    client.force_login(admin)
+    r = client.post(
+        "/admin/verification/assertion/add/",
+        {"fleet": fleet.pk, "name": "bad", "text": "G(a -> F(b))", "constants": "{}"},
+    )
+    assert r.status_code == 200 and "column 9" in r.content.decode()
+    assert not Assertion.objects.filter(name="bad").exists()
+    for model in ("assertion", "monitor", "handler", "violation", "monitorverdict", "allocationrun", "migrationevent"):
+        assert client.get(f"/admin/verification/{model}/").status_code == 200, model
