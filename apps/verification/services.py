@@ -214,6 +214,7 @@ def sync_handlers(cluster: Cluster) -> dict:
         if m is not None and where in nodes and m.node_id != nodes[where].pk:
             m.node = nodes[where]
             m.save(update_fields=["node", "updated"])
+    _record_handovers(cluster, bus.acks())
     violations = verdicts = 0
     for entry in bus.verdicts():
         m = monitors.get(entry["monitor"])
@@ -246,6 +247,25 @@ def sync_handlers(cluster: Cluster) -> dict:
             m.verdict = Verdict.FAIL
         m.save(update_fields=["violation_count", "verdict", "updated"])
     return {"handlers": len(handlers), "redis": True, "violations": violations, "verdicts": verdicts}
+
+
+def _record_handovers(cluster: Cluster, acks: list[tuple[str, dict]]) -> None:
+    """Fill ``events_moved`` of the cluster's migrations from the handlers' "migrated" acknowledgements
+    (the instants the source handed over, Fig. 3.43 step 5): the k-th acknowledgement of a move (monitor,
+    from, to) belongs to the k-th such migration recorded, so a repeated sync changes nothing."""
+    moves: dict[tuple[str, str, str], list[int]] = {}
+    for kind, body in acks:
+        if kind == "migrated" and "moved" in body:
+            key = (body["monitor"], body.get("source", ""), body.get("handler", ""))
+            moves.setdefault(key, []).append(int(body["moved"]))
+    for (monitor, source, target), counts in moves.items():
+        rows = MigrationEvent.objects.filter(
+            run__cluster=cluster, monitor_name=monitor, source=source, target=target
+        ).order_by("created", "pk")
+        for row, moved in zip(rows, counts, strict=False):
+            if row.events_moved != moved:
+                row.events_moved = moved
+                row.save(update_fields=["events_moved"])
 
 
 # ---- allocation ------------------------------------------------------------------------------------------

@@ -25,7 +25,7 @@ def network(settings, cluster):
     bus = Bus(REDIS_URL, prefix=f"{settings.CONTINUUM_VERIFICATION_PREFIX}:{cluster.pk}")
     procs = []
 
-    def start(name):
+    def start(name, *extra):
         cmd = [
             sys.executable,
             "-m",
@@ -42,6 +42,7 @@ def network(settings, cluster):
             "0.2",
             "--free-cpu",
             "80",
+            *extra,
         ]
         procs.append(subprocess.Popen(cmd, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}))
         _wait(lambda: name in bus.handlers(), what=f"handler {name} reporting")
@@ -109,3 +110,48 @@ def test_without_a_live_handler_events_are_evaluated_in_process(api, cluster, ne
     )
     assert r.status_code == 200 and r.data["routed"] == "in-process" and len(r.data["violations"]) == 1
     assert bus.read_events("0-0") == []
+
+
+def test_allocation_applied_to_running_handlers_migrates_without_losing_events(api, cluster, network):
+    """The MILP (run through the API) moves a monitor off an overloaded handler while events flow; the
+    handlers migrate it (Fig. 3.43) and its verdicts equal an unmigrated in-process evaluation."""
+    from apps.verification.models import MigrationEvent
+    from continuum.engine.stl_monitor import Monitor as EngineMonitor
+
+    bus, start = network
+    text = "G(x >= 7 -> F[0,40](y >= 7))"
+    r = api.post("/api/v1/assertions/", {"name": "response", "text": text}, format="json")
+    node0 = cluster.nodes.get(name="node0")
+    api.post(
+        "/api/v1/monitors/",
+        {"assertion": r.data["id"], "cluster": cluster.pk, "name": "m1", "node": node0.pk},
+        format="json",
+    )
+    # node0: 80 % free, threshold 19 %: room for 1 % of monitors; the monitor costs 2 % -> it must leave
+    h0 = start("node0", "--threshold", "19", "--monitor-cpu", "2")
+    h1 = start("node1", "--monitor-cpu", "2")
+    events = [("x" if i % 3 else "y", (i * 7) % 11, i * 5) for i in range(600)]
+    first, second = events[:300], events[300:]
+    assert api.post("/api/v1/events/", {"cluster": cluster.pk, "events": first}, format="json").status_code == 202
+    _wait(lambda: "m1" in bus.handlers()["node0"].get("monitor_cpu", {}), what="m1 running on node0")
+    api.post("/api/v1/handlers/sync/", {"cluster": cluster.pk}, format="json")
+    r = api.post("/api/v1/allocations/", {"cluster": cluster.pk, "apply": True}, format="json")
+    assert r.data["state"] == "succeeded", r.data
+    move = MigrationEvent.objects.get(run_id=r.data["result"]["allocation_run"])
+    assert (move.monitor_name, move.source, move.target) == ("m1", "node0", "node1")
+    assert api.post("/api/v1/events/", {"cluster": cluster.pk, "events": second}, format="json").status_code == 202
+    _wait(lambda: any(k == "migrated" for k, _ in bus.acks()), what="the migration")
+    bus.end_events()
+    for name in ("node0", "node1"):
+        bus.send(name, "SHUTDOWN")
+    assert h0.wait(30) == 0 and h1.wait(30) == 0
+    api.post("/api/v1/handlers/sync/", {"cluster": cluster.pk}, format="json")
+    reference = EngineMonitor(text)
+    want = reference.feed(events) + reference.flush()
+    got = Violation.objects.filter(monitor__name="m1").order_by("instance_start_ms")
+    assert len(want) > 0
+    assert [(v.instance_start_ms, v.time_ms) for v in got] == [(w.instance_start, w.time) for w in want]
+    assert MonitorVerdict.objects.get(monitor__name="m1").handler == "node1"
+    move.refresh_from_db()
+    assert move.events_moved is not None  # the instants node0 handed over
+    assert Monitor.objects.get(name="m1").node.name == "node1"
