@@ -203,3 +203,10 @@ LOGGING = {
     "handlers": {"console": {"class": "logging.StreamHandler"}},
     "root": {"handlers": ["console"], "level": os.environ.get("LOG_LEVEL", "INFO")},
 }
+
+# Assertion-based verification: the Redis of the monitor handlers' networks (one key prefix per cluster,
+# CONTINUUM_VERIFICATION_PREFIX:<cluster id>). Empty: events posted to the API are evaluated in-process.
+CONTINUUM_VERIFICATION_REDIS_URL = os.environ.get("CONTINUUM_VERIFICATION_REDIS_URL", "")
+CONTINUUM_VERIFICATION_PREFIX = os.environ.get("CONTINUUM_VERIFICATION_PREFIX", "cv")
+# A handler that has not reported for this many seconds is considered gone (3 stats periods, spec 03 §9).
+CONTINUUM_HANDLER_LIVENESS_S = float(os.environ.get("CONTINUUM_HANDLER_LIVENESS_S", "3"))

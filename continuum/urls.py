@@ -12,6 +12,16 @@ from apps.jobs.api import JobViewSet
 from apps.realtime.api import register_routes as register_realtime
 from apps.scheduling.api import ComparisonViewSet, ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
+from apps.verification.api import (
+    AllocationRunViewSet,
+    AssertionViewSet,
+    EventViewSet,
+    HandlerViewSet,
+    MigrationEventViewSet,
+    MonitorViewSet,
+    VerdictViewSet,
+    ViolationViewSet,
+)
 from apps.workloads.api import ApplicationViewSet
 
 router = DefaultRouter()
@@ -29,6 +39,14 @@ router.register("placements", PlacementViewSet)
 router.register("remaps", RemapEventViewSet)
 register_realtime(router)
 router.register("devices", DeviceProfileViewSet)
+router.register("assertions", AssertionViewSet)
+router.register("monitors", MonitorViewSet)
+router.register("handlers", HandlerViewSet)
+router.register("violations", ViolationViewSet)
+router.register("verdicts", VerdictViewSet)
+router.register("events", EventViewSet, basename="event")
+router.register("allocations", AllocationRunViewSet)
+router.register("migrations", MigrationEventViewSet)
 
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
@@ -42,4 +60,5 @@ urlpatterns = [
     path("realtime/", include("apps.realtime.urls")),
     path("", include("apps.dashboard.urls")),
     path("", include("apps.heft4k.urls")),
+    path("verification/", include("apps.verification.urls")),
 ]

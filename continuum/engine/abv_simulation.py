@@ -215,6 +215,7 @@ class SimulationResult:
     legs: list[dict] = field(default_factory=list)
     requirement_ms: float | None = None
     navigation_node: str | None = None
+    placement: dict[str, str] = field(default_factory=dict)  # monitor -> node at the end
 
     def summary(self) -> dict:
         solve = [p.allocation["solve_time_ms"] for p in self.periods if p.allocation and not p.allocation["reused"]]
@@ -260,6 +261,7 @@ class SimulationResult:
             "migrations": [m.to_dict() for m in self.migrations],
             "violations": self.violations,
             "legs": self.legs,
+            "placement": self.placement,
             "summary": self.summary(),
         }
 
@@ -357,6 +359,7 @@ def simulate(scenario: Scenario, progress: Callable[[float, str], None] | None =
         thresholds={n.name: n.threshold for n in scenario.nodes},
         periods=periods,
         migrations=migrations,
+        placement=dict(where),
     )
     if scenario.navigation is not None:
         out.requirement_ms = scenario.navigation.requirement_ms

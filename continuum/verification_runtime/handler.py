@@ -177,7 +177,8 @@ class Handler:
         copy = self.copies[monitor]
         migrate_complete(copy.monitor, payload)  # step 6
         copy.role, copy.peer, copy.seen = "active", None, []
-        self.bus.ack("migrated", monitor=monitor, source=source, handler=self.name)
+        moved = len(payload["state"]["pre"].get("bits", []))  # instants handed over, compressed (step 5)
+        self.bus.ack("migrated", monitor=monitor, source=source, handler=self.name, moved=moved)
 
     def on_degrade(self, monitors: list[str], drop: bool = True) -> None:
         """Overload strategy 2 on (or off) for these monitors (only tolerant ones ever drop)."""

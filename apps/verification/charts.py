@@ -1,0 +1,136 @@
+"""Plotly figures of the verification pages: the Fig. 4.24-style migration timeline (CPU per node with its
+threshold, monitors per node, migrations, and the navigation makespan against its requirement)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import plotly.graph_objects as go
+from plotly.subplots import make_subplots
+
+from apps.dashboard.charts import FONT
+
+NODE_COLOURS = ["#2e9e5b", "#e0a526", "#4c78a8", "#b05fb0", "#e4572e", "#59a5a5", "#8c6d31", "#7f7f7f"]
+
+
+def node_colours(nodes: Sequence[str]) -> dict[str, str]:
+    return {n: NODE_COLOURS[i % len(NODE_COLOURS)] for i, n in enumerate(nodes)}
+
+
+def timeline_figure(runs: Sequence, migrations: Sequence, requirement_ms: float | None = None) -> go.Figure:
+    """``runs``: the AllocationRun rows of one series, in time order (their ``nodes`` hold cpu, background,
+    monitors, threshold per node); ``migrations``: its MigrationEvent rows."""
+    nodes = list(runs[0].nodes) if runs else []
+    colours = node_colours(nodes)
+    has_makespan = any(r.makespan_ms is not None for r in runs)
+    rows = 3 if has_makespan else 2
+    titles = ["CPU per node (%) — dashed: threshold", "Monitors per node — grey bars: monitors migrated"]
+    if has_makespan:
+        titles.append("Navigation makespan (ms)")
+    fig = make_subplots(
+        rows=rows,
+        cols=1,
+        shared_xaxes=True,
+        vertical_spacing=0.07,
+        subplot_titles=titles,
+    )
+    t = [r.t for r in runs]
+    for n in nodes:
+        c = colours[n]
+        cpu = [r.nodes[n]["cpu"] for r in runs]
+        ver = [r.nodes[n].get("verification", 0.0) for r in runs]
+        fig.add_trace(
+            go.Scatter(
+                x=t,
+                y=cpu,
+                name=f"{n} CPU",
+                legendgroup=n,
+                line={"color": c, "width": 2},
+                customdata=ver,
+                hovertemplate=f"{n}: %{{y:.1f}} %% (monitors %{{customdata:.1f}} %%)<extra></extra>",
+            ),
+            row=1,
+            col=1,
+        )
+        thr = runs[0].nodes[n].get("threshold")
+        if thr is not None and thr < 100:
+            fig.add_trace(
+                go.Scatter(
+                    x=[t[0], t[-1]],
+                    y=[thr, thr],
+                    name=f"{n} threshold",
+                    legendgroup=n,
+                    showlegend=False,
+                    line={"color": c, "dash": "dash", "width": 1},
+                    hoverinfo="skip",
+                ),
+                row=1,
+                col=1,
+            )
+        fig.add_trace(
+            go.Scatter(
+                x=t,
+                y=[r.nodes[n]["monitors"] for r in runs],
+                name=f"{n} monitors",
+                legendgroup=n,
+                line={"color": c, "width": 2, "shape": "hv"},
+                hovertemplate=f"{n}: %{{y}} monitors<extra></extra>",
+            ),
+            row=2,
+            col=1,
+        )
+    moved: dict[float, int] = {}
+    for m in migrations:
+        moved[m.t] = moved.get(m.t, 0) + 1
+    if moved:
+        fig.add_trace(
+            go.Bar(
+                x=list(moved),
+                y=list(moved.values()),
+                name="migrations",
+                marker={"color": "rgba(120,120,120,0.35)"},
+                hovertemplate="t = %{x} s: %{y} monitors moved<extra></extra>",
+            ),
+            row=2,
+            col=1,
+        )
+    if has_makespan:
+        fig.add_trace(
+            go.Scatter(
+                x=t,
+                y=[r.makespan_ms for r in runs],
+                name="makespan",
+                line={"color": "#1f2933", "width": 2},
+                hovertemplate="%{y:.1f} ms<extra></extra>",
+            ),
+            row=3,
+            col=1,
+        )
+        if requirement_ms is not None:
+            fig.add_trace(
+                go.Scatter(
+                    x=[t[0], t[-1]],
+                    y=[requirement_ms, requirement_ms],
+                    name=f"requirement {requirement_ms:g} ms",
+                    line={"color": "#d64545", "dash": "dash", "width": 1.5},
+                    hoverinfo="skip",
+                ),
+                row=3,
+                col=1,
+            )
+    fig.update_yaxes(title_text="%", range=[0, 105], row=1, col=1)
+    fig.update_yaxes(title_text="monitors", rangemode="tozero", row=2, col=1)
+    fig.update_xaxes(title_text="time (s)", row=rows, col=1)
+    fig.update_layout(
+        height=260 * rows + 80,
+        margin={"l": 10, "r": 10, "t": 40, "b": 10},
+        font=FONT,
+        plot_bgcolor="white",
+        paper_bgcolor="white",
+        hovermode="x unified",
+        legend={"orientation": "h", "y": -0.08},
+        bargap=0.2,
+    )
+    fig.update_xaxes(showgrid=True, gridcolor="#eef0f2")
+    fig.update_yaxes(showgrid=True, gridcolor="#eef0f2")
+    return fig
