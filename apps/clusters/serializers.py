@@ -1,10 +1,7 @@
 from django.db import transaction
-from drf_spectacular.types import OpenApiTypes
-from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
-from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer
-from apps.tenancy.scoping import visible_fleets
+from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, VisibleRelatedField
 
 from .models import Cluster, ComputeNode, Link
 
@@ -39,10 +36,8 @@ class ClusterSerializer(FleetOwnedSerializer):
         return bool(obj.kubeconfig)
 
 
-@extend_schema_field(OpenApiTypes.INT)
-class VisibleClusterField(serializers.PrimaryKeyRelatedField):
-    def get_queryset(self):
-        return Cluster.objects.filter(fleet__in=visible_fleets(self.context["request"]))
+class VisibleClusterField(VisibleRelatedField):
+    model = Cluster
 
 
 class ComputeNodeSerializer(serializers.ModelSerializer):

@@ -1,6 +1,4 @@
 from django.db import transaction
-from drf_spectacular.types import OpenApiTypes
-from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
 from apps.clusters.models import Cluster
@@ -28,11 +26,6 @@ ENGINE_FIELDS = {"wcet": "wcets", "memory_mib": "memory_mib", "containers": "wce
 def engine_error(exc: InputError, known: set[str]) -> serializers.ValidationError:
     name = ENGINE_FIELDS.get(exc.field or "", exc.field or "")
     return serializers.ValidationError({name if name in known else "non_field_errors": [str(exc)]})
-
-
-@extend_schema_field(OpenApiTypes.INT)
-class ClusterIdField(VisibleClusterField):
-    """The id of one of the caller's clusters (typed for the API docs)."""
 
 
 class WcetSerializer(serializers.Serializer):
@@ -149,18 +142,18 @@ class RealTimeSerializer(serializers.ModelSerializer):
 
 
 class RealTimeImportSerializer(serializers.Serializer):
-    cluster = ClusterIdField()
+    cluster = VisibleClusterField()
     namespace = serializers.CharField(max_length=63, required=False, help_text="for objects that name none")
     yaml = serializers.CharField(help_text="RealTime objects (Listing 3.33); other kinds are skipped")
 
 
 class ClusterRefSerializer(serializers.Serializer):
-    cluster = ClusterIdField()
+    cluster = VisibleClusterField()
     namespace = serializers.CharField(max_length=63, required=False, help_text="'*' for every namespace")
 
 
 class WhatIfSerializer(serializers.Serializer):
-    cluster = ClusterIdField()
+    cluster = VisibleClusterField()
     realtimes = serializers.ListField(
         child=serializers.IntegerField(), required=False, help_text="RealTime ids (default: all of the cluster)"
     )

@@ -42,6 +42,18 @@ class DefaultFleetMixin:
         return attrs
 
 
+@extend_schema_field(OpenApiTypes.INT)
+class VisibleRelatedField(serializers.PrimaryKeyRelatedField):
+    """An object of the caller's fleets by id; subclasses set ``model`` and the ``lookup`` path to the fleet.
+    Other fleets' objects are "does not exist", like unknown ids."""
+
+    model = None
+    lookup = "fleet"
+
+    def get_queryset(self):
+        return self.model.objects.filter(**{f"{self.lookup}__in": visible_fleets(self.context["request"])})
+
+
 class FleetOwnedSerializer(DefaultFleetMixin, serializers.ModelSerializer):
     fleet = FleetField(required=False)
 

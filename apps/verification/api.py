@@ -18,9 +18,9 @@ from .serializers import (
     AllocationRequestSerializer,
     AllocationRunSerializer,
     AssertionSerializer,
-    ClusterRefSerializer,
     EventBatchSerializer,
     HandlerSerializer,
+    HandlerSyncSerializer,
     MigrationEventSerializer,
     MonitorSerializer,
     MonitorVerdictSerializer,
@@ -64,12 +64,12 @@ class HandlerViewSet(FleetScopedMixin, mixins.UpdateModelMixin, viewsets.ReadOnl
     fleet_lookup = "cluster__fleet"
     filterset_fields = ["cluster", "is_coordinator"]
 
-    @extend_schema(request=ClusterRefSerializer, responses={200: HandlerSerializer(many=True)})
+    @extend_schema(request=HandlerSyncSerializer, responses={200: HandlerSerializer(many=True)})
     @action(detail=False, methods=["post"])
     def sync(self, request):
         """Create a handler per node of the cluster and read their reports, the coordinator and the
         monitors' verdicts from the cluster's verification network (Redis)."""
-        ref = ClusterRefSerializer(data=request.data, context=self.get_serializer_context())
+        ref = HandlerSyncSerializer(data=request.data, context=self.get_serializer_context())
         ref.is_valid(raise_exception=True)
         cluster = ref.validated_data["cluster"]
         with transaction.atomic():

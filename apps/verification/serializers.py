@@ -1,11 +1,9 @@
 from django.db import transaction
-from drf_spectacular.types import OpenApiTypes
-from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
-from apps.clusters.models import Cluster, ComputeNode
-from apps.tenancy.api import FleetOwnedSerializer
-from apps.tenancy.scoping import visible_fleets
+from apps.clusters.models import ComputeNode
+from apps.clusters.serializers import VisibleClusterField
+from apps.tenancy.api import FleetOwnedSerializer, VisibleRelatedField
 from continuum.engine.errors import InputError
 from continuum.engine.monitor_milp import MonitorStats
 
@@ -55,30 +53,18 @@ class AssertionSerializer(FleetOwnedSerializer):
         return attrs
 
 
-@extend_schema_field(OpenApiTypes.INT)
-class _Visible(serializers.PrimaryKeyRelatedField):
-    lookup = "fleet"
-
-    def get_queryset(self):
-        return self.model.objects.filter(**{f"{self.lookup}__in": visible_fleets(self.context["request"])})
-
-
-class VisibleAssertion(_Visible):
+class VisibleAssertion(VisibleRelatedField):
     model = Assertion
 
 
-class VisibleCluster(_Visible):
-    model = Cluster
-
-
-class VisibleNode(_Visible):
+class VisibleNode(VisibleRelatedField):
     model = ComputeNode
     lookup = "cluster__fleet"
 
 
 class MonitorSerializer(FleetOwnedSerializer):
     assertion = VisibleAssertion()
-    cluster = VisibleCluster()
+    cluster = VisibleClusterField()
     node = VisibleNode(required=False, allow_null=True)
     node_name = serializers.CharField(source="node.name", read_only=True, default=None)
 
@@ -158,8 +144,8 @@ class HandlerSerializer(serializers.ModelSerializer):
         ]
 
 
-class ClusterRefSerializer(serializers.Serializer):
-    cluster = VisibleCluster()
+class HandlerSyncSerializer(serializers.Serializer):
+    cluster = VisibleClusterField()
 
 
 class ViolationSerializer(serializers.ModelSerializer):
@@ -191,7 +177,7 @@ class EventBatchSerializer(serializers.Serializer):
     """Events of the system under verification: ``[variable, value, timestamp_ms]`` triples (or objects with
     those keys), for one cluster; ``now`` (ms, optional) also advances the monitors' clock."""
 
-    cluster = VisibleCluster()
+    cluster = VisibleClusterField()
     events = serializers.JSONField()
     now = serializers.FloatField(required=False, min_value=0)
 
@@ -242,7 +228,7 @@ class AllocationRunSerializer(serializers.ModelSerializer):
 class AllocationRequestSerializer(serializers.Serializer):
     """Start the MILP on a cluster's statistics (``cluster``) or on a ``stats`` document."""
 
-    cluster = VisibleCluster(required=False)
+    cluster = VisibleClusterField(required=False)
     stats = serializers.JSONField(required=False)
     apply = serializers.BooleanField(default=False, help_text="move the monitors (cluster only)")
     time_limit = serializers.FloatField(default=10.0, min_value=0.1, max_value=600)
