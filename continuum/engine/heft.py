@@ -188,7 +188,7 @@ def compiled_ranks(prob: Compiled, rank_mode: str = "mean", comm_mode: str = "pa
         raise InputError(f"unknown comm mode {comm_mode!r} (choose from {', '.join(COMM_MODES)})", "comm_mode")
     n = prob.n
     ranks = [0.0] * n
-    order = _topological(prob)
+    order = breadth_first(prob)
     if comm_mode == "pairs":
         mean_lat, mean_inv = prob.platform.mean_comm()
         has_comm = bool(mean_lat or mean_inv)
@@ -217,7 +217,8 @@ def compiled_ranks(prob: Compiled, rank_mode: str = "mean", comm_mode: str = "pa
     return ranks
 
 
-def _topological(prob: Compiled) -> list[int]:
+def breadth_first(prob: Compiled) -> list[int]:
+    """Kahn's algorithm with a FIFO queue, sources in input order: a topological order of task indices."""
     indeg = [len(p) for p in prob.pred]
     ready = [t for t in range(prob.n) if indeg[t] == 0]
     i = 0

@@ -21,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from .dag import TaskGraph
-from .heft import Compiled, Progress, compile_problem
+from .heft import Compiled, Progress, breadth_first, compile_problem
 from .platform import Platform
 from .schedule import Assignment, Schedule
 
@@ -39,21 +39,6 @@ def local_best(prob: Compiled, gpu_class: str = "gpu") -> list[tuple[int, float]
                 best = (p, w)
         out.append(best)
     return out
-
-
-def breadth_first(prob: Compiled) -> list[int]:
-    """Kahn's algorithm with a FIFO queue, sources in input order."""
-    indeg = [len(p) for p in prob.pred]
-    queue = [t for t in range(prob.n) if indeg[t] == 0]
-    i = 0
-    while i < len(queue):
-        t = queue[i]
-        i += 1
-        for q, _ in prob.succ[t]:
-            indeg[q] -= 1
-            if indeg[q] == 0:
-                queue.append(q)
-    return queue
 
 
 def visionworks_frames(
