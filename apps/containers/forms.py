@@ -3,11 +3,10 @@ input with the same message."""
 
 from __future__ import annotations
 
-import json
-
 from django import forms
 
 from apps.clusters.models import Cluster
+from apps.dashboard.forms import json_object
 from continuum.engine.errors import InputError
 from continuum.engine.rosgraph import LEVELS, MODES, READERS, RosGraph
 
@@ -164,16 +163,7 @@ class PlaceForm(forms.Form):
         self.fields["cluster"].queryset = Cluster.objects.filter(fleet_id=clustering.fleet_id).order_by("name")
 
     def clean_overrides(self) -> dict:
-        text = (self.cleaned_data.get("overrides") or "").strip()
-        if not text:
-            return {}
-        try:
-            value = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise forms.ValidationError(f"not JSON (line {exc.lineno} column {exc.colno}: {exc.msg})") from exc
-        if not isinstance(value, dict):
-            raise forms.ValidationError("a JSON object: container name -> changes")
-        return value
+        return json_object(self.cleaned_data.get("overrides"), "a JSON object: container name -> changes")
 
     def clean(self):
         data = super().clean()

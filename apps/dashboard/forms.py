@@ -23,6 +23,20 @@ FORMAT_HELP = "continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX (.dax/.xml), 
 STG_OPTIONS = ("ccr", "processors", "heterogeneity", "seed")
 
 
+def json_object(text: str | None, not_object: str) -> dict:
+    """A form's optional JSON-object text field: {} when empty, a message naming line and column when broken."""
+    text = (text or "").strip()
+    if not text:
+        return {}
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise forms.ValidationError(f"not JSON (line {exc.lineno} column {exc.colno}: {exc.msg})") from exc
+    if not isinstance(value, dict):
+        raise forms.ValidationError(not_object)
+    return value
+
+
 class FleetChoiceMixin:
     """A fleet field asked for only when the user has several fleets."""
 
@@ -231,16 +245,7 @@ class ScheduleForm(TargetForm):
         self.fields["algorithm"].choices = [(name, name.upper()) for name in sorted(algorithms.SCHEDULERS)]
 
     def clean_params(self) -> dict:
-        text = (self.cleaned_data.get("params") or "").strip()
-        if not text:
-            return {}
-        try:
-            value = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise forms.ValidationError(f"not JSON (line {exc.lineno} column {exc.colno}: {exc.msg})") from exc
-        if not isinstance(value, dict):
-            raise forms.ValidationError("parameters must be a JSON object")
-        return value
+        return json_object(self.cleaned_data.get("params"), "parameters must be a JSON object")
 
     def clean(self):
         data = super().clean()
