@@ -304,7 +304,8 @@ def resolve_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> t
         if image is not None:
             problem = artifact_names.reference_problem(image.strip() if isinstance(image, str) else image)
             if problem is not None:
-                raise InputError(f"container {entry['name']!r}: 'image' {problem}", "containers")
+                raise InputError(f"container {entry['name']!r}: 'image' must be an image reference: {problem}",
+                                 "containers")  # fmt: skip
             entry["image"] = image.strip()
     return workload, resolved
 

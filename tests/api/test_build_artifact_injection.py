@@ -130,7 +130,7 @@ def test_a_placement_image_override_must_be_an_image_reference(api, graph, clust
     body = {"cluster": cluster.pk, "overrides": {name: {"image": "x;touch p"}}}
     response = api.post(f"/api/v1/clusterings/{clustering.pk}/place/", body, format="json")
     assert response.status_code == 400, response.data
-    assert "'image' 'x;touch p' is not an image reference" in str(response.data), response.data
+    assert "'image' must be an image reference: 'x;touch p' is not" in str(response.data), response.data
 
 
 def test_the_dashboard_form_shows_the_grammar_error(graph):
