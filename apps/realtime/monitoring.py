@@ -22,7 +22,6 @@ the reconcile, the eviction sent and answered.
 from __future__ import annotations
 
 import hashlib
-import json
 import logging
 import math
 import re
@@ -80,6 +79,7 @@ COUNT_MAX = 2**31 - 1
 #: Monitor time stamps outside this range are refused (1e20 seconds is no time, and would not convert).
 STAMP_MIN = datetime(2000, 1, 1, tzinfo=UTC)
 STAMP_MAX = datetime(2100, 1, 1, tzinfo=UTC)
+_STAMP_RANGE_S = (STAMP_MIN.timestamp(), STAMP_MAX.timestamp())
 #: Text columns of a report (node, containerName, pod) hold at most this many characters.
 TEXT_MAX = 253
 #: A client-chosen report id: printable ASCII without spaces or quotes.
@@ -94,8 +94,8 @@ def _stamp(value: Any, path: str) -> datetime | None:
     if isinstance(value, int | float) and not isinstance(value, bool):
         if not math.isfinite(value):
             raise InputError(f"{path}: must be finite", "reports")
-        if STAMP_MIN.timestamp() <= value < STAMP_MAX.timestamp():
-            stamp = datetime.fromtimestamp(value, UTC)
+        if _STAMP_RANGE_S[0] <= value < _STAMP_RANGE_S[1]:
+            return datetime.fromtimestamp(value, UTC)
     elif isinstance(value, str):
         try:
             stamp = datetime.fromisoformat(value.replace("Z", "+00:00"))
@@ -124,15 +124,17 @@ def _check_fields(spec: Mapping[str, Any], path: str) -> None:
             raise InputError(f"{path}.{key}: must be at most {TEXT_MAX} printable characters", "reports")
 
 
-def _report_id(raw: Mapping[str, Any], spec: Mapping[str, Any], path: str) -> str | None:
-    for where, source in ((path, raw), (f"{path}.spec", spec)):
+def _report_id(raw: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> str | None:
+    """The client's ``report_id``/``reportId``/``id``, on the item or in its spec (None: not given)."""
+    sources = ((where, raw),) if spec is raw else ((where, raw), (f"{where}.spec", spec))
+    for path, source in sources:
         for key in ("report_id", "reportId", "id"):
-            value = source.get(key)
-            if value is None:
+            if key not in source or source[key] is None:
                 continue
+            value = source[key]
             text = str(value) if isinstance(value, int) and not isinstance(value, bool) else value
             if not isinstance(text, str) or not REPORT_ID.fullmatch(text):
-                raise InputError(f"{where}.{key}: {value!r} is not a report id (1-128 letters, digits, ._:/@+=-)",
+                raise InputError(f"{path}.{key}: {value!r} is not a report id (1-128 letters, digits, ._:/@+=-)",
                                  "reports")  # fmt: skip
             return text
     return None
@@ -140,12 +142,13 @@ def _report_id(raw: Mapping[str, Any], spec: Mapping[str, Any], path: str) -> st
 
 def _content_key(report: Report, meta: Mapping[str, Any]) -> str:
     """The idempotency key of a report without an id: a digest of what it says (and, for a custom object, of
-    its uid and resourceVersion), so that the same report posted again has the same key."""
-    content = [report.name, report.node, report.container, report.pod, report.missed_period, report.missed_total,
-               report.sent_at.isoformat() if report.sent_at else None,
-               report.miss_at.isoformat() if report.miss_at else None,
-               str(meta.get("uid") or ""), str(meta.get("resourceVersion") or "")]  # fmt: skip
-    return "sha256:" + hashlib.sha256(json.dumps(content).encode()).hexdigest()
+    its uid and resourceVersion), so that the same report posted again has the same key. (``repr`` of a tuple
+    of strings and numbers is unambiguous, and cheaper than JSON on this hot path.)"""
+    content = (report.name, report.node, report.container, report.pod, report.missed_period, report.missed_total,
+               report.sent_at.timestamp() if report.sent_at else None,
+               report.miss_at.timestamp() if report.miss_at else None,
+               str(meta.get("uid") or ""), str(meta.get("resourceVersion") or ""))  # fmt: skip
+    return "sha256:" + hashlib.sha256(repr(content).encode()).hexdigest()
 
 
 def parse_report(raw: Any, index: int) -> Report:
@@ -203,16 +206,22 @@ REPORT_KEY = ("cluster_id", "report_id")
 
 
 def insert_rows(
-    model, columns: Sequence[str], rows: Sequence[tuple], conflict: Sequence[str] = (), update: Sequence[str] = ()
-) -> int:
+    model,
+    columns: Sequence[str],
+    rows: Sequence[tuple],
+    conflict: Sequence[str] = (),
+    update: Sequence[str] = (),
+    returning: str | None = None,
+) -> int | list:
     """One INSERT of many rows (an upsert with ``conflict``/``update``; with ``conflict`` alone, rows that
-    conflict are skipped); returns how many rows were inserted or updated.
+    conflict are skipped); returns how many rows were inserted or updated, or with ``returning`` (a column)
+    that column of each of them.
 
     On PostgreSQL the values travel as one array per column (``unnest``), so the statement text is the same
     for every batch (the driver parses and the server plans it once); elsewhere a multi-row VALUES list.
     """
     if not rows:
-        return 0
+        return [] if returning else 0
     qn = connection.ops.quote_name
     cols = ", ".join(qn(c) for c in columns)
     if connection.vendor == "postgresql":
@@ -231,14 +240,11 @@ def insert_rows(
             sql += f" ON CONFLICT ({target}) DO UPDATE SET {sets}"
         else:
             sql += f" ON CONFLICT ({target}) DO NOTHING"
+    if returning:
+        sql += f" RETURNING {qn(returning)}"
     with connection.cursor() as cursor:
         cursor.execute(sql, params)
-        return cursor.rowcount
-
-
-def seen_report_ids(cluster: Cluster, ids: Sequence[str]) -> set[str]:
-    """The ids among ``ids`` that the cluster has stored already (one lookup in the unique index)."""
-    return set(MonitoringReport.objects.filter(cluster=cluster, report_id__in=ids).values_list("report_id", flat=True))
+        return [row[0] for row in cursor.fetchall()] if returning else cursor.rowcount
 
 
 def ingest(
@@ -252,9 +258,10 @@ def ingest(
 
     Raises InputError (nothing stored, nothing done) when a report names a node the cluster does not have;
     every other check was made by :func:`parse_report`, so nothing after the first eviction can fail on bad
-    input. A report whose id the cluster has seen (a retried batch) is acknowledged as a duplicate and not
-    acted on again: each eviction commits together with its report's row (the claim of its id), so a retry
-    after any failure finds it.
+    input. A report whose id the cluster has stored (a retried batch) is acknowledged as a duplicate and not
+    acted on again: each reconcile inserts its report's row (the claim of its id) in the transaction that
+    records the eviction, and the other reports are inserted with ``ON CONFLICT DO NOTHING``; what was not
+    inserted is a duplicate. The unique index answers both, with no look-up before.
     """
     received = received_at or timezone.now()
     policy = policy or RTPolicy.for_cluster(cluster)
@@ -263,25 +270,19 @@ def ingest(
     for i, r in enumerate(reports):
         if r.node not in node_ids:
             raise InputError(f"reports[{i}]: node {r.node!r} is not a node of cluster {cluster.name!r}", "reports")
-    seen = seen_report_ids(cluster, list(dict.fromkeys(r.report_id for r in reports)))
-    fresh: list[Report] = []
-    duplicates: list[int] = []
-    for i, r in enumerate(reports):
-        if r.report_id in seen:
-            duplicates.append(i)
-        else:
-            seen.add(r.report_id)  # the same id twice in one batch: the first one counts
-            fresh.append(r)
+    first: dict[str, Report] = {}
+    for r in reports:  # the same id twice in one batch: the first one counts
+        first.setdefault(r.report_id, r)
     violations = []
     rows: dict[str, tuple] = {}
     stamp = connection.ops.adapt_datetimefield_value
     at = stamp(received)
-    for r in fresh:
+    for rid, r in first.items():
         trigger = is_violation(EngineReport(r.node, r.container, r.missed_period, r.missed_total), monitor_policy)
         if trigger:
             violations.append((r, trigger))
-        rows[r.report_id] = (cluster.pk, r.name, r.node, r.container, r.pod, r.missed_period, r.missed_total,
-                             trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source, r.report_id)  # fmt: skip
+        rows[rid] = (cluster.pk, r.name, r.node, r.container, r.pod, r.missed_period, r.missed_total,
+                     trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source, rid)  # fmt: skip
     # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. Each reconcile
     # stores its own report (claiming its id) in the transaction that records the eviction.
     events = []
@@ -294,23 +295,26 @@ def ingest(
         if event is not None:
             events.append(event)
     rest = [row for rid, row in rows.items() if rid not in claimed]
-    latest: dict[str, tuple] = {}
     synced = source == MonitoringReport.Source.KUBE
-    for r in fresh:  # the last report of a container in the batch wins
-        latest[r.name] = (cluster.pk, r.name, node_ids[r.node], r.container, r.pod, r.missed_period, r.missed_total,
-                          at, synced, "")  # fmt: skip
     with transaction.atomic():
         # Two statements per batch, without the ORM's per-object work (this endpoint takes thousands a second).
-        stored = len(claimed) + insert_rows(MonitoringReport, REPORT_COLUMNS, rest, conflict=REPORT_KEY)
+        new = claimed | set(insert_rows(MonitoringReport, REPORT_COLUMNS, rest, conflict=REPORT_KEY,
+                                        returning="report_id"))  # fmt: skip
+        latest: dict[str, tuple] = {}
+        for rid, r in first.items():  # the last new report of a container in the batch wins
+            if rid in new:
+                latest[r.name] = (cluster.pk, r.name, node_ids[r.node], r.container, r.pod, r.missed_period,
+                                  r.missed_total, at, synced, "")  # fmt: skip
         # Sorted, so that concurrent batches lock the rows in the same order (no deadlock).
         insert_rows(Monitoring, LATEST_COLUMNS, [latest[k] for k in sorted(latest)],
                     conflict=("cluster_id", "name"), update=LATEST_COLUMNS[2:-1])  # fmt: skip
+    duplicates = [i for i, r in enumerate(reports) if r.report_id not in new or first[r.report_id] is not r]
     return {
         "accepted": len(reports),
-        "stored": stored,
+        "stored": len(new),
         "duplicates": duplicates,
         "report_ids": [r.report_id for r in reports],
-        "violations": len(violations),
+        "violations": sum(1 for r, _ in violations if r.report_id in claimed),
         "events": [event_summary(e) for e in events],
     }
 
