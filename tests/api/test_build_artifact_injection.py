@@ -222,3 +222,18 @@ def test_dockerfile_run_lines_quote_package_names_and_labels_stay_on_one_line(tm
     update, install, rm = calls(tmp_path)
     assert update == ["update"] and rm[0] == "-rf"
     assert install == ["install", "-y", "--no-install-recommends", f"ros-humble-{hostile}"]
+
+
+def test_an_archive_of_options_stored_before_the_checks_is_refused(api, graph, client, operator):
+    """A clustering stored before names were checked (here: edited in the database) gets no build script."""
+    response = api.post(f"/api/v1/rosgraphs/{graph.pk}/cluster/", {"containers": 2}, format="json")
+    assert response.status_code == 202, response.data
+    clustering = Clustering.objects.get()
+    clustering.params["images"]["repository"] = "x;touch p;#"
+    clustering.save(update_fields=["params"])
+    response = api.get(f"/api/v1/clusterings/{clustering.pk}/dockerfiles/?archive=zip")
+    assert response.status_code == 409
+    assert "is not an image repository" in str(response.data["images"])
+    client.force_login(operator)
+    page = client.get(f"/ros/clusterings/{clustering.pk}/dockerfiles/?archive=zip")
+    assert page.status_code == 409 and b"is not an image repository" in page.content
