@@ -12,6 +12,7 @@ from rest_framework.response import Response
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
+from continuum.engine.errors import InputError
 
 from . import services
 from .models import Clustering, Placement, RosGraph
@@ -96,7 +97,10 @@ class ClusteringViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Rea
             return Response({"archive": [f"one of {', '.join(services.ARCHIVES)}"]}, status=400)
         if not clustering.images:
             raise NotFound("this clustering has no image plan: its ROS nodes list no packages")
-        data, content_type, filename = services.dockerfiles_archive(clustering, kind)
+        try:
+            data, content_type, filename = services.dockerfiles_archive(clustering, kind)
+        except InputError as exc:  # stored before names were checked: refuse to write it into a build script
+            return Response({exc.field or "archive": [str(exc)]}, status=409)
         response = HttpResponse(data, content_type=content_type)
         response["Content-Disposition"] = f'attachment; filename="{filename}"'
         return response

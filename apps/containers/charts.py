@@ -18,7 +18,7 @@ from typing import Any
 import plotly.graph_objects as go
 from plotly.colors import qualitative
 
-from apps.dashboard.charts import EDGE_COLOUR, _base_layout
+from apps.dashboard.charts import EDGE_COLOUR, _base_layout, esc, escs
 from continuum.engine.rosgraph import LEVELS, RosGraph, natural_key
 
 PALETTE = [*qualitative.T10, *qualitative.Pastel, *qualitative.Dark24]
@@ -144,9 +144,9 @@ def rosgraph_figure(
     segments = []
     for (a, b), w in weights.items():
         inter = owner.get(a) != owner.get(b)
-        topics = ", ".join(graph.shared_topics(a, b))
+        topics = ", ".join(escs(graph.shared_topics(a, b)))
         where = "between containers" if inter and len(groups) > 1 else "inside a container"
-        text = f"<b>{a} ↔ {b}</b><br>{rate(w)}<br>{where}<br>topics: {topics}"
+        text = f"<b>{esc(a)} ↔ {esc(b)}</b><br>{rate(w)}<br>{where}<br>topics: {topics}"
         segments.append((pos[a], pos[b], w, INTER_COLOUR if inter and len(groups) > 1 else EDGE_COLOUR, text))
     fig = go.Figure(_edge_traces(segments, top))
     labelled = len(graph.nodes) <= MAX_LABELLED
@@ -156,9 +156,9 @@ def rosgraph_figure(
         for n in names:
             node = graph.nodes[n]
             level = LEVEL_LABELS[levels[n]] + ("" if given[n] else " (proposed)")
-            extra = f"<br>packages: {', '.join(node.packages)}" if node.packages else ""
+            extra = f"<br>packages: {', '.join(escs(node.packages))}" if node.packages else ""
             hover.append(
-                f"<b>{n}</b><br>container: {container}<br>level: {level}"
+                f"<b>{esc(n)}</b><br>container: {esc(container)}<br>level: {level}"
                 f"<br>CPU {node.cpu:.3g} cores, memory {node.memory_mib:.4g} MiB{extra}"
             )
         fig.add_trace(
@@ -166,7 +166,7 @@ def rosgraph_figure(
                 x=[pos[n][0] for n in names],
                 y=[pos[n][1] for n in names],
                 mode="markers+text" if labelled else "markers",
-                text=names,
+                text=escs(names),
                 # Neighbours in a row alternate label sides (the layout nudges them up and down to match).
                 textposition=[_label_side(pos[n]) for n in names],
                 textfont={"size": 10},
@@ -180,7 +180,7 @@ def rosgraph_figure(
                 },
                 hovertext=hover,
                 hoverinfo="text",
-                name=container,
+                name=esc(container),
             )
         )
     xs = [x for x, _ in pos.values()] or [0.0]
@@ -228,7 +228,7 @@ def container_figure(containers: Sequence[Mapping[str, Any]], bandwidth: Sequenc
             pos[b["b"]],
             b["bytes_per_s"],
             INTER_COLOUR,
-            f"<b>{b['a']} ↔ {b['b']}</b><br>{rate(b['bytes_per_s'])}",
+            f"<b>{esc(b['a'])} ↔ {esc(b['b'])}</b><br>{rate(b['bytes_per_s'])}",
         )
         for b in bandwidth
         if b["bytes_per_s"] > 0
@@ -241,7 +241,7 @@ def container_figure(containers: Sequence[Mapping[str, Any]], bandwidth: Sequenc
             x=[pos[n][0] for n in names],
             y=[pos[n][1] for n in names],
             mode="markers+text",
-            text=[f"{c['name']} ({len(c['nodes'])})" for c in containers],
+            text=[f"{esc(c['name'])} ({len(c['nodes'])})" for c in containers],
             textposition="bottom center",
             marker={
                 "size": [18 + 30 * math.sqrt(s / biggest) for s in sizes],
@@ -249,7 +249,8 @@ def container_figure(containers: Sequence[Mapping[str, Any]], bandwidth: Sequenc
                 "line": {"color": "white", "width": 2},
             },
             hovertext=[
-                f"<b>{c['name']}</b><br>{len(c['nodes'])} ROS nodes:<br>" + "<br>".join(c["nodes"]) for c in containers
+                f"<b>{esc(c['name'])}</b><br>{len(c['nodes'])} ROS nodes:<br>" + "<br>".join(escs(c["nodes"]))
+                for c in containers
             ],
             hoverinfo="text",
             showlegend=False,
@@ -301,7 +302,7 @@ def placement_figure(
             pos[t["b"]],
             t["bytes_per_s"],
             INTER_COLOUR,
-            f"<b>{t['a']} ↔ {t['b']}</b><br>{rate(t['bytes_per_s'])}",
+            f"<b>{esc(t['a'])} ↔ {esc(t['b'])}</b><br>{rate(t['bytes_per_s'])}",
         )
         for t in traffic
     ]
@@ -317,10 +318,13 @@ def placement_figure(
             x=[pos[n][0] for n in nodes],
             y=[pos[n][1] for n in nodes],
             mode="markers+text",
-            text=[f"<b>{n}</b> ({archs[n]})" for n in nodes],
+            text=[f"<b>{esc(n)}</b> ({esc(archs[n])})" for n in nodes],
             textposition="bottom center",
             marker={"size": 46, "symbol": "square", "color": "#f5f7fa", "line": {"color": NODE_COLOUR, "width": 2}},
-            hovertext=[f"<b>{n}</b> ({archs[n]})<br>containers: {', '.join(on_node[n]) or 'none'}" for n in nodes],
+            hovertext=[
+                f"<b>{esc(n)}</b> ({esc(archs[n])})<br>containers: {', '.join(escs(on_node[n])) or 'none'}"
+                for n in nodes
+            ],
             hoverinfo="text",
             name="nodes",
             showlegend=False,
@@ -336,11 +340,11 @@ def placement_figure(
             spots[c] = (
                 cx + r * math.cos(angle),
                 cy + r * math.sin(angle),
-                f"<b>{c}</b><br>on {n}, score {scores[c]:.4g}",
+                f"<b>{esc(c)}</b><br>on {esc(n)}, score {scores[c]:.4g}",
             )
     pending = [p["container"] for p in plan.get("pending", [])]
     for i, c in enumerate(pending):
-        spots[c] = (1.75, 0.9 - 0.25 * i, f"<b>{c}</b><br>pending: no node passed the filters")
+        spots[c] = (1.75, 0.9 - 0.25 * i, f"<b>{esc(c)}</b><br>pending: no node passed the filters")
     # One trace per container: the legend gives each container its colour, as on the ROS graph.
     for c in [*container_order, *(c for c in spots if c not in container_order)]:
         if c not in spots:
@@ -361,7 +365,7 @@ def placement_figure(
                 },
                 hovertext=[text],
                 hoverinfo="text",
-                name=c,
+                name=esc(c),
                 legendgroup="containers",
             )
         )
@@ -379,7 +383,7 @@ def disk_figure(images: Mapping[str, Any]) -> go.Figure:
     """Per image: its full size alone (containers only: what it costs without sharing) and the bytes it adds
     to a device holding every image (layers shared through inheritance counted once)."""
     rows = sorted(images.get("images", []), key=lambda im: (im["kind"] != "container", -im["size_mib"]))
-    names = [f"{im['name']} ({im['kind']})" for im in rows]
+    names = [f"{esc(im['name'])} ({esc(im['kind'])})" for im in rows]
     fig = go.Figure()
     fig.add_trace(
         go.Bar(

@@ -7,6 +7,7 @@ from rest_framework import serializers
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import DefaultFleetMixin, FleetField
 from apps.tenancy.scoping import visible_fleets
+from continuum.engine import artifact_names
 from continuum.engine.cluster import normalize_arch
 from continuum.engine.errors import InputError
 from continuum.engine.ros_clustering import max_containers
@@ -134,6 +135,25 @@ class ImageOptionsSerializer(serializers.Serializer):
             return [normalize_arch(p, "platforms") for p in value]
         except InputError as exc:
             raise serializers.ValidationError(str(exc)) from exc
+
+    # These values are written into build.sh and the Dockerfiles: each must follow its grammar.
+    @staticmethod
+    def _grammar(problem: str | None, value):
+        if problem is not None:
+            raise serializers.ValidationError(problem)
+        return value
+
+    def validate_distro_image(self, value):
+        return self._grammar(artifact_names.reference_problem(value), value)
+
+    def validate_ros_distro(self, value):
+        return self._grammar(artifact_names.ros_distro_problem(value), value)
+
+    def validate_repository(self, value):
+        return self._grammar(artifact_names.repository_problem(value) if value else None, value)
+
+    def validate_tag(self, value):
+        return self._grammar(artifact_names.tag_problem(value), value)
 
 
 class ClusterRequestSerializer(serializers.Serializer):

@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from apps.clusters.models import Cluster, ComputeNode
+from continuum.engine import artifact_names
 from continuum.engine.cluster import Cluster as EngineCluster
 from continuum.engine.errors import InputError
 from continuum.engine.image_inheritance import DEFAULT_PLATFORMS, ImagePlan, plan_from_graph
@@ -199,6 +200,12 @@ def image_options(raw: Mapping[str, Any] | None) -> dict[str, Any]:
     unknown = sorted(set(options) - set(IMAGE_DEFAULTS))
     if unknown:
         raise InputError(f"unknown image option {unknown[0]!r} (one of {', '.join(IMAGE_DEFAULTS)})", "images")
+    # Job arguments are checked by the API's serializer; a job stored otherwise meets the same grammar here.
+    if options["repository"]:
+        artifact_names.check_repository(options["repository"], "images", "images.repository")
+    artifact_names.check_tag(options["tag"], "images", "images.tag")
+    artifact_names.check_reference(options["distro_image"], "images", "images.distro_image")
+    artifact_names.check_ros_distro(options["ros_distro"], "images", "images.ros_distro")
     return options
 
 
@@ -295,8 +302,10 @@ def resolve_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> t
     for entry in resolved["containers"]:
         image = images.get(entry["name"])
         if image is not None:
-            if not isinstance(image, str) or not image.strip():
-                raise InputError(f"container {entry['name']!r}: 'image' must be an image reference", "containers")
+            problem = artifact_names.reference_problem(image.strip() if isinstance(image, str) else image)
+            if problem is not None:
+                raise InputError(f"container {entry['name']!r}: 'image' must be an image reference: {problem}",
+                                 "containers")  # fmt: skip
             entry["image"] = image.strip()
     return workload, resolved
 

@@ -195,7 +195,10 @@ def clustering_dockerfiles(request: HttpRequest, pk: int) -> HttpResponse:
     kind = request.GET.get("archive", "tar.gz")
     if kind not in services.ARCHIVES or not clustering.images:
         raise Http404("no such archive")
-    data, content_type, filename = services.dockerfiles_archive(clustering, kind)
+    try:
+        data, content_type, filename = services.dockerfiles_archive(clustering, kind)
+    except InputError as exc:  # stored before names were checked: refuse to write it into a build script
+        return HttpResponse(f"cannot generate the Dockerfiles: {exc}", status=409, content_type="text/plain")
     response = HttpResponse(data, content_type=content_type)
     response["Content-Disposition"] = f'attachment; filename="{filename}"'
     return response

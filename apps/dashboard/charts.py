@@ -15,10 +15,16 @@ The dashboard renders them with :func:`to_html`, which leaves plotly.js out: the
 - :func:`uma_zone_figure`: an application's CPU and GPU cache usage against a board's thresholds.
 - :func:`dag_figure`: the DAG in layers by topological level (left to right), edges as lines.
 - :func:`network_figure`: a cluster's nodes (coloured by status) and the links between them.
+
+Names (tasks, processors, nodes, containers, monitors, applications) come from users. Plotly renders a subset of
+HTML in hover text, text, legend entries, titles and tick labels (``<a href=...>`` becomes a live link), so every
+name goes through :func:`esc` before it reaches a figure: the one helper every chart builder in ``apps/*/charts.py``
+uses. Plotly turns the entities back into the characters it shows.
 """
 
 from __future__ import annotations
 
+import html
 import math
 from collections.abc import Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -60,6 +66,16 @@ def to_html(fig: go.Figure, div_id: str | None = None) -> str:
             "modeBarButtonsToRemove": ["select2d", "lasso2d", "autoScale2d", "toggleSpikelines"],
         },
     )
+
+
+def esc(value: object) -> str:
+    """A name as Plotly text: ``&``, ``<``, ``>`` and quotes become entities, so markup in a name is shown, not
+    rendered (Plotly's hover, text, legend and tick labels understand ``<a href>``, ``<b>``, ``<br>``...)."""
+    return html.escape(str(value))
+
+
+def escs(values: Iterable[object]) -> list[str]:
+    return [esc(v) for v in values]
 
 
 def _fmt(x: float) -> str:
@@ -206,7 +222,7 @@ def gantt_figure(
         _nice_axis(fig, nice)
     fig.update_xaxes(
         type="linear",
-        title_text=f"time ({unit})" if unit else "time",
+        title_text=f"time ({esc(unit)})" if unit else "time",
         range=[0, makespan * 1.03 if makespan > 0 else 1],
         showgrid=True,
         gridcolor="#e4e7eb",
@@ -216,7 +232,7 @@ def gantt_figure(
     fig.update_yaxes(
         type="category",
         categoryorder="array",
-        categoryarray=rows,
+        categoryarray=escs(rows),
         autorange="reversed",
         title_text="processor",
         showgrid=False,
@@ -247,7 +263,7 @@ def stacked_gantt_figure(
         shared_xaxes=True,
         vertical_spacing=min(0.3, 80 / height),
         row_heights=heights,
-        subplot_titles=[f"{p.title}{title_sep}makespan {_fmt(p.schedule.makespan)}" for p in panels] or None,
+        subplot_titles=[f"{esc(p.title)}{title_sep}makespan {_fmt(p.schedule.makespan)}" for p in panels] or None,
     )
     nice = _nice_range([p.schedule for p in panels]) if colour_by_niceness else None
     all_frames = [a.frame for p in panels for a in p.schedule.assignments]
@@ -268,7 +284,7 @@ def stacked_gantt_figure(
         fig.update_yaxes(
             type="category",
             categoryorder="array",
-            categoryarray=rows,
+            categoryarray=escs(rows),
             autorange="reversed",
             showgrid=False,
             row=i,
@@ -293,7 +309,7 @@ def stacked_gantt_figure(
         gridcolor="#e4e7eb",
         zeroline=False,
     )
-    fig.update_xaxes(title_text=f"time ({time_unit})" if time_unit else "time", row=max(1, len(panels)), col=1)
+    fig.update_xaxes(title_text=f"time ({esc(time_unit)})" if time_unit else "time", row=max(1, len(panels)), col=1)
     return fig
 
 
@@ -379,8 +395,8 @@ def _gantt_trace(
     text_colour: str | list[str] = "white",
     marker_extra: dict | None = None,
 ) -> go.Bar:
-    label = (lambda a: f"{a.task} [{a.frame}]") if show_frame else (lambda a: a.task)
-    suffix = f" {unit}" if unit else ""
+    label = (lambda a: f"{esc(a.task)} [{a.frame}]") if show_frame else (lambda a: esc(a.task))
+    suffix = f" {esc(unit)}" if unit else ""
     row_of = row_of or {}
     notes = notes or {}
     has_nice = any(a.niceness is not None for a in assignments)
@@ -392,11 +408,12 @@ def _gantt_trace(
             marker["line"] = {"color": colour, "width": 3}
         # Light bars (high niceness) need dark text.
         text_colour = ["#1f2933" if (v - nice[0]) / (nice[1] - nice[0]) > 0.55 else "white" for v in values]
+    name = esc(name)
     return go.Bar(
         name=name,
         legendgroup=name,
         orientation="h",
-        y=[row_of.get((a.task, a.frame), a.processor) for a in assignments],
+        y=[esc(row_of.get((a.task, a.frame), a.processor)) for a in assignments],
         base=[a.start for a in assignments],
         x=[a.finish - a.start for a in assignments],
         text=[label(a) for a in assignments],
@@ -406,13 +423,13 @@ def _gantt_trace(
         marker=marker,
         customdata=[
             [
-                a.task,
+                esc(a.task),
                 a.frame,
-                a.processor,
+                esc(a.processor),
                 a.start,
                 a.finish,
                 "—" if a.niceness is None else a.niceness,
-                f"<br>{notes[(a.task, a.frame)]}" if (a.task, a.frame) in notes else "",
+                f"<br>{esc(notes[(a.task, a.frame)])}" if (a.task, a.frame) in notes else "",
             ]
             for a in assignments
         ],
@@ -479,7 +496,7 @@ def comparison_bars_figure(results: Mapping[str, Mapping], algorithms: list[str]
         values = [results[a].get(key) for a in names]
         fig.add_trace(
             go.Bar(
-                x=[a.upper() for a in names],
+                x=[esc(a.upper()) for a in names],
                 y=[None if v is None else v * scale for v in values],
                 marker={"color": [colours[a] for a in names]},
                 text=[f"{v * scale:.4g}" if v is not None else "" for v in values],
@@ -677,7 +694,7 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
     fig = go.Figure()
     add_edge_traces(
         fig,
-        [(pos[e.src], pos[e.dst], f"<b>{e.src} → {e.dst}</b><br>data: {_fmt(e.data)}") for e in dag.edges],
+        [(pos[e.src], pos[e.dst], f"<b>{esc(e.src)} → {esc(e.dst)}</b><br>data: {_fmt(e.data)}") for e in dag.edges],
         name="edges",
         hover_name="edge data",
         width=1.2,
@@ -686,14 +703,14 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
     tasks = list(dag.tasks.values())
     mean_cost = [fmean(t.cost.values()) for t in tasks]
     colours, colour_opts = _cost_colours(mean_cost)
-    colorbar = {"title": {"text": f"mean cost ({unit})", "side": "right"}, "thickness": 12}
+    colorbar = {"title": {"text": f"mean cost ({esc(unit)})", "side": "right"}, "thickness": 12}
     if "colorbar_tickvals" in colour_opts:
         colorbar["tickvals"] = colour_opts["colorbar_tickvals"]
         colorbar["ticktext"] = colour_opts["colorbar_ticktext"]
     hover = []
     for t in tasks:
-        costs = "<br>".join(f"  {k}: {_fmt(v)} {unit}" for k, v in sorted(t.cost.items()))
-        title = f"<b>{t.id}</b>" + (f" ({t.name})" if t.name and t.name != t.id else "")
+        costs = "<br>".join(f"  {esc(k)}: {_fmt(v)} {esc(unit)}" for k, v in sorted(t.cost.items()))
+        title = f"<b>{esc(t.id)}</b>" + (f" ({esc(t.name)})" if t.name and t.name != t.id else "")
         flags = "<br><i>critical task</i>" if t.critical else ""
         hover.append(
             f"{title}<br>level {int(pos[t.id][0])}, {pred_count[t.id]} in / {succ_count[t.id]} out"
@@ -705,7 +722,7 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
             x=[pos[t.id][0] for t in tasks],
             y=[pos[t.id][1] for t in tasks],
             mode="markers+text" if labelled else "markers",
-            text=[t.id for t in tasks],
+            text=[esc(t.id) for t in tasks],
             textposition="top center",
             marker={
                 "size": 18 if labelled else 12,
@@ -799,7 +816,7 @@ def network_figure(
 
     def link_hover(lk) -> str:
         bw = "unlimited" if lk.bandwidth is None else f"{_fmt(lk.bandwidth * bandwidth_scale)} {bandwidth_unit}"
-        return f"<b>{lk.src} ↔ {lk.dst}</b><br>bandwidth: {bw}<br>latency: {_fmt(lk.latency)} {latency_unit}"
+        return f"<b>{esc(lk.src)} ↔ {esc(lk.dst)}</b><br>bandwidth: {bw}<br>latency: {_fmt(lk.latency)} {latency_unit}"
 
     add_edge_traces(
         fig,
@@ -820,7 +837,7 @@ def network_figure(
                 x=[pos[p.id][0] for p in procs],
                 y=[pos[p.id][1] for p in procs],
                 mode="markers+text" if labelled else "markers",
-                text=[p.id for p in procs],
+                text=[esc(p.id) for p in procs],
                 textposition="bottom center",
                 marker={
                     "size": 24,
@@ -828,9 +845,12 @@ def network_figure(
                     "symbol": [CLASS_SYMBOLS.get(p.cls, "circle") for p in procs],
                     "line": {"color": "white", "width": 2},
                 },
-                hovertext=[f"<b>{p.id}</b><br>class: {p.cls}<br>speed: {_fmt(p.speed)}<br>{state}" for p in procs],
+                hovertext=[
+                    f"<b>{esc(p.id)}</b><br>class: {esc(p.cls)}<br>speed: {_fmt(p.speed)}<br>{esc(state)}"
+                    for p in procs
+                ],
                 hoverinfo="text",
-                name=state,
+                name=esc(state),
             )
         )
     _base_layout(fig, height=420)

@@ -12,7 +12,7 @@ from statistics import fmean, quantiles
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from apps.dashboard.charts import FONT, _base_layout
+from apps.dashboard.charts import FONT, _base_layout, esc
 
 PALETTE = ["#4c78a8", "#f58518", "#54a24b", "#b279a2", "#e45756", "#72b7b2", "#eeca3b", "#9d755d", "#bab0ac"]
 CLASS_COLOURS = {"C": "#b03a2e", "B": "#d68910", "A": "#2e86c1", "NONE": "#9aa1a9"}
@@ -23,7 +23,7 @@ TABLE_4_35 = {"mean": 92.03, "worst": 408.29}
 
 
 def _kind(node: Mapping) -> str:
-    return f"RT {node['criticality'] or ''}".strip() if node["rt"] else "non-RT"
+    return f"RT {esc(node['criticality'] or '')}".strip() if node["rt"] else "non-RT"
 
 
 def utilization_figure(nodes: Sequence[Mapping]) -> go.Figure:
@@ -33,7 +33,7 @@ def utilization_figure(nodes: Sequence[Mapping]) -> go.Figure:
     "tainted": bool}``.
     """
     names = [n["name"] for n in nodes]
-    labels = [f"{n['name']}  ({_kind(n)}){'  ⚠ tainted' if n['tainted'] else ''}" for n in nodes]
+    labels = [f"{esc(n['name'])}  ({_kind(n)}){'  ⚠ tainted' if n['tainted'] else ''}" for n in nodes]
     fig = go.Figure()
     for cls in ("C", "B", "A", "NONE"):
         values = [n["by_class"].get(cls, 0.0) for n in nodes]
@@ -91,7 +91,8 @@ def timeline_figure(
     nodes = sorted({r["node"] for r in reports} | {e["node"] for e in events} | {t["node"] for t in taints})
     if not nodes:
         nodes = ["—"]
-    fig = make_subplots(rows=len(nodes), cols=1, shared_xaxes=True, vertical_spacing=0.06, subplot_titles=nodes)
+    fig = make_subplots(rows=len(nodes), cols=1, shared_xaxes=True, vertical_spacing=0.06,
+                        subplot_titles=[esc(n) for n in nodes])  # fmt: skip
     containers = sorted({r["container"] for r in reports})
     colour = {c: PALETTE[i % len(PALETTE)] for i, c in enumerate(containers)}
     shown: set[str] = set()
@@ -107,12 +108,12 @@ def timeline_figure(
                     mode="lines+markers",
                     line={"color": colour[c], "width": 1.5, "shape": "hv"},
                     marker={"size": 4},
-                    name=c,
-                    legendgroup=c,
+                    name=esc(c),
+                    legendgroup=esc(c),
                     showlegend=c not in shown,
                     customdata=[[p["missed_total"]] for p in pts],
-                    hovertemplate=f"{c} on {node}<br>%{{x}}<br>missed in period %{{y}}, total %{{customdata[0]}}"
-                    "<extra></extra>",
+                    hovertemplate=f"{esc(c)} on {esc(node)}<br>%{{x}}<br>missed in period %{{y}}, "
+                    "total %{customdata[0]}<extra></extra>",
                 ),
                 row=row,
                 col=1,
@@ -135,9 +136,9 @@ def timeline_figure(
                     legendgroup="events",
                     showlegend="events" not in shown,
                     text=[
-                        f"evicted {e['victim']} for {e['container']}"
+                        f"evicted {esc(e['victim'])} for {esc(e['container'])}"
                         if e["kind"] == "eviction"
-                        else f"alert: {e['container']}"
+                        else f"alert: {esc(e['container'])}"
                         for e in evs
                     ],
                     hovertemplate="%{x}<br>%{text}<extra></extra>",

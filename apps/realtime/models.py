@@ -395,10 +395,14 @@ class MonitoringReport(models.Model):
     sent_at = models.DateTimeField(null=True, blank=True, help_text="when the monitor sent it (its clock)")
     received_at = models.DateTimeField()
     source = models.CharField(max_length=4, choices=Source.choices, default=Source.REST)
+    #: The report's idempotency key: the client's ``id``/``report_id``, else a digest of its content. A report
+    #: whose key the cluster has seen is a replay (a robot retrying a batch): acknowledged, not acted on again.
+    report_id = models.CharField(max_length=160, null=True, blank=True)
 
     class Meta:
         ordering = ["-received_at", "-pk"]
         indexes = [models.Index(fields=["cluster", "received_at"])]
+        constraints = [models.UniqueConstraint(fields=["cluster", "report_id"], name="unique_report_id")]
 
     def __str__(self) -> str:
         return f"{self.container_name}@{self.node}: {self.missed_period}/{self.missed_total}"

@@ -1,8 +1,12 @@
 """The cluster-level monitor: store missed-deadline reports and reconcile each one (thesis 3.4, Fig. 3.36).
 
 Reports arrive over REST (a robot fleet's batch) or as updates of Monitoring custom objects; both go through
-:func:`ingest`. Storing is two bulk statements (every report, then the latest counters per container); the
-request is acknowledged only after them. Only a report over a threshold (the engine's ``is_violation``) costs
+:func:`ingest`. A batch is validated whole first (counters within the columns' range, time stamps between 2000
+and 2100, text the columns can hold): a bad report is a 400 naming ``reports[i].<field>`` before anything is
+done. Every report carries an idempotency key (the client's ``report_id``/``id``, else a digest of its content),
+unique per cluster: a retried batch's reports are acknowledged as duplicates and never evicted for twice. Storing
+is two bulk statements (every new report, then the latest counters per container); the request is acknowledged
+only after them. Only a report over a threshold (the engine's ``is_violation``) costs
 more, and it is handled before the batch is stored, since the eviction is on the clock: :func:`reconcile` locks the
 node row (one reconcile per node at a time), reads the pods on the node from the RT scheduler's ledger
 (:class:`~apps.realtime.models.RTPod`), and lets the engine's ``ClusterMonitor`` pick the victim by the
@@ -17,8 +21,10 @@ the reconcile, the eviction sent and answered.
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import math
+import re
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -63,27 +69,86 @@ class Report:
     missed_total: int
     sent_at: datetime | None = None
     miss_at: datetime | None = None
+    #: Idempotency key, unique per cluster (see :class:`~apps.realtime.models.MonitoringReport`).
+    report_id: str = ""
 
 
 # ---- parsing -------------------------------------------------------------------------------------------------
-def _stamp(value: Any, where: str, key: str) -> datetime | None:
-    """RFC 3339 text or seconds since the epoch."""
+#: Largest counter the columns hold (PositiveIntegerField: a 32-bit integer); checked before anything happens.
+COUNT_MAX = 2**31 - 1
+#: Monitor time stamps outside this range are refused (1e20 seconds is no time, and would not convert).
+STAMP_MIN = datetime(2000, 1, 1, tzinfo=UTC)
+STAMP_MAX = datetime(2100, 1, 1, tzinfo=UTC)
+_STAMP_RANGE_S = (STAMP_MIN.timestamp(), STAMP_MAX.timestamp())
+#: Text columns of a report (node, containerName, pod) hold at most this many characters.
+TEXT_MAX = 253
+#: A client-chosen report id: printable ASCII without spaces or quotes.
+REPORT_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._:/@+=-]{0,127}")
+
+
+def _stamp(value: Any, path: str) -> datetime | None:
+    """RFC 3339 text or seconds since the epoch, between 2000 and 2100."""
     if value is None or value == "":
         return None
-    if isinstance(value, bool):
-        raise InputError(f"{where}: {key} must be an RFC 3339 time or seconds since the epoch", key)
-    if isinstance(value, int | float):
+    stamp = None
+    if isinstance(value, int | float) and not isinstance(value, bool):
         if not math.isfinite(value):
-            raise InputError(f"{where}: {key} must be finite", key)
-        return datetime.fromtimestamp(value, UTC)
-    if isinstance(value, str):
+            raise InputError(f"{path}: must be finite", "reports")
+        if _STAMP_RANGE_S[0] <= value < _STAMP_RANGE_S[1]:
+            return datetime.fromtimestamp(value, UTC)
+    elif isinstance(value, str):
         try:
             stamp = datetime.fromisoformat(value.replace("Z", "+00:00"))
         except ValueError:
-            stamp = None
-        if stamp is not None:
-            return stamp if stamp.tzinfo else stamp.replace(tzinfo=UTC)
-    raise InputError(f"{where}: {key} {value!r} is not an RFC 3339 time or seconds since the epoch", key)
+            raise InputError(f"{path}: {value!r} is not an RFC 3339 time or seconds since the epoch",
+                             "reports") from None  # fmt: skip
+        stamp = stamp if stamp.tzinfo else stamp.replace(tzinfo=UTC)
+    else:
+        raise InputError(f"{path}: must be an RFC 3339 time or seconds since the epoch", "reports")
+    if stamp is None or not STAMP_MIN <= stamp < STAMP_MAX:
+        raise InputError(f"{path}: {value!r} is not a time between {STAMP_MIN.year} and {STAMP_MAX.year}", "reports")
+    return stamp
+
+
+def _check_fields(spec: Mapping[str, Any], path: str) -> None:
+    """What the engine's parser does not check but the columns need: counters within the column's range, text
+    within its length and without control characters (PostgreSQL refuses NUL). A report that would fail when
+    stored must fail here, before any report of the batch is acted on."""
+    for key in ("missedDeadlinesPeriod", "missedDeadlinesTotal"):
+        v = spec.get(key)
+        if isinstance(v, int) and not isinstance(v, bool) and v > COUNT_MAX:
+            raise InputError(f"{path}.{key}: {v} is larger than {COUNT_MAX}", "reports")
+    for key in ("node", "containerName", "pod"):
+        v = spec.get(key)
+        if isinstance(v, str) and (len(v) > TEXT_MAX or not v.isprintable()):
+            raise InputError(f"{path}.{key}: must be at most {TEXT_MAX} printable characters", "reports")
+
+
+def _report_id(raw: Mapping[str, Any], spec: Mapping[str, Any], where: str) -> str | None:
+    """The client's ``report_id``/``reportId``/``id``, on the item or in its spec (None: not given)."""
+    sources = ((where, raw),) if spec is raw else ((where, raw), (f"{where}.spec", spec))
+    for path, source in sources:
+        for key in ("report_id", "reportId", "id"):
+            if key not in source or source[key] is None:
+                continue
+            value = source[key]
+            text = str(value) if isinstance(value, int) and not isinstance(value, bool) else value
+            if not isinstance(text, str) or not REPORT_ID.fullmatch(text):
+                raise InputError(f"{path}.{key}: {value!r} is not a report id (1-128 letters, digits, ._:/@+=-)",
+                                 "reports")  # fmt: skip
+            return text
+    return None
+
+
+def _content_key(report: Report, meta: Mapping[str, Any]) -> str:
+    """The idempotency key of a report without an id: a digest of what it says (and, for a custom object, of
+    its uid and resourceVersion), so that the same report posted again has the same key. (``repr`` of a tuple
+    of strings and numbers is unambiguous, and cheaper than JSON on this hot path.)"""
+    content = (report.name, report.node, report.container, report.pod, report.missed_period, report.missed_total,
+               report.sent_at.timestamp() if report.sent_at else None,
+               report.miss_at.timestamp() if report.miss_at else None,
+               str(meta.get("uid") or ""), str(meta.get("resourceVersion") or ""))  # fmt: skip
+    return "sha256:" + hashlib.sha256(repr(content).encode()).hexdigest()
 
 
 def parse_report(raw: Any, index: int) -> Report:
@@ -93,11 +158,14 @@ def parse_report(raw: Any, index: int) -> Report:
         raise InputError(f"{where}: must be a Monitoring object or its spec", "reports")
     if "kind" in raw and raw.get("kind") != "Monitoring":
         raise InputError(f"{where}: kind {raw.get('kind')!r} is not Monitoring", "reports")
+    spec = raw.get("spec", raw)
+    path = f"{where}.spec" if "spec" in raw else where
+    if isinstance(spec, Mapping):
+        _check_fields(spec, path)
     try:
         report = EngineReport.from_dict(raw, 0.0)
     except InputError as exc:
         raise InputError(f"{where}: {exc}", "reports") from exc
-    spec = raw.get("spec", raw)
     pod = spec.get("pod") or ""
     if not isinstance(pod, str):
         raise InputError(f"{where}: spec.pod must be a pod name", "reports")
@@ -105,13 +173,12 @@ def parse_report(raw: Any, index: int) -> Report:
     name = meta.get("name") or (f"{pod}-{report.container}" if pod else f"{report.container}-{report.node}")
     if not isinstance(name, str) or len(name) > 253 or not DNS_SUBDOMAIN.match(name.lower()):
         raise InputError(f"{where}: metadata.name {name!r} is not a DNS subdomain name", "reports")
-    try:
-        sent = _stamp(spec.get("sentAt"), where, "sentAt")
-        miss = _stamp(spec.get("missAt"), where, "missAt")
-    except InputError as exc:
-        raise InputError(str(exc), "reports") from exc
-    return Report(name.lower(), report.node, report.container, pod, report.missed_period, report.missed_total,
-                  sent, miss)  # fmt: skip
+    sent = _stamp(spec.get("sentAt"), f"{path}.sentAt")
+    miss = _stamp(spec.get("missAt"), f"{path}.missAt")
+    out = Report(name.lower(), report.node, report.container, pod, report.missed_period, report.missed_total,
+                 sent, miss)  # fmt: skip
+    out.report_id = _report_id(raw, spec, where) or _content_key(out, meta)
+    return out
 
 
 def parse_batch(payload: Any) -> list[Report]:
@@ -131,21 +198,30 @@ def parse_batch(payload: Any) -> list[Report]:
 
 # ---- storing -------------------------------------------------------------------------------------------------
 REPORT_COLUMNS = ("cluster_id", "name", "node", "container_name", "pod", "missed_period", "missed_total", "violation",
-                  "sent_at", "miss_at", "received_at", "source")  # fmt: skip
+                  "sent_at", "miss_at", "received_at", "source", "report_id")  # fmt: skip
 LATEST_COLUMNS = ("cluster_id", "name", "node_id", "container_name", "pod", "missed_period", "missed_total",
                   "received_at", "kube_synced", "resource_version")  # fmt: skip
+#: The unique index that makes a replayed report a no-op (``MonitoringReport.Meta.constraints``).
+REPORT_KEY = ("cluster_id", "report_id")
 
 
 def insert_rows(
-    model, columns: Sequence[str], rows: Sequence[tuple], conflict: Sequence[str] = (), update: Sequence[str] = ()
-) -> None:
-    """One INSERT of many rows (an upsert with ``conflict``/``update``).
+    model,
+    columns: Sequence[str],
+    rows: Sequence[tuple],
+    conflict: Sequence[str] = (),
+    update: Sequence[str] = (),
+    returning: str | None = None,
+) -> int | list:
+    """One INSERT of many rows (an upsert with ``conflict``/``update``; with ``conflict`` alone, rows that
+    conflict are skipped); returns how many rows were inserted or updated, or with ``returning`` (a column)
+    that column of each of them.
 
     On PostgreSQL the values travel as one array per column (``unnest``), so the statement text is the same
     for every batch (the driver parses and the server plans it once); elsewhere a multi-row VALUES list.
     """
     if not rows:
-        return
+        return [] if returning else 0
     qn = connection.ops.quote_name
     cols = ", ".join(qn(c) for c in columns)
     if connection.vendor == "postgresql":
@@ -158,10 +234,17 @@ def insert_rows(
         sql = f"INSERT INTO {qn(model._meta.db_table)} ({cols}) VALUES " + ", ".join([one] * len(rows))
         params = [v for row in rows for v in row]
     if conflict:
-        sets = ", ".join(f"{qn(c)} = EXCLUDED.{qn(c)}" for c in update)
-        sql += f" ON CONFLICT ({', '.join(qn(c) for c in conflict)}) DO UPDATE SET {sets}"
+        target = ", ".join(qn(c) for c in conflict)
+        if update:
+            sets = ", ".join(f"{qn(c)} = EXCLUDED.{qn(c)}" for c in update)
+            sql += f" ON CONFLICT ({target}) DO UPDATE SET {sets}"
+        else:
+            sql += f" ON CONFLICT ({target}) DO NOTHING"
+    if returning:
+        sql += f" RETURNING {qn(returning)}"
     with connection.cursor() as cursor:
         cursor.execute(sql, params)
+        return [row[0] for row in cursor.fetchall()] if returning else cursor.rowcount
 
 
 def ingest(
@@ -173,7 +256,12 @@ def ingest(
 ) -> dict[str, Any]:
     """Store the reports and reconcile each one over a threshold; returns what happened.
 
-    Raises InputError (nothing stored) when a report names a node the cluster does not have.
+    Raises InputError (nothing stored, nothing done) when a report names a node the cluster does not have;
+    every other check was made by :func:`parse_report`, so nothing after the first eviction can fail on bad
+    input. A report whose id the cluster has stored (a retried batch) is acknowledged as a duplicate and not
+    acted on again: each reconcile inserts its report's row (the claim of its id) in the transaction that
+    records the eviction, and the other reports are inserted with ``ON CONFLICT DO NOTHING``; what was not
+    inserted is a duplicate. The unique index answers both, with no look-up before.
     """
     received = received_at or timezone.now()
     policy = policy or RTPolicy.for_cluster(cluster)
@@ -182,37 +270,51 @@ def ingest(
     for i, r in enumerate(reports):
         if r.node not in node_ids:
             raise InputError(f"reports[{i}]: node {r.node!r} is not a node of cluster {cluster.name!r}", "reports")
+    first: dict[str, Report] = {}
+    for r in reports:  # the same id twice in one batch: the first one counts
+        first.setdefault(r.report_id, r)
     violations = []
-    rows = []
+    rows: dict[str, tuple] = {}
     stamp = connection.ops.adapt_datetimefield_value
     at = stamp(received)
-    for r in reports:
+    for rid, r in first.items():
         trigger = is_violation(EngineReport(r.node, r.container, r.missed_period, r.missed_total), monitor_policy)
         if trigger:
             violations.append((r, trigger))
-        rows.append((cluster.pk, r.name, r.node, r.container, r.pod, r.missed_period,
-                     r.missed_total, trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source))  # fmt: skip
-    latest: dict[str, tuple] = {}
-    synced = source == MonitoringReport.Source.KUBE
-    for r in reports:  # the last report of a container in the batch wins
-        latest[r.name] = (cluster.pk, r.name, node_ids[r.node], r.container, r.pod, r.missed_period, r.missed_total,
-                          at, synced, "")  # fmt: skip
-    # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. The fleet's
-    # request is answered (acknowledged) only once every report is stored, whatever happened before.
+        rows[rid] = (cluster.pk, r.name, r.node, r.container, r.pod, r.missed_period, r.missed_total,
+                     trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source, rid)  # fmt: skip
+    # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. Each reconcile
+    # stores its own report (claiming its id) in the transaction that records the eviction.
     events = []
+    claimed: set[str] = set()
     for r, trigger in violations:
-        event = reconcile(cluster, policy, monitor_policy, r, trigger, received)
+        event = reconcile(cluster, policy, monitor_policy, r, trigger, received, claim=rows[r.report_id])
+        if event is DUPLICATE:
+            continue
+        claimed.add(r.report_id)
         if event is not None:
             events.append(event)
+    rest = [row for rid, row in rows.items() if rid not in claimed]
+    synced = source == MonitoringReport.Source.KUBE
     with transaction.atomic():
         # Two statements per batch, without the ORM's per-object work (this endpoint takes thousands a second).
-        insert_rows(MonitoringReport, REPORT_COLUMNS, rows)
+        new = claimed | set(insert_rows(MonitoringReport, REPORT_COLUMNS, rest, conflict=REPORT_KEY,
+                                        returning="report_id"))  # fmt: skip
+        latest: dict[str, tuple] = {}
+        for rid, r in first.items():  # the last new report of a container in the batch wins
+            if rid in new:
+                latest[r.name] = (cluster.pk, r.name, node_ids[r.node], r.container, r.pod, r.missed_period,
+                                  r.missed_total, at, synced, "")  # fmt: skip
         # Sorted, so that concurrent batches lock the rows in the same order (no deadlock).
         insert_rows(Monitoring, LATEST_COLUMNS, [latest[k] for k in sorted(latest)],
                     conflict=("cluster_id", "name"), update=LATEST_COLUMNS[2:-1])  # fmt: skip
+    duplicates = [i for i, r in enumerate(reports) if r.report_id not in new or first[r.report_id] is not r]
     return {
         "accepted": len(reports),
-        "violations": len(violations),
+        "stored": len(new),
+        "duplicates": duplicates,
+        "report_ids": [r.report_id for r in reports],
+        "violations": sum(1 for r, _ in violations if r.report_id in claimed),
         "events": [event_summary(e) for e in events],
     }
 
@@ -271,6 +373,10 @@ def _alert_recently(cluster: Cluster, container: str, since: datetime) -> bool:
     ).exists()
 
 
+#: What :func:`reconcile` returns for a report whose id another request stored meanwhile.
+DUPLICATE: Any = object()
+
+
 def reconcile(
     cluster: Cluster,
     policy: RTPolicy,
@@ -278,10 +384,19 @@ def reconcile(
     r: Report,
     trigger: str,
     received: datetime,
+    claim: tuple | None = None,
 ) -> RTEvent | None:
-    """Reconcile one report over a threshold: an eviction, an alert, or nothing (cooldown, repeated alert)."""
+    """Reconcile one report over a threshold: an eviction, an alert, or nothing (cooldown, repeated alert).
+
+    ``claim`` is the report's row (``REPORT_COLUMNS``): it is inserted first, in the same transaction as the
+    event, taint and ledger updates, so the report's id is taken exactly when its eviction is recorded. If the
+    id is taken already (a concurrent retry of the same report), nothing is done and :data:`DUPLICATE` is
+    returned.
+    """
     now_s = received.timestamp()
     with transaction.atomic():
+        if claim is not None and not insert_rows(MonitoringReport, REPORT_COLUMNS, [claim], conflict=REPORT_KEY):
+            return DUPLICATE
         node = ComputeNode.objects.select_for_update().get(cluster=cluster, name=r.node)
         pods = list(
             RTPod.objects.filter(cluster=cluster, node=r.node, deleted_at__isnull=True).select_related("realtime")
@@ -299,7 +414,7 @@ def reconcile(
             "received_at": received,
         }
         if violator is None:
-            container = f"{r.node}/{r.container}"
+            container = f"{r.node}/{r.container}"[:253]  # the column's length: both parts may be that long
             if _alert_recently(cluster, container, received - timedelta(seconds=monitor_policy.cooldown_time)):
                 return None
             return RTEvent.objects.create(

@@ -214,7 +214,7 @@ class MonitoringReportSerializer(serializers.ModelSerializer):
     class Meta:
         model = MonitoringReport
         fields = ["id", "cluster", "name", "node", "container_name", "pod", "missed_period", "missed_total",
-                  "violation", "miss_at", "sent_at", "received_at", "source"]  # fmt: skip
+                  "violation", "miss_at", "sent_at", "received_at", "source", "report_id"]  # fmt: skip
         read_only_fields = fields
 
 
@@ -225,7 +225,9 @@ class ReportBatchSerializer(serializers.Serializer):
     reports = serializers.ListField(
         child=serializers.DictField(),
         help_text="Monitoring objects (Listing 3.37) or their spec: node, containerName, missedDeadlinesPeriod, "
-        "missedDeadlinesTotal; optional pod, sentAt and missAt (RFC 3339 or epoch seconds)",
+        "missedDeadlinesTotal; optional pod, sentAt and missAt (RFC 3339 or epoch seconds) and report_id (or id: "
+        "the report's idempotency key, unique per cluster; default: a digest of the report's content). A report "
+        "whose id was seen before is acknowledged as a duplicate and not acted on again.",
     )
 
 

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from apps.dashboard.charts import FONT
+from apps.dashboard.charts import FONT, esc
 
 NODE_COLOURS = ["#2e9e5b", "#e0a526", "#4c78a8", "#b05fb0", "#e4572e", "#59a5a5", "#8c6d31", "#7f7f7f"]
 
@@ -37,17 +37,18 @@ def timeline_figure(runs: Sequence, migrations: Sequence, requirement_ms: float 
     t = [r.t for r in runs]
     for n in nodes:
         c = colours[n]
+        label = esc(n)
         cpu = [r.nodes[n]["cpu"] for r in runs]
         ver = [r.nodes[n].get("verification", 0.0) for r in runs]
         fig.add_trace(
             go.Scatter(
                 x=t,
                 y=cpu,
-                name=f"{n} CPU",
-                legendgroup=n,
+                name=f"{label} CPU",
+                legendgroup=label,
                 line={"color": c, "width": 2},
                 customdata=ver,
-                hovertemplate=f"{n}: %{{y:.1f}} %% (monitors %{{customdata:.1f}} %%)<extra></extra>",
+                hovertemplate=f"{label}: %{{y:.1f}} %% (monitors %{{customdata:.1f}} %%)<extra></extra>",
             ),
             row=1,
             col=1,
@@ -58,8 +59,8 @@ def timeline_figure(runs: Sequence, migrations: Sequence, requirement_ms: float 
                 go.Scatter(
                     x=[t[0], t[-1]],
                     y=[thr, thr],
-                    name=f"{n} threshold",
-                    legendgroup=n,
+                    name=f"{label} threshold",
+                    legendgroup=label,
                     showlegend=False,
                     line={"color": c, "dash": "dash", "width": 1},
                     hoverinfo="skip",
@@ -71,10 +72,10 @@ def timeline_figure(runs: Sequence, migrations: Sequence, requirement_ms: float 
             go.Scatter(
                 x=t,
                 y=[r.nodes[n]["monitors"] for r in runs],
-                name=f"{n} monitors",
-                legendgroup=n,
+                name=f"{label} monitors",
+                legendgroup=label,
                 line={"color": c, "width": 2, "shape": "hv"},
-                hovertemplate=f"{n}: %{{y}} monitors<extra></extra>",
+                hovertemplate=f"{label}: %{{y}} monitors<extra></extra>",
             ),
             row=2,
             col=1,

@@ -33,6 +33,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from .artifact_names import check_package
 from .errors import InputError
 
 FORMAT = "continuum.rosgraph/v1"
@@ -947,6 +948,8 @@ def _parse_node(index: int, raw: Any) -> RosNode:
     packages = raw.get("packages", [])
     if not isinstance(packages, list) or not all(isinstance(p, str) and p for p in packages):
         raise InputError(f"{where}: 'packages' must be a list of package names", "nodes")
+    for p in packages:  # they are written into Dockerfiles (image_inheritance): the grammar, checked here
+        check_package(p, "nodes", f"{where}: package")
     return RosNode(
         name,
         level=_parse_level(where, raw.get("level")),
@@ -1014,6 +1017,7 @@ def _topic_rates(where: str, raw: Mapping[str, Any], publishers: Sequence[str]) 
 
 
 def _parse_package(name: str, raw: Any) -> dict[str, Any]:
+    check_package(name, "packages")
     if isinstance(raw, (int, float)) and _finite_nonneg(raw):
         return {"size_mib": float(raw)}
     if not isinstance(raw, Mapping):

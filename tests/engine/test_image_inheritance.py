@@ -66,17 +66,17 @@ def test_kairos_like_layout_gives_table_4_16_order_of_savings():
     # SYNTHETIC: 11 images on one 3.634 GB base region (as Table 4.16's sizes suggest), each with its own
     # "optimized" layer, and two parents shared by two images each. Not the thesis' package lists.
     own = {k: o for k, (s, o) in TABLE_4_16.items() if s is not None}
-    deps = {c: ["base_stack", f"{c}_own"] for c in own}
+    deps = {c: ["base_stack", f"{c}-own"] for c in own}
     deps["arm-rb"].append("wsg50_ros_pkgs")
     deps["main-rb"].append("wsg50_ros_pkgs")
     deps["main-rb"].append("summit_xl_bringup")
     deps["local-control-rb"].append("summit_xl_bringup")
     sizes = {"base_stack": 3634, "wsg50_ros_pkgs": 379, "summit_xl_bringup": 52}
-    sizes.update({f"{c}_own": o * 1000 for c, o in own.items()})
+    sizes.update({f"{c}-own": o * 1000 for c, o in own.items()})
     plan = plan_images(deps, sizes)
     assert [im.name for im in plan.images if im.kind != "container"] == ["base", "wsg50-ros-pkgs", "summit-xl-bringup"]
     assert plan.image("main-rb").copies == ("summit-xl-bringup",)  # in two overlaps: multi-stage
-    assert plan.after_mib == pytest.approx(3634 + 379 + 52 + sum(sizes[f"{c}_own"] for c in own) + 52)
+    assert plan.after_mib == pytest.approx(3634 + 379 + 52 + sum(sizes[f"{c}-own"] for c in own) + 52)
     assert 0.80 < plan.saved < 0.86
 
 

@@ -191,7 +191,7 @@ def test_batched_reports_are_stored_with_the_latest_counters(api, rt_cluster):
         ({"node": "jetson", "containerName": "x", "missedDeadlinesPeriod": 0, "missedDeadlinesTotal": 0},
          "reports[1]: node 'jetson' is not a node of cluster 'edge'"),
         ({"node": "node0", "containerName": "x", "missedDeadlinesPeriod": 0, "missedDeadlinesTotal": 0,
-          "sentAt": "yesterday"}, "sentAt 'yesterday' is not an RFC 3339 time"),
+          "sentAt": "yesterday"}, "reports[1].sentAt: 'yesterday' is not an RFC 3339 time"),
         ({"kind": "Pod", "spec": {}}, "reports[1]: kind 'Pod' is not Monitoring"),
         ("not an object", "reports[1]: must be a Monitoring object"),
     ],

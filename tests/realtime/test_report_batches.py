@@ -1,0 +1,130 @@
+"""The monitoring batch endpoint at the trust boundary (issue 10): a batch is validated whole before anything
+happens (counters within the columns' range, finite time stamps in a sane range, text the columns can hold),
+and every report carries an idempotency key, so a robot retrying a batch never causes a second eviction."""
+
+import pytest
+from django.utils import timezone
+
+from apps.realtime import monitoring
+from apps.realtime.models import Monitoring, MonitoringReport, NodeTaint, RTEvent, RTPod, RTPolicy
+
+pytestmark = pytest.mark.django_db
+
+COUNT_MAX = 2**31 - 1
+
+
+def spec(container="slam", node="node0", period=0, total=0, **extra):
+    return {"node": node, "containerName": container, "missedDeadlinesPeriod": period, "missedDeadlinesTotal": total,
+            **extra}  # fmt: skip
+
+
+def monitoring_object(container="slam", period=0, total=0, **extra):
+    return {"apiVersion": "rt.monitoring/v1alpha1", "kind": "Monitoring", "metadata": {"name": container},
+            "spec": spec(container, period=period, total=total, **extra)}  # fmt: skip
+
+
+def post(api, cluster, *reports):
+    return api.post("/api/v1/rt-reports/", {"cluster": cluster.pk, "reports": list(reports)}, format="json")
+
+
+def nothing_happened():
+    assert RTEvent.objects.count() == 0 and NodeTaint.objects.count() == 0
+    assert MonitoringReport.objects.count() == 0 and Monitoring.objects.count() == 0
+    assert RTPod.objects.filter(deleted_at__isnull=False).count() == 0
+
+
+def test_an_overflowing_second_report_is_a_400_before_the_first_one_evicts(api, rt_cluster, node0_pods):
+    """The reproduction: report 0 is over the threshold (an eviction), report 1's counter overflows the
+    integer column. It used to answer 500 after report 0's eviction and taint were committed."""
+    response = post(api, rt_cluster, spec(period=50, total=50), spec("cam", period=1, total=COUNT_MAX + 1))
+    assert response.status_code == 400, response.data
+    assert f"reports[1].missedDeadlinesTotal: {COUNT_MAX + 1} is larger than {COUNT_MAX}" in str(response.data)
+    nothing_happened()
+    # In a Monitoring object the field is under spec; 64-bit and larger values are refused the same way.
+    response = post(api, rt_cluster, monitoring_object(period=50, total=50),
+                    monitoring_object("cam", period=2**63, total=2**64))  # fmt: skip
+    assert response.status_code == 400
+    assert "reports[1].spec.missedDeadlinesPeriod" in str(response.data["reports"]), response.data
+    nothing_happened()
+    # The largest value the column holds is accepted.
+    response = post(api, rt_cluster, spec("cam", period=COUNT_MAX, total=COUNT_MAX, node="node3"))
+    assert response.status_code == 201, response.data
+    assert MonitoringReport.objects.get().missed_total == COUNT_MAX
+
+
+@pytest.mark.parametrize(
+    ("bad", "message"),
+    [
+        (spec("x", sentAt=1e20), "reports[1].sentAt: 1e+20 is not a time between 2000 and 2100"),
+        (spec("x", missAt=-1e12), "reports[1].missAt: -1000000000000.0 is not a time between 2000 and 2100"),
+        (spec("x", sentAt="9999-12-31T23:59:59+00:00"), "reports[1].sentAt: '9999-12-31T23:59:59+00:00' is not a time"),
+        (spec("x", sentAt=[1]), "reports[1].sentAt: must be an RFC 3339 time"),
+        (spec("x" * 254), "reports[1].containerName: must be at most 253 printable characters"),
+        (spec("x\u0000y"), "reports[1].containerName: must be at most 253 printable characters"),
+        (spec("x", pod="p\nq"), "reports[1].pod: must be at most 253 printable characters"),
+        (spec("x", report_id="a b"), "reports[1].report_id: 'a b' is not a report id"),
+        (spec("x", id={"x": 1}), "reports[1].id: {'x': 1} is not a report id"),
+        (monitoring_object("x", reportId="y" * 200), "reports[1].spec.reportId"),
+    ],
+)  # fmt: skip
+def test_bad_fields_are_a_400_naming_the_report_and_field(api, rt_cluster, node0_pods, bad, message):
+    response = post(api, rt_cluster, spec(period=50, total=50), bad)
+    assert response.status_code == 400, response.data
+    assert message in str(response.data["reports"]), response.data
+    nothing_happened()
+
+
+def test_a_retried_batch_evicts_once(api, rt_cluster, node0_pods):
+    batch = [spec("cam", "node1", period=1, total=1, sentAt="2026-03-01T10:00:00Z"),
+             spec(period=50, total=50, sentAt="2026-03-01T10:00:00.2Z")]  # fmt: skip
+    first = post(api, rt_cluster, *batch)
+    assert first.status_code == 201, first.data
+    assert first.data["stored"] == 2 and first.data["duplicates"] == []
+    [event] = first.data["events"]
+    assert event["kind"] == "eviction"
+    # The robot did not get the answer and sends the same batch again: acknowledged, nothing done again.
+    again = post(api, rt_cluster, *batch)
+    assert again.status_code == 201, again.data
+    assert again.data["accepted"] == 2 and again.data["stored"] == 0 and again.data["duplicates"] == [0, 1]
+    assert again.data["report_ids"] == first.data["report_ids"] and again.data["events"] == []
+    assert RTEvent.objects.filter(kind="eviction").count() == 1 and NodeTaint.objects.count() == 1
+    assert RTPod.objects.filter(deleted_at__isnull=False).count() == 1
+    assert MonitoringReport.objects.count() == 2
+    # A new report (a later sentAt) with the same counters is news.
+    later = post(api, rt_cluster, spec(period=50, total=50, sentAt="2026-03-01T10:00:05Z"))
+    assert later.data["stored"] == 1 and len(later.data["events"]) == 1
+
+
+def test_client_chosen_ids_are_unique_per_cluster(api, rt_cluster, node0_pods, other_api):
+    first = post(api, rt_cluster, spec(period=50, total=50, report_id="robot7-000123"))
+    assert first.status_code == 201 and len(first.data["events"]) == 1
+    assert first.data["report_ids"] == ["robot7-000123"]
+    # Same id, other content (the robot's counters moved on while it retried): still the same report.
+    again = post(api, rt_cluster, spec(period=60, total=60, report_id="robot7-000123"))
+    assert again.data["duplicates"] == [0] and again.data["events"] == []
+    assert Monitoring.objects.get(name="slam-node0").missed_total == 50  # a replay does not move the counters
+    # The same id twice in one batch: the first counts. An integer id is the same as its text.
+    both = post(api, rt_cluster, spec("cam", "node1", 1, 1, id=77), spec("cam", "node1", 2, 3, report_id="77"))
+    assert both.data["stored"] == 1 and both.data["duplicates"] == [1]
+    assert MonitoringReport.objects.get(report_id="77").missed_total == 1
+    assert RTEvent.objects.filter(kind="eviction").count() == 1
+
+
+def test_a_report_claimed_meanwhile_is_not_reconciled(rt_cluster, node0_pods):
+    """Two requests carrying the same report: the reconcile claims the id with the eviction's transaction, so
+    the one that comes second does nothing."""
+    [report] = monitoring.parse_batch([spec(period=50, total=50, report_id="r1")])
+    MonitoringReport.objects.create(
+        cluster=rt_cluster, name="other", node="node0", container_name="slam", missed_period=0, missed_total=0,
+        received_at=timezone.now(), report_id="r1",
+    )  # fmt: skip
+    policy = RTPolicy.for_cluster(rt_cluster)
+    result = monitoring.ingest(rt_cluster, [report], policy=policy)
+    assert result["duplicates"] == [0] and result["events"] == []
+    # Past the look-up (as if the other request stored it between the look-up and the reconcile):
+    now = timezone.now()
+    row = (rt_cluster.pk, report.name, "node0", "slam", "", 50, 50, "period", None, None, now, "rest", "r1")
+    outcome = monitoring.reconcile(rt_cluster, policy, policy.monitor_policy(), report, "period", now, claim=row)
+    assert outcome is monitoring.DUPLICATE
+    assert RTEvent.objects.count() == 0 and NodeTaint.objects.count() == 0
+    assert RTPod.objects.filter(deleted_at__isnull=False).count() == 0
