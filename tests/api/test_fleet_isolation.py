@@ -109,9 +109,8 @@ def _populate(client: APIClient, fleet: Fleet, tag: str) -> None:
     app = _ok(client.post("/api/v1/applications/", {"name": f"{tag}-fan", "dag": FAN_DAG}, format="json"))
     job = _job(client, f"/api/v1/applications/{app['id']}/schedule/", {"algorithm": "heft4k", "cluster": cluster["id"]})
     _job(client, f"/api/v1/schedules/{job['result']['schedule']}/remap/", {"fail": [f"{tag}-node1"], "what_if": True})
-    _job(
-        client, f"/api/v1/applications/{app['id']}/compare/", {"cluster": cluster["id"], "algorithms": ["heft", "heft4k"]}
-    )
+    compare = {"cluster": cluster["id"], "algorithms": ["heft", "heft4k"]}
+    _job(client, f"/api/v1/applications/{app['id']}/compare/", compare)
 
     graph = (DATA / "autoware_reference_system.json").read_bytes()
     upload = SimpleUploadedFile(f"{tag}.json", graph)
@@ -483,7 +482,42 @@ def test_browsable_api_pages_name_none_of_another_fleets_objects(
     assert TAG_A not in html, re.findall(rf".{{0,80}}{TAG_A}.{{0,40}}", html)[:5]
 
 
-# ---- 5. static check: serializers and filtersets --------------------------------------------------------
+# ---- 5. query parameters of actions that name an object -------------------------------------------------
+def _models_by_name() -> dict[str, type[models.Model]]:
+    return {m._meta.model_name: m for m in django_apps.get_models() if m._meta.app_label != "auth"}
+
+
+def _id_parameters(callback, method: str) -> list[tuple[str, type[models.Model]]]:
+    """Declared query parameters (extend_schema) whose name is a model's, e.g. ``?cluster=`` of an action."""
+    generator = SchemaGenerator()
+    view = generator.create_view(callback, method)
+    _KEEP.append((generator, view))
+    by_name = _models_by_name()
+    return [(p.name, by_name[p.name]) for p in view.schema.get_override_parameters() if p.name in by_name]
+
+
+ACTION_GETS = [e for e in GET_ENDPOINTS if e[3] not in ("list", "retrieve")]
+
+
+@pytest.mark.parametrize(("path", "method", "view_class", "action", "callback"), ACTION_GETS, ids=_ids(ACTION_GETS))
+def test_action_query_parameters_answer_for_another_fleets_object_like_for_no_object(
+    world, b_client, path, method, view_class, action, callback
+):
+    parameters = _id_parameters(callback, method)
+    if not parameters:
+        pytest.skip("no query parameter names an object")
+    url = path
+    if "{" in path:
+        url = url_for(path, lookup_value(view_class, first_of(view_model(view_class), world["b"])))
+    for name, model in parameters:
+        theirs = str(first_of(model, world["a"]).pk)
+        missing = missing_value(model)
+        leak = answer(b_client, method, url, data={name: theirs}, normalise=[theirs])
+        none = answer(b_client, method, url, data={name: missing}, normalise=[missing])
+        assert leak == none, f"?{name}={theirs}"
+
+
+# ---- 6. static check: serializers and filtersets --------------------------------------------------------
 def _app_serializers() -> list[type[serializers.BaseSerializer]]:
     found = set()
     for config in django_apps.get_app_configs():
