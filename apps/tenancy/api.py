@@ -121,11 +121,13 @@ def default_fleet(request) -> Fleet:
 class FleetScopedMixin:
     """Limit a viewset's queryset to the caller's fleets; objects of other fleets answer 404."""
 
-    #: Lookup path from the model to its fleet.
-    fleet_lookup = "fleet"
+    #: Lookup path from the model to its fleet; None: found from the model (``scoping.fleet_path``).
+    fleet_lookup = None
 
     def get_queryset(self):
         qs = super().get_queryset()
+        if self.fleet_lookup is None:
+            return scope(qs, self.request)
         return qs.filter(**{f"{self.fleet_lookup}__in": visible_fleets(self.request)})
 
 

@@ -612,3 +612,19 @@ def test_the_endpoint_walk_finds_the_whole_api():
     """A guard against the discovery silently finding nothing."""
     assert len(ENDPOINTS) > 80 and len(ID_ENDPOINTS) > 40 and len(LIST_ENDPOINTS) > 25
     assert json.dumps(sorted({p.split("/")[3] for p, *_ in ENDPOINTS}))  # every resource has a name
+
+
+def test_browsable_api_forms_list_at_most_html_cutoff_choices(api, cluster):
+    """A fleet with many nodes: the link form's node selects stop at HTML_CUTOFF (one bounded query each), and
+    the filter form takes ids instead of listing every node."""
+    from apps.clusters.models import ComputeNode
+    from apps.tenancy.api import HTML_CUTOFF
+
+    ComputeNode.objects.bulk_create(ComputeNode(cluster=cluster, name=f"bulk{i:03d}") for i in range(HTML_CUTOFF + 50))
+    response = api.get("/api/v1/links/", HTTP_ACCEPT="text/html")
+    assert response.status_code == 200
+    html = response.content.decode()
+    assert f"More than {HTML_CUTOFF} items" in html
+    shown = set(re.findall(r"bulk\d{3}", html))
+    assert 0 < len(shown) <= HTML_CUTOFF
+    assert 'name="src" value=""' in html or re.search(r'<input[^>]+name="src"', html)
