@@ -301,6 +301,10 @@ def test_another_fleets_id_in_the_path_answers_like_no_such_id(
     leak = answer(b_client, method, url_for(path, their_id), normalise=[their_id], **kwargs)
     none = answer(b_client, method, url_for(path, missing), normalise=[missing], **kwargs)
     assert leak == none
+    if action == "retrieve":  # the metadata of OPTIONS, too
+        leak = answer(b_client, "OPTIONS", url_for(path, their_id), normalise=[their_id])
+        none = answer(b_client, "OPTIONS", url_for(path, missing), normalise=[missing])
+        assert leak == none
 
 
 # ---- 2. filters -------------------------------------------------------------------------------------------
@@ -397,6 +401,21 @@ def _related_value(field, obj):
     return [value] if isinstance(field, serializers.ManyRelatedField) else value
 
 
+def _own_representation(client, path: str, view_class, action, side, serializer) -> dict:
+    model = view_model(view_class)
+    if action not in ("create", "update", "partial_update") or model is None or not hasattr(view_class, "retrieve"):
+        return {}
+    mine = first_of(model, side)
+    if mine is None:
+        return {}
+    detail = path if "{" in path else f"{path}{{pk}}/"
+    response = client.get(url_for(detail, lookup_value(view_class, mine)))
+    if response.status_code != 200:
+        return {}
+    writable = {name for name, f in serializer.fields.items() if not f.read_only}
+    return {k: v for k, v in response.json().items() if k in writable}
+
+
 def _field_model(field):
     relation = field.child_relation if isinstance(field, serializers.ManyRelatedField) else field
     relation.context  # noqa: B018 (bound: the queryset may need it)
@@ -427,8 +446,9 @@ def test_related_fields_answer_for_another_fleets_object_like_for_no_object(
             pytest.skip("no object of fleet B to address")
         url = url_for(path, lookup_value(view_class, mine))
     models_of = {name: _field_model(f) for name, f in fields.items()}
-    # The other related fields name B's own objects, so the request gets as far as it can.
-    base = {}
+    # Start from one of B's own objects as the API shows it (for the model's create and update) and let the
+    # other related fields name B's objects, so the request gets as far as validation can take it.
+    base = _own_representation(b_client, path, view_class, action, b, serializer)
     for name, field in fields.items():
         mine = first_of(models_of[name], b)
         if mine is not None:
