@@ -233,7 +233,7 @@ def world(django_db_setup, django_db_blocker):
             world = {}
             for key, tag in (("a", TAG_A), ("b", TAG_B)):
                 fleet = Fleet.objects.create(name=f"{tag} fleet")
-                token = FleetToken.objects.create(fleet=fleet, user=users.create_user(f"{tag}-robot"))
+                token = FleetToken.objects.create(fleet=fleet, user=users.create_user(f"robot-{key}"))
                 _populate(_client(token), fleet, tag)
                 world[key] = SimpleNamespace(
                     fleet=fleet, token=token, request=SimpleNamespace(auth=token, user=token.user)
@@ -493,12 +493,9 @@ def test_browsable_api_pages_name_none_of_another_fleets_objects(
     response = b_client.get(url, HTTP_ACCEPT="text/html")
     assert response.status_code < 500, response.content[:2000]
     html = response.content.decode("utf-8", "replace")
-    assert (
-        TAG_B in html
-        or response.status_code != 200
-        or "html" not in response.get("Content-Type", "")
-        or action not in ("list", "retrieve")
-    ), "the page shows none of fleet B's own objects either: is the world populated?"
+    if action == "list" and response.status_code == 200:  # B has objects here: the check is not vacuous
+        data = b_client.get(url).json()
+        assert (data["count"] if isinstance(data, dict) else len(data)) > 0, "fleet B has nothing here"
     assert TAG_A not in html, re.findall(rf".{{0,80}}{TAG_A}.{{0,40}}", html)[:5]
 
 
