@@ -184,9 +184,13 @@ def _value(field: models.Field, tag: str):
     raise NotImplementedError(f"{field.model.__name__}.{field.name}: no generic value for {type(field).__name__}")
 
 
+#: Optional fields make() fills anyway: names (the HTML check looks for the tag) and ids (filters use them).
+FILLED = ("name", "key", "title")
+
+
 def make(model: type[models.Model], fleet: Fleet, tag: str) -> models.Model:
     """A row of ``model`` in ``fleet``: required fields get plain values (names carry the fleet's tag) and
-    required relations the fleet's existing objects (made as needed)."""
+    relations the fleet's existing objects (required ones made as needed)."""
     values = {}
     for field in model._meta.concrete_fields:
         if field.primary_key or getattr(field, "auto_now", False) or getattr(field, "auto_now_add", False):
@@ -195,12 +199,15 @@ def make(model: type[models.Model], fleet: Fleet, tag: str) -> models.Model:
             target = field.related_model
             if target is Fleet:
                 values[field.name] = fleet
-            elif not field.null:
+            elif fleet_path(target) or not field.null:
+                # Optional relations too (when the fleet has a candidate): filters on them get exercised.
                 candidates = target.objects.filter(**_in_fleet(target, fleet))
                 if field.one_to_one:
                     candidates = candidates.exclude(pk__in=model.objects.values(field.attname))
-                values[field.name] = candidates.first() or make(target, fleet, tag)
-        elif not (field.has_default() or field.null) or field.name in ("name", "key", "title"):
+                found = candidates.first()
+                if found is not None or not field.null:
+                    values[field.name] = found or make(target, fleet, tag)
+        elif not (field.has_default() or field.null) or field.name in FILLED or isinstance(field, models.UUIDField):
             values[field.name] = _value(field, tag)
     return model.objects.create(**values)
 
