@@ -5,9 +5,11 @@ Two fleets get the same kinds of data (mostly made through the API and its jobs,
 generically). Fleet B's token then asks about fleet A's objects, and each answer must equal, byte for byte
 once the id itself is normalised, the answer for an id that does not exist:
 
-- every route with an id in its path (detail routes and detail actions, every method);
+- every route with an id in its path (detail routes and detail actions, every method, and OPTIONS);
 - every filter parameter of every list endpoint (A's value of the filtered field vs a value nobody has);
-- every writable related field of every request serializer (A's object vs no object);
+- every writable related field of every request serializer (A's object vs no object), starting from one of
+  B's own objects as the API shows it so that the request gets as far as validate();
+- every declared query parameter of an action that names an object (``?cluster=``);
 - and the browsable API's HTML pages (lists, and B's own objects with their edit forms) never name one of A's
   objects.
 
@@ -49,8 +51,8 @@ WRITE_METHODS = ("POST", "PUT", "PATCH")
 
 
 # ---- the endpoints ----------------------------------------------------------------------------------------
-def _endpoints() -> list[tuple[str, str, type]]:
-    """(path with {params}, METHOD, view class) of every /api/v1/ endpoint of the router."""
+def _endpoints() -> list[tuple]:
+    """(path with {params}, METHOD, view class, action, view function) of every /api/v1/ endpoint."""
     generator = SchemaGenerator()
     found = []
     for path, _regex, method, callback in EndpointEnumerator().get_api_endpoints():
