@@ -654,3 +654,19 @@ def test_browsable_api_forms_list_at_most_html_cutoff_choices(api, cluster):
     shown = set(re.findall(r"bulk\d{3}", html))
     assert 0 < len(shown) <= HTML_CUTOFF
     assert 'name="src" value=""' in html or re.search(r'<input[^>]+name="src"', html)
+
+
+def test_fleet_paths_follow_the_shortest_required_foreign_keys():
+    from django.contrib.auth import get_user_model
+
+    from apps.clusters.models import ComputeNode, Link
+    from apps.containers.models import Placement
+    from apps.devices.models import DeviceProfile
+    from apps.verification.models import Handler, Violation
+
+    assert fleet_path(Fleet) == "pk"
+    assert fleet_path(Placement) == "fleet"  # not through its optional cluster
+    assert fleet_path(ComputeNode) == fleet_path(Link) == fleet_path(Handler) == "cluster__fleet"
+    assert fleet_path(Violation) == "monitor__fleet"
+    assert fleet_path(get_user_model()) is None  # scope() then answers nothing
+    assert is_global(DeviceProfile) and not is_global(ComputeNode)
