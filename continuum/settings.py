@@ -132,7 +132,7 @@ REST_FRAMEWORK = {
     ],
     "DEFAULT_PERMISSION_CLASSES": ["rest_framework.permissions.IsAuthenticated"],
     "DEFAULT_FILTER_BACKENDS": [
-        "django_filters.rest_framework.DjangoFilterBackend",
+        "apps.tenancy.filters.FleetScopedFilterBackend",  # django-filter, fleet-scoped
         "rest_framework.filters.OrderingFilter",
         "rest_framework.filters.SearchFilter",
     ],

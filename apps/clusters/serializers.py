@@ -1,7 +1,14 @@
 from django.db import transaction
 from rest_framework import serializers
 
-from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, VisibleRelatedField
+from apps.tenancy.api import (
+    DefaultFleetMixin,
+    FleetField,
+    FleetOwnedSerializer,
+    ScopedModelSerializer,
+    ScopedSerializer,
+    VisibleRelatedField,
+)
 
 from .models import Cluster, ComputeNode, Link
 
@@ -40,7 +47,7 @@ class VisibleClusterField(VisibleRelatedField):
     model = Cluster
 
 
-class ComputeNodeSerializer(serializers.ModelSerializer):
+class ComputeNodeSerializer(ScopedModelSerializer):
     cluster = VisibleClusterField()
 
     class Meta:
@@ -77,7 +84,7 @@ class ComputeNodeSerializer(serializers.ModelSerializer):
         return value
 
 
-class LinkSerializer(serializers.ModelSerializer):
+class LinkSerializer(ScopedModelSerializer):
     cluster = VisibleClusterField()
 
     class Meta:
@@ -96,7 +103,7 @@ class LinkSerializer(serializers.ModelSerializer):
         return attrs
 
 
-class ClusterDocumentNodeSerializer(serializers.Serializer):
+class ClusterDocumentNodeSerializer(ScopedSerializer):
     """One node of a ``continuum.cluster/v1`` document."""
 
     name = serializers.CharField(max_length=253)
@@ -114,14 +121,14 @@ class ClusterDocumentNodeSerializer(serializers.Serializer):
     taints = serializers.ListField(child=serializers.DictField(), default=list)
 
 
-class ClusterDocumentLinkSerializer(serializers.Serializer):
+class ClusterDocumentLinkSerializer(ScopedSerializer):
     src = serializers.CharField()
     dst = serializers.CharField()
     bandwidth_mbps = serializers.FloatField(min_value=0.001)
     latency_ms = serializers.FloatField(min_value=0, default=0.0)
 
 
-class ClusterImportSerializer(DefaultFleetMixin, serializers.Serializer):
+class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
     """A ``continuum.cluster/v1`` document that creates a cluster with its nodes and links at once."""
 
     fleet = FleetField(required=False)

@@ -5,8 +5,8 @@ from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
-from apps.tenancy.api import DefaultFleetMixin, FleetField
-from apps.tenancy.scoping import visible_fleets
+from apps.tenancy.api import DefaultFleetMixin, FleetField, ScopedModelSerializer, ScopedSerializer
+from apps.tenancy.scoping import scope
 from continuum.engine import artifact_names
 from continuum.engine.cluster import normalize_arch
 from continuum.engine.errors import InputError
@@ -23,7 +23,7 @@ def input_error(exc: InputError, default: str) -> serializers.ValidationError:
 
 
 # ---- ROS graphs -------------------------------------------------------------------------------------------
-class RosGraphSerializer(serializers.ModelSerializer):
+class RosGraphSerializer(ScopedModelSerializer):
     """A ROS graph; PATCH edits levels, topic rates and message sizes, node profiles and package sizes.
 
     ``levels``: ``{ros node: level or null}``; ``topics``: ``{topic: {rate_hz | period_ms |
@@ -84,7 +84,7 @@ class RosGraphListSerializer(RosGraphSerializer):
         fields = ["id", "fleet", "name", "description", "source_format", "node_count", "topic_count", "created"]
 
 
-class RosGraphImportSerializer(DefaultFleetMixin, serializers.Serializer):
+class RosGraphImportSerializer(DefaultFleetMixin, ScopedSerializer):
     """Upload a ROS graph: continuum.rosgraph/v1, Autoware reference system JSON, iRobot ros2-performance
     topology JSON or an rqt_graph ``.dot``. A bad file is refused whole with the line or element at fault."""
 
@@ -122,7 +122,7 @@ class RosGraphImportSerializer(DefaultFleetMixin, serializers.Serializer):
 
 
 # ---- clustering -------------------------------------------------------------------------------------------
-class ImageOptionsSerializer(serializers.Serializer):
+class ImageOptionsSerializer(ScopedSerializer):
     distro_image = serializers.CharField(required=False, max_length=200)
     ros_distro = serializers.CharField(required=False, max_length=40)
     distro_mib = serializers.FloatField(required=False, min_value=0)
@@ -156,7 +156,7 @@ class ImageOptionsSerializer(serializers.Serializer):
         return self._grammar(artifact_names.tag_problem(value), value)
 
 
-class ClusterRequestSerializer(serializers.Serializer):
+class ClusterRequestSerializer(ScopedSerializer):
     """Cluster the graph's ROS nodes into N containers (Listing 3.20), or as many as Eq. 3.13 allows."""
 
     containers = serializers.IntegerField(min_value=1, required=False, help_text="number of containers N")
@@ -193,7 +193,7 @@ class ClusterRequestSerializer(serializers.Serializer):
         return {"rosgraph": rosgraph.pk, **data}
 
 
-class ClusteringSerializer(serializers.ModelSerializer):
+class ClusteringSerializer(ScopedModelSerializer):
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
     rosgraph_name = serializers.CharField(source="rosgraph.name", read_only=True)
     containers = serializers.SerializerMethodField()
@@ -268,10 +268,10 @@ class VisibleModelField(serializers.PrimaryKeyRelatedField):
         super().__init__(**kwargs)
 
     def get_queryset(self):
-        return self.model.objects.filter(fleet__in=visible_fleets(self.context["request"]))
+        return scope(self.model.objects.all(), self.context.get("request"))
 
 
-class PlaceRequestSerializer(serializers.Serializer):
+class PlaceRequestSerializer(ScopedSerializer):
     """Place containers on the nodes of a cluster: a clustering's containers (with per-container
     ``overrides``) or a ``continuum.containers/v1`` document (optionally with the ROS graph for bandwidth)."""
 
@@ -341,14 +341,14 @@ class PlaceRequestSerializer(serializers.Serializer):
         return data["clustering"].fleet if data.get("clustering") is not None else data["cluster"].fleet
 
 
-class ContainerDeploymentSerializer(serializers.ModelSerializer):
+class ContainerDeploymentSerializer(ScopedModelSerializer):
     class Meta:
         model = ContainerDeployment
         fields = ["container", "node", "deployment", "namespace", "state", "message", "updated"]
         read_only_fields = fields
 
 
-class PlacementSerializer(serializers.ModelSerializer):
+class PlacementSerializer(ScopedModelSerializer):
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
     node_traffic = serializers.SerializerMethodField(help_text="bytes/s between each pair of nodes")
     deployments = ContainerDeploymentSerializer(many=True, read_only=True)

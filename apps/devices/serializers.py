@@ -1,12 +1,14 @@
 from django.core.exceptions import ValidationError as DjangoValidationError
 from rest_framework import serializers
 
+from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
+
 from .models import DeviceProfile
 
 MODELS = ("SC", "UM", "ZC")
 
 
-class DeviceProfileSerializer(serializers.ModelSerializer):
+class DeviceProfileSerializer(ScopedModelSerializer):
     class Meta:
         model = DeviceProfile
         fields = [
@@ -46,7 +48,7 @@ class DeviceProfileSerializer(serializers.ModelSerializer):
         return {f: getattr(self.instance, f) for f in self.Meta.fields if f not in ("created", "updated")}
 
 
-class AdviceRequestSerializer(serializers.Serializer):
+class AdviceRequestSerializer(ScopedSerializer):
     """An application's profile on this board (Eqs. 3.8-3.9 inputs, runtimes for Eqs. 3.10-3.11) and how its
     ROS nodes share the buffer (thesis 3.1.3)."""
 
@@ -114,7 +116,7 @@ class AdviceRequestSerializer(serializers.Serializer):
         return {k: self.validated_data[k] for k in self.PROFILE if k in self.validated_data}
 
 
-class ThresholdsRequestSerializer(serializers.Serializer):
+class ThresholdsRequestSerializer(ScopedSerializer):
     file = serializers.FileField(help_text="micro-benchmark 2 CSV: fraction, sc_throughput, zc_throughput (GB/s)")
     peak_gbps = serializers.FloatField(
         required=False, min_value=1e-9, help_text="default: the device's SC peak, else the CSV's largest SC value"

@@ -1,12 +1,13 @@
 from rest_framework import serializers
 
+from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
 from continuum.engine.errors import InputError
 
 from . import remapping
 from .models import RemapEvent
 
 
-class RemapRequestSerializer(serializers.Serializer):
+class RemapRequestSerializer(ScopedSerializer):
     """Fail some nodes of a schedule: compute Algorithm 2's remap and, unless ``what_if``, apply it."""
 
     fail = serializers.ListField(
@@ -40,7 +41,7 @@ class RemapRequestSerializer(serializers.Serializer):
         }
 
 
-class RemapEventSerializer(serializers.ModelSerializer):
+class RemapEventSerializer(ScopedModelSerializer):
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
     makespan_change = serializers.FloatField(read_only=True)
     pods_moved = serializers.IntegerField(read_only=True)

@@ -1,9 +1,11 @@
 from rest_framework import serializers
 
+from apps.tenancy.api import ScopedModelSerializer
+
 from .models import Job
 
 
-class JobSerializer(serializers.ModelSerializer):
+class JobSerializer(ScopedModelSerializer):
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
     created_by = serializers.StringRelatedField()
     url = serializers.HyperlinkedIdentityField(view_name="api:job-detail")

@@ -3,6 +3,7 @@ from rest_framework import serializers
 
 from apps.clusters.models import Cluster
 from apps.clusters.serializers import VisibleClusterField
+from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
 from continuum.engine.errors import InputError
 
 from .models import (
@@ -28,12 +29,12 @@ def engine_error(exc: InputError, known: set[str]) -> serializers.ValidationErro
     return serializers.ValidationError({name if name in known else "non_field_errors": [str(exc)]})
 
 
-class WcetSerializer(serializers.Serializer):
+class WcetSerializer(ScopedSerializer):
     node = serializers.CharField(max_length=253)
     wcet = serializers.FloatField(help_text="ms")
 
 
-class RealTimeSerializer(serializers.ModelSerializer):
+class RealTimeSerializer(ScopedModelSerializer):
     """A RealTime object (Listing 3.33). ``wcets`` keeps the order of ``spec.rtWcets``."""
 
     cluster = VisibleClusterField()
@@ -141,18 +142,18 @@ class RealTimeSerializer(serializers.ModelSerializer):
         )
 
 
-class RealTimeImportSerializer(serializers.Serializer):
+class RealTimeImportSerializer(ScopedSerializer):
     cluster = VisibleClusterField()
     namespace = serializers.CharField(max_length=63, required=False, help_text="for objects that name none")
     yaml = serializers.CharField(help_text="RealTime objects (Listing 3.33); other kinds are skipped")
 
 
-class ClusterRefSerializer(serializers.Serializer):
+class ClusterRefSerializer(ScopedSerializer):
     cluster = VisibleClusterField()
     namespace = serializers.CharField(max_length=63, required=False, help_text="'*' for every namespace")
 
 
-class WhatIfSerializer(serializers.Serializer):
+class WhatIfSerializer(ScopedSerializer):
     cluster = VisibleClusterField()
     realtimes = serializers.ListField(
         child=serializers.IntegerField(), required=False, help_text="RealTime ids (default: all of the cluster)"
@@ -162,7 +163,7 @@ class WhatIfSerializer(serializers.Serializer):
     with_bound = serializers.BooleanField(default=True, help_text="start from the pods bound now")
 
 
-class RTPolicySerializer(serializers.ModelSerializer):
+class RTPolicySerializer(ScopedModelSerializer):
     cluster = VisibleClusterField()
 
     class Meta:
@@ -200,7 +201,7 @@ class RTPolicySerializer(serializers.ModelSerializer):
         return attrs
 
 
-class MonitoringSerializer(serializers.ModelSerializer):
+class MonitoringSerializer(ScopedModelSerializer):
     node = serializers.SlugRelatedField(slug_field="name", read_only=True)
 
     class Meta:
@@ -210,7 +211,7 @@ class MonitoringSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class MonitoringReportSerializer(serializers.ModelSerializer):
+class MonitoringReportSerializer(ScopedModelSerializer):
     class Meta:
         model = MonitoringReport
         fields = ["id", "cluster", "name", "node", "container_name", "pod", "missed_period", "missed_total",
@@ -218,7 +219,7 @@ class MonitoringReportSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class ReportBatchSerializer(serializers.Serializer):
+class ReportBatchSerializer(ScopedSerializer):
     """For the API docs only: the endpoint reads the body itself (it must be fast)."""
 
     cluster = serializers.IntegerField(required=False, help_text="default: the fleet's only cluster")
@@ -231,7 +232,7 @@ class ReportBatchSerializer(serializers.Serializer):
     )
 
 
-class RTEventSerializer(serializers.ModelSerializer):
+class RTEventSerializer(ScopedModelSerializer):
     class Meta:
         model = RTEvent
         fields = ["id", "cluster", "kind", "node", "container", "pod", "trigger", "missed_period", "missed_total",
@@ -241,7 +242,7 @@ class RTEventSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class NodeTaintSerializer(serializers.ModelSerializer):
+class NodeTaintSerializer(ScopedModelSerializer):
     node = serializers.SlugRelatedField(slug_field="name", read_only=True)
 
     class Meta:
@@ -251,7 +252,7 @@ class NodeTaintSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class RTPodSerializer(serializers.ModelSerializer):
+class RTPodSerializer(ScopedModelSerializer):
     class Meta:
         model = RTPod
         fields = ["id", "cluster", "namespace", "name", "uid", "node", "container_name", "scheduler_name", "realtime",
@@ -260,7 +261,7 @@ class RTPodSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class RTDecisionSerializer(serializers.ModelSerializer):
+class RTDecisionSerializer(ScopedModelSerializer):
     class Meta:
         model = RTDecision
         fields = ["id", "cluster", "plan", "namespace", "pod", "pod_uid", "realtime", "criticality", "outcome", "node",
@@ -268,7 +269,7 @@ class RTDecisionSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class RTPlanSerializer(serializers.ModelSerializer):
+class RTPlanSerializer(ScopedModelSerializer):
     class Meta:
         model = RTPlan
         fields = ["id", "cluster", "kind", "job", "placed", "pending", "plan", "created"]

@@ -1,6 +1,7 @@
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
+from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
 from continuum.engine.algorithms import SCHEDULERS
 from continuum.engine.compare import DEFAULT_ALGORITHMS
 from continuum.engine.errors import InputError
@@ -18,7 +19,7 @@ FRAME_OPTIONS = ("frames", "fps", "period", "batch")
 ALGORITHM_CHOICES = sorted(SCHEDULERS)
 
 
-class TargetSerializer(serializers.Serializer):
+class TargetSerializer(ScopedSerializer):
     """A cluster (its Ready nodes) or a ``continuum.platform/v1`` document, and the frame options."""
 
     cluster = VisibleClusterField(required=False)
@@ -92,7 +93,7 @@ class CompareRequestSerializer(TargetSerializer):
         return value
 
 
-class AssignmentSerializer(serializers.ModelSerializer):
+class AssignmentSerializer(ScopedModelSerializer):
     class Meta:
         model = Assignment
         fields = [
@@ -109,7 +110,7 @@ class AssignmentSerializer(serializers.ModelSerializer):
         ]
 
 
-class ScheduleSerializer(serializers.ModelSerializer):
+class ScheduleSerializer(ScopedModelSerializer):
     """A stored schedule in the ``continuum.schedule/v1`` shape, plus its placement status per task."""
 
     format = serializers.SerializerMethodField()
@@ -146,7 +147,7 @@ class ScheduleListSerializer(ScheduleSerializer):
         fields = ["id", "fleet", "application", "cluster", "job", "algorithm", "makespan", "created"]
 
 
-class ComparisonScheduleSerializer(serializers.ModelSerializer):
+class ComparisonScheduleSerializer(ScopedModelSerializer):
     url = serializers.HyperlinkedIdentityField(view_name="api:schedule-detail")
 
     class Meta:
@@ -155,7 +156,7 @@ class ComparisonScheduleSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class ComparisonSerializer(serializers.ModelSerializer):
+class ComparisonSerializer(ScopedModelSerializer):
     """A comparison: per algorithm makespan, SLR, speedup against VisionWorks, O/XO, idle time (``figures``),
     Table 4.3's relative speeds, and links to each algorithm's stored schedule."""
 

@@ -1,5 +1,7 @@
 """API building blocks shared by every app: fleet scoping, the fleet field, engine errors as HTTP 400."""
 
+from functools import partial
+
 from django.db.models import QuerySet
 from drf_spectacular.types import OpenApiTypes
 from drf_spectacular.utils import extend_schema_field
@@ -10,7 +12,10 @@ from rest_framework.views import exception_handler as drf_exception_handler
 from continuum.engine.errors import InputError
 
 from .models import Fleet, FleetToken
-from .scoping import visible_fleets
+from .scoping import scope, visible_fleets
+
+#: Most choices a browsable-API form lists for one related field (DRF's default is 1000 rows a field).
+HTML_CUTOFF = 100
 
 
 def exception_handler(exc, context):
@@ -29,7 +34,7 @@ class FleetField(serializers.SlugRelatedField):
         super().__init__(**kwargs)
 
     def get_queryset(self) -> QuerySet[Fleet]:
-        return visible_fleets(self.context["request"])
+        return visible_fleets(self.context.get("request"))
 
 
 class DefaultFleetMixin:
@@ -44,17 +49,63 @@ class DefaultFleetMixin:
 
 @extend_schema_field(OpenApiTypes.INT)
 class VisibleRelatedField(serializers.PrimaryKeyRelatedField):
-    """An object of the caller's fleets by id; subclasses set ``model`` and the ``lookup`` path to the fleet.
-    Other fleets' objects are "does not exist", like unknown ids."""
+    """An object of the caller's fleets by id; subclasses set ``model`` (the path to the fleet is found by
+    ``scoping.fleet_path``). Other fleets' objects are "does not exist", like unknown ids."""
 
     model = None
-    lookup = "fleet"
 
     def get_queryset(self):
-        return self.model.objects.filter(**{f"{self.lookup}__in": visible_fleets(self.context["request"])})
+        return scope(self.model.objects.all(), self.context.get("request"))
 
 
-class FleetOwnedSerializer(DefaultFleetMixin, serializers.ModelSerializer):
+def _scoped_queryset(field: serializers.RelatedField, unscoped) -> QuerySet:
+    queryset = unscoped()
+    return scope(queryset, field.context.get("request")) if queryset is not None else None
+
+
+def scope_field(field: serializers.Field) -> None:
+    """Limit a writable related field (or the fields of a nested serializer) to the caller's fleets.
+
+    The field's own ``get_queryset`` is wrapped, so a declared ``queryset=Model.objects.all()``, a ModelSerializer's
+    generated field and a custom ``get_queryset`` are all narrowed; choices in HTML forms come from the same
+    queryset, cut off at HTML_CUTOFF rows."""
+    if isinstance(field, serializers.ListSerializer):
+        field = field.child
+    if isinstance(field, serializers.BaseSerializer):
+        if not isinstance(field, FleetScopedSerializerMixin):
+            for child in field.fields.values():
+                scope_field(child)
+        return
+    if isinstance(field, serializers.ManyRelatedField):
+        field.html_cutoff = min(field.html_cutoff or HTML_CUTOFF, HTML_CUTOFF)
+        field = field.child_relation
+    if not isinstance(field, serializers.RelatedField) or field.read_only or getattr(field, "fleet_scoped", False):
+        return
+    field.get_queryset = partial(_scoped_queryset, field, field.get_queryset)
+    field.fleet_scoped = True
+    field.html_cutoff = min(field.html_cutoff or HTML_CUTOFF, HTML_CUTOFF)
+
+
+class FleetScopedSerializerMixin:
+    """Every writable related field of the serializer (declared, generated or nested) accepts and lists only
+    objects of the caller's fleets."""
+
+    def get_fields(self):
+        fields = super().get_fields()
+        for field in fields.values():
+            scope_field(field)
+        return fields
+
+
+class ScopedSerializer(FleetScopedSerializerMixin, serializers.Serializer):
+    """The base of every plain serializer of the API."""
+
+
+class ScopedModelSerializer(FleetScopedSerializerMixin, serializers.ModelSerializer):
+    """The base of every model serializer of the API."""
+
+
+class FleetOwnedSerializer(DefaultFleetMixin, ScopedModelSerializer):
     fleet = FleetField(required=False)
 
 
@@ -70,15 +121,17 @@ def default_fleet(request) -> Fleet:
 class FleetScopedMixin:
     """Limit a viewset's queryset to the caller's fleets; objects of other fleets answer 404."""
 
-    #: Lookup path from the model to its fleet.
-    fleet_lookup = "fleet"
+    #: Lookup path from the model to its fleet; None: found from the model (``scoping.fleet_path``).
+    fleet_lookup = None
 
     def get_queryset(self):
         qs = super().get_queryset()
+        if self.fleet_lookup is None:
+            return scope(qs, self.request)
         return qs.filter(**{f"{self.fleet_lookup}__in": visible_fleets(self.request)})
 
 
-class FleetSerializer(serializers.ModelSerializer):
+class FleetSerializer(ScopedModelSerializer):
     class Meta:
         model = Fleet
         fields = ["id", "name", "slug", "description", "created"]

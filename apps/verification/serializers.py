@@ -3,7 +3,7 @@ from rest_framework import serializers
 
 from apps.clusters.models import ComputeNode
 from apps.clusters.serializers import VisibleClusterField
-from apps.tenancy.api import FleetOwnedSerializer, VisibleRelatedField
+from apps.tenancy.api import FleetOwnedSerializer, ScopedModelSerializer, ScopedSerializer, VisibleRelatedField
 from continuum.engine.errors import InputError
 from continuum.engine.monitor_milp import MonitorStats
 
@@ -59,7 +59,6 @@ class VisibleAssertion(VisibleRelatedField):
 
 class VisibleNode(VisibleRelatedField):
     model = ComputeNode
-    lookup = "cluster__fleet"
 
 
 class MonitorSerializer(FleetOwnedSerializer):
@@ -111,7 +110,7 @@ class MonitorSerializer(FleetOwnedSerializer):
         return attrs
 
 
-class HandlerSerializer(serializers.ModelSerializer):
+class HandlerSerializer(ScopedModelSerializer):
     name = serializers.CharField(source="node.name", read_only=True)
     alive = serializers.BooleanField(read_only=True)
 
@@ -144,11 +143,11 @@ class HandlerSerializer(serializers.ModelSerializer):
         ]
 
 
-class HandlerSyncSerializer(serializers.Serializer):
+class HandlerSyncSerializer(ScopedSerializer):
     cluster = VisibleClusterField()
 
 
-class ViolationSerializer(serializers.ModelSerializer):
+class ViolationSerializer(ScopedModelSerializer):
     monitor_name = serializers.CharField(source="monitor.name", read_only=True)
     assertion = serializers.IntegerField(source="monitor.assertion_id", read_only=True)
 
@@ -167,13 +166,13 @@ class ViolationSerializer(serializers.ModelSerializer):
         ]
 
 
-class MonitorVerdictSerializer(serializers.ModelSerializer):
+class MonitorVerdictSerializer(ScopedModelSerializer):
     class Meta:
         model = MonitorVerdict
         fields = ["id", "monitor", "verdict", "counters", "pending", "handler", "created"]
 
 
-class EventBatchSerializer(serializers.Serializer):
+class EventBatchSerializer(ScopedSerializer):
     """Events of the system under verification: ``[variable, value, timestamp_ms]`` triples (or objects with
     those keys), for one cluster; ``now`` (ms, optional) also advances the monitors' clock."""
 
@@ -188,13 +187,13 @@ class EventBatchSerializer(serializers.Serializer):
             raise serializers.ValidationError(str(exc)) from None
 
 
-class MigrationEventSerializer(serializers.ModelSerializer):
+class MigrationEventSerializer(ScopedModelSerializer):
     class Meta:
         model = MigrationEvent
         fields = ["id", "run", "monitor", "monitor_name", "source", "target", "t", "events_moved", "created"]
 
 
-class AllocationRunSerializer(serializers.ModelSerializer):
+class AllocationRunSerializer(ScopedModelSerializer):
     migration_count = serializers.IntegerField(source="migrations.count", read_only=True)
 
     class Meta:
@@ -225,7 +224,7 @@ class AllocationRunSerializer(serializers.ModelSerializer):
         read_only_fields = fields
 
 
-class AllocationRequestSerializer(serializers.Serializer):
+class AllocationRequestSerializer(ScopedSerializer):
     """Start the MILP on a cluster's statistics (``cluster``) or on a ``stats`` document."""
 
     cluster = VisibleClusterField(required=False)
@@ -269,7 +268,7 @@ class AllocationRequestSerializer(serializers.Serializer):
         return default_fleet(request)
 
 
-class SimulationRequestSerializer(serializers.Serializer):
+class SimulationRequestSerializer(ScopedSerializer):
     scenario = serializers.ChoiceField(["kairos", "synthetic"], default="kairos")
     duration_s = serializers.FloatField(required=False, min_value=1, max_value=600)
     time_limit = serializers.FloatField(required=False, min_value=0.05, max_value=10)

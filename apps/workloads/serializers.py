@@ -1,6 +1,6 @@
 from rest_framework import serializers
 
-from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer
+from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
 from continuum.engine import generators
 from continuum.engine.dag import TaskGraph
 from continuum.engine.errors import InputError
@@ -62,7 +62,7 @@ class ApplicationListSerializer(ApplicationSerializer):
         fields = [f for f in ApplicationSerializer.Meta.fields if f != "dag"]
 
 
-class ApplicationImportSerializer(DefaultFleetMixin, serializers.Serializer):
+class ApplicationImportSerializer(DefaultFleetMixin, ScopedSerializer):
     """Upload a DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX, Kasahara STG or the thesis CSV.
 
     The format is ``format`` when given, else the file name's (``.stg``, ``.dax``/``.xml``, ``.csv``), else
@@ -105,7 +105,7 @@ class ApplicationImportSerializer(DefaultFleetMixin, serializers.Serializer):
         return _store(self.context["request"], v["fleet"], v["graph"], v["source_format"], v["description"])
 
 
-class ApplicationGenerateSerializer(DefaultFleetMixin, serializers.Serializer):
+class ApplicationGenerateSerializer(DefaultFleetMixin, ScopedSerializer):
     """A seeded synthetic DAG: the thesis' ``thesis`` generator (Tree/Linear OpenVX-like CPU/GPU DAGs,
     spec 01 section 8.2) or the HEFT literature's ``layered`` random graphs (Topcuoglu et al. 2002)."""
 
