@@ -77,8 +77,7 @@ def test_last_use_is_recorded_at_most_once_a_minute(fleet_token):
 def test_robot_token_reads_and_reports_but_cannot_change_the_fleet(robot_token, cluster, cluster_doc):
     from apps.realtime.models import MonitoringReport
 
-    token, key = robot_token
-    robot = client_for(key)
+    robot = client_for(robot_token[1])
     response = robot.post("/api/v1/clusters/import/", {"name": "edge2", **cluster_doc}, format="json")
     assert response.status_code == 403 and "robot" in response.data["detail"]
     assert robot.patch(f"/api/v1/clusters/{cluster.pk}/", {"name": "x"}, format="json").status_code == 403
@@ -119,7 +118,8 @@ def test_admin_shows_a_new_key_once_and_never_again(admin_client, fleet, django_
     robot = django_user_model.objects.create_user("admin-made-robot")
     response = admin_client.post(
         "/admin/tenancy/fleettoken/add/",
-        {"fleet": fleet.pk, "user": robot.pk, "scope": "robot", "description": "lidar", "expires_0": "", "expires_1": ""},
+        {"fleet": fleet.pk, "user": robot.pk, "scope": "robot", "description": "lidar", "expires_0": "",
+         "expires_1": ""},
         follow=True,
     )
     assert response.status_code == 200
