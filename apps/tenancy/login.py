@@ -15,6 +15,8 @@ from django.contrib.auth.views import LoginView
 from django.core.cache import cache
 from rest_framework.throttling import BaseThrottle
 
+from .throttling import count
+
 LOCKED = "too many failed logins for this user from your address; try again in a few minutes"
 
 
@@ -33,11 +35,7 @@ class ThrottledLoginMixin:
         try:
             cleaned = super().clean()
         except forms.ValidationError:
-            cache.add(key, 0, timeout=settings.CONTINUUM_LOGIN_WINDOW_S)
-            try:
-                cache.incr(key)
-            except ValueError:  # the window ended between add and incr
-                cache.set(key, 1, timeout=settings.CONTINUUM_LOGIN_WINDOW_S)
+            count(key, settings.CONTINUUM_LOGIN_WINDOW_S)  # the window opens with the first failure
             raise
         cache.delete(key)
         return cleaned

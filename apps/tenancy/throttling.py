@@ -1,6 +1,6 @@
 """Rate limits: per token (or user), per address for anonymous callers and bad keys, and per scope.
 
-DRF's throttles count in the Django cache (Redis in production, see ``CACHES`` in the settings). The rates are
+The throttles count in the Django cache (Redis in production, see ``CACHES`` in the settings). The rates are
 settings (``REST_FRAMEWORK["DEFAULT_THROTTLE_RATES"]`` and ``CONTINUUM_THROTTLE_BAD_TOKENS``), read on every
 request so that they can change without a restart of the class (and in tests with ``override_settings``).
 A view takes its own budget with ``throttle_scope`` (e.g. "reports" for the robots' report endpoints); the
@@ -27,14 +27,45 @@ def parse_rate(rate: str | None) -> tuple[int, int] | None:
     return int(num), PERIODS[period.strip()[0]]
 
 
-class _SettingsRates:
-    """Read the rate from the current settings, not from the class attribute DRF binds at import."""
+class WindowThrottle(throttling.BaseThrottle):
+    """A counter per caller (``cache.incr``) for a window that opens with the caller's first request, not
+    DRF's list of request times: that list is read and written whole on every request, which at thousands of
+    requests a minute costs more than the request. The rate is read from the current settings on every
+    request (also under override_settings)."""
 
-    def get_rate(self):
-        return api_settings.DEFAULT_THROTTLE_RATES.get(self.scope)
+    scope: str = ""
+
+    def rate(self, view) -> tuple[int, int] | None:
+        return parse_rate(api_settings.DEFAULT_THROTTLE_RATES.get(self.scope))
+
+    def ident(self, request, view) -> str | None:
+        raise NotImplementedError
+
+    def allow_request(self, request, view) -> bool:
+        rate = self.rate(view)
+        ident = self.ident(request, view) if rate else None
+        if ident is None:
+            return True
+        limit, period = rate
+        self._wait = period  # at most: the window started with the caller's first request in it
+        return count(f"throttle_{self.scope}_{ident}", period) <= limit
+
+    def wait(self) -> float | None:
+        return getattr(self, "_wait", None)
 
 
-def _ident(request) -> str | None:
+def count(key: str, timeout: int) -> int:
+    """Add one to a counter that lives ``timeout`` seconds from its first use; the new value."""
+    if cache.add(key, 1, timeout=timeout):
+        return 1
+    try:
+        return cache.incr(key)
+    except ValueError:  # expired between add and incr
+        cache.set(key, 1, timeout=timeout)
+        return 1
+
+
+def _caller(request) -> str | None:
     if isinstance(request.auth, FleetToken):
         return f"token-{request.auth.pk}"
     if request.user and request.user.is_authenticated:
@@ -42,26 +73,35 @@ def _ident(request) -> str | None:
     return None
 
 
-class TokenRateThrottle(_SettingsRates, throttling.UserRateThrottle):
+class TokenRateThrottle(WindowThrottle):
     """Every authenticated request, counted per fleet token (or per user for sessions), scope "user"."""
 
-    def get_cache_key(self, request, view):
+    scope = "user"
+
+    def ident(self, request, view) -> str | None:
         if getattr(view, "throttle_scope", None):
             return None  # the view has its own budget (ScopedTokenThrottle)
-        ident = _ident(request)
-        return self.cache_format % {"scope": self.scope, "ident": ident} if ident else None
+        return _caller(request)
 
 
-class ScopedTokenThrottle(_SettingsRates, throttling.ScopedRateThrottle):
-    """A view's own budget (``throttle_scope``), counted per fleet token (or user, or address)."""
+class ScopedTokenThrottle(WindowThrottle):
+    """A view's own budget (its ``throttle_scope``), counted per fleet token (or user, or address)."""
 
-    def get_cache_key(self, request, view):
-        ident = _ident(request) or self.get_ident(request)
-        return self.cache_format % {"scope": self.scope, "ident": ident}
+    def allow_request(self, request, view) -> bool:
+        self.scope = getattr(view, "throttle_scope", None) or ""
+        return not self.scope or super().allow_request(request, view)
+
+    def ident(self, request, view) -> str | None:
+        return _caller(request) or self.get_ident(request)
 
 
-class AnonymousRateThrottle(_SettingsRates, throttling.AnonRateThrottle):
+class AnonymousRateThrottle(WindowThrottle):
     """Requests without credentials, counted per client address, scope "anon"."""
+
+    scope = "anon"
+
+    def ident(self, request, view) -> str | None:
+        return None if request.user and request.user.is_authenticated else self.get_ident(request)
 
 
 # ---- bad token keys -------------------------------------------------------------------------------------------
@@ -80,11 +120,5 @@ def check_bad_tokens(request) -> None:
 
 def record_bad_token(request) -> None:
     limit = parse_rate(settings.CONTINUUM_THROTTLE_BAD_TOKENS)
-    if request is None or limit is None:
-        return
-    key = _bad_token_key(request)
-    cache.add(key, 0, timeout=limit[1])  # the window starts at the first failure
-    try:
-        cache.incr(key)
-    except ValueError:  # expired between add and incr
-        cache.set(key, 1, timeout=limit[1])
+    if request is not None and limit is not None:
+        count(_bad_token_key(request), limit[1])  # the window starts at the first failure
