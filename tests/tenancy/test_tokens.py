@@ -130,8 +130,9 @@ def test_admin_shows_a_new_key_once_and_never_again(admin_client, fleet, django_
     assert client_for(key).get("/api/v1/clusters/").status_code == 200
     page = admin_client.get(f"/admin/tenancy/fleettoken/{token.pk}/change/").content.decode()
     assert token.prefix in page and key not in page and token.key_hash not in page
-    listing = admin_client.get("/admin/tenancy/fleettoken/").content.decode()
-    assert key not in listing
+    for path in ("/admin/tenancy/fleettoken/", f"/admin/tenancy/fleet/{fleet.pk}/change/"):
+        page = admin_client.get(path).content.decode()
+        assert token.prefix in page and key not in page and token.key_hash not in page
 
 
 def test_load_demo_prints_a_working_token_and_keeps_it(db, tmp_path, settings, capsys):
@@ -164,3 +165,19 @@ def test_migration_hashes_existing_keys_and_they_keep_working(django_user_model)
         columns = [c.name for c in connection.introspection.get_table_description(cursor, "tenancy_fleettoken")]
     assert "key" not in columns
     assert client_for(key).get("/api/v1/fleets/").data["results"][0]["slug"] == "legacy"
+
+
+def test_token_added_in_the_fleet_page_is_shown_once(admin_client, fleet, django_user_model):
+    robot = django_user_model.objects.create_user("inline-robot")
+    form = {
+        "name": fleet.name, "slug": fleet.slug, "description": "",
+        "tokens-TOTAL_FORMS": "1", "tokens-INITIAL_FORMS": "0", "tokens-MIN_NUM_FORMS": "0",
+        "tokens-MAX_NUM_FORMS": "1000", "tokens-0-user": robot.pk, "tokens-0-scope": "robot",
+        "tokens-0-description": "arm", "tokens-0-expires_0": "", "tokens-0-expires_1": "", "tokens-0-fleet": fleet.pk,
+    }  # fmt: skip
+    response = admin_client.post(f"/admin/tenancy/fleet/{fleet.pk}/change/", form, follow=True)
+    assert response.status_code == 200
+    token = FleetToken.objects.get(description="arm")
+    shown = " ".join(str(m) for m in response.context["messages"])
+    key = shown.split("<code>")[1].split("</code>")[0]
+    assert token.matches(key) and token.fleet == fleet and token.scope == "robot"
