@@ -7,6 +7,8 @@ import uuid
 from celery import shared_task
 from django.utils import timezone
 
+from apps.tenancy.audit import acting_for
+
 from .models import Job
 from .registry import HANDLERS
 
@@ -50,7 +52,9 @@ def run_job(self, job_id: str) -> str:
     try:
         handler = HANDLERS[job.kind]
         job.refresh_from_db()
-        result, url = handler(job, progress)
+        # What the job changes is in the audit trail under whoever started it.
+        with acting_for(job.created_by, job=str(job.pk), kind=job.kind):
+            result, url = handler(job, progress)
     except Exception as exc:
         detail, result = failure(job, exc)
         Job.objects.filter(pk=job.pk).update(

@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import re
 import uuid
+from collections.abc import Iterator
+from contextlib import contextmanager
 from contextvars import ContextVar
 
-from auditlog.context import auditlog_value
+from auditlog.context import auditlog_value, set_extra_data
 
 _request_id: ContextVar[str | None] = ContextVar("continuum_request_id", default=None)
 _VALID_ID = re.compile(r"^[A-Za-z0-9._-]{1,64}$")
@@ -51,3 +53,15 @@ def note_token(token) -> None:
         return
     context["actor"] = token.user
     context["additional_data"] = {"token": token.prefix, "fleet": token.fleet.slug, "scope": token.scope}
+
+
+@contextmanager
+def acting_for(user, **extra) -> Iterator[None]:
+    """Name ``user`` (and ``extra``) in the audit entries written inside, e.g. by a job in a worker on behalf
+    of whoever started it. Inside a request the request's own actor stands, and this does nothing (auditlog
+    keeps one context per thread, which a nested one would replace)."""
+    if user is None or request_id() is not None:
+        yield
+        return
+    with set_extra_data(context_data={"actor": user, "additional_data": extra or None}):
+        yield

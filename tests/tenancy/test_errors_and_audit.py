@@ -118,3 +118,21 @@ def test_audit_trail_is_in_the_admin(admin_client, api, cluster_doc, path):
     api.post("/api/v1/clusters/import/", {"name": "audited", **cluster_doc}, format="json")
     page = admin_client.get(path)
     assert page.status_code == 200 and "audited" in page.content.decode()
+
+
+def test_changes_a_job_makes_in_a_worker_name_whoever_started_it(api, operator, fleet, cluster):
+    from apps.jobs.tasks import run_job
+    from apps.scheduling.models import Schedule
+    from apps.workloads.models import Application
+
+    dag = {"tasks": [{"id": "a", "cost": {"cpu": 1}}, {"id": "b", "cost": {"cpu": 2}}],
+           "edges": [{"src": "a", "dst": "b"}]}  # fmt: skip
+    app = api.post("/api/v1/applications/", {"name": "t", "dag": dag}, format="json")
+    assert app.status_code == 201, app.data
+    # As a worker runs it: outside any request, the job's creator is the actor.
+    job = Job.objects.create(kind="schedule", fleet=fleet, created_by=operator,
+                             arguments={"application": app.data["id"], "algorithm": "heft", "cluster": cluster.pk})
+    assert run_job(str(job.pk)) == Job.State.SUCCEEDED, Job.objects.get(pk=job.pk).error
+    schedule = Schedule.objects.get(application=Application.objects.get(pk=app.data["id"]))
+    entry = entries(Schedule, schedule.pk).get(action=LogEntry.Action.CREATE)
+    assert entry.actor == operator and entry.additional_data == {"job": str(job.pk), "kind": "schedule"}
