@@ -153,7 +153,7 @@ def seed(args, kubeconfig: str) -> list[dict]:
     for f in range(args.fleets):
         fleet = Fleet.objects.create(name=f"fleet-{f}")
         robot = User.objects.create_user(f"robot-{f}")
-        token = FleetToken.objects.create(fleet=fleet, user=robot)
+        token = FleetToken.objects.create(fleet=fleet, user=robot, scope=FleetToken.Scope.ROBOT)
         ns = f"bench-f{f}"
         cluster = Cluster.objects.create(fleet=fleet, name=f"cluster-{f}", namespace=ns, kubeconfig=kubeconfig)
         RTPolicy.objects.create(cluster=cluster, threshold_period=10, taint_duration_s=5)
@@ -200,7 +200,7 @@ def seed(args, kubeconfig: str) -> list[dict]:
         bound = RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True).exclude(node="").count()
         if bound != len(containers):
             raise SystemExit(f"setup: only {bound} of {len(containers)} pods of {cluster.name} were bound")
-        fleets.append({"token": token.key, "cluster": cluster.pk, "containers": containers})
+        fleets.append({"token": token.plaintext, "cluster": cluster.pk, "containers": containers})
     return fleets
 
 

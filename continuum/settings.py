@@ -65,15 +65,18 @@ INSTALLED_APPS = [
     "apps.verification",
     "apps.devices",
     "apps.dashboard",
+    "auditlog",  # the audit trail (AUDITLOG_* below)
 ]
 
 MIDDLEWARE = [
+    "apps.tenancy.audit.RequestIdMiddleware",
     "django.middleware.security.SecurityMiddleware",
     "whitenoise.middleware.WhiteNoiseMiddleware",
     "django.contrib.sessions.middleware.SessionMiddleware",
     "django.middleware.common.CommonMiddleware",
     "django.middleware.csrf.CsrfViewMiddleware",
     "django.contrib.auth.middleware.AuthenticationMiddleware",
+    "auditlog.middleware.AuditlogMiddleware",
     "django.contrib.messages.middleware.MessageMiddleware",
     "django.middleware.clickjacking.XFrameOptionsMiddleware",
 ]
@@ -130,7 +133,22 @@ REST_FRAMEWORK = {
         "apps.tenancy.authentication.FleetTokenAuthentication",
         "rest_framework.authentication.SessionAuthentication",
     ],
-    "DEFAULT_PERMISSION_CLASSES": ["rest_framework.permissions.IsAuthenticated"],
+    "DEFAULT_PERMISSION_CLASSES": [
+        "rest_framework.permissions.IsAuthenticated",
+        "apps.tenancy.permissions.TokenScopePermission",
+    ],
+    # Rates per token (or session user), per address without credentials, and per view scope (the robots'
+    # report and event endpoints: throttle_scope = "reports"). Counted in CACHES["default"].
+    "DEFAULT_THROTTLE_CLASSES": [
+        "apps.tenancy.throttling.TokenRateThrottle",
+        "apps.tenancy.throttling.ScopedTokenThrottle",
+        "apps.tenancy.throttling.AnonymousRateThrottle",
+    ],
+    "DEFAULT_THROTTLE_RATES": {
+        "user": os.environ.get("CONTINUUM_THROTTLE_TOKEN", "20000/min"),
+        "reports": os.environ.get("CONTINUUM_THROTTLE_REPORTS", "300000/min"),
+        "anon": os.environ.get("CONTINUUM_THROTTLE_ANON", "600/min"),
+    },
     "DEFAULT_FILTER_BACKENDS": [
         "apps.tenancy.filters.FleetScopedFilterBackend",  # django-filter, fleet-scoped
         "rest_framework.filters.OrderingFilter",
@@ -210,3 +228,46 @@ CONTINUUM_VERIFICATION_REDIS_URL = os.environ.get("CONTINUUM_VERIFICATION_REDIS_
 CONTINUUM_VERIFICATION_PREFIX = os.environ.get("CONTINUUM_VERIFICATION_PREFIX", "cv")
 # A handler that has not reported for this many seconds is considered gone (3 stats periods, spec 03 §9).
 CONTINUUM_HANDLER_LIVENESS_S = float(os.environ.get("CONTINUUM_HANDLER_LIVENESS_S", "3"))
+
+# ---- Trust boundary: cache, rate limits, audit trail ----------------------------------------------------
+# The cache the rate limits count in. Several processes (gunicorn workers) must share it: set
+# CONTINUUM_CACHE_URL=redis://host:6379/1 in production. Unset: each process counts on its own (quick start).
+if os.environ.get("CONTINUUM_CACHE_URL"):
+    CACHES = {
+        "default": {
+            "BACKEND": "django.core.cache.backends.redis.RedisCache",
+            "LOCATION": os.environ["CONTINUUM_CACHE_URL"],
+            "KEY_PREFIX": os.environ.get("CONTINUUM_CACHE_PREFIX", "continuum"),
+        }
+    }
+else:
+    CACHES = {"default": {"BACKEND": "django.core.cache.backends.locmem.LocMemCache", "LOCATION": "continuum"}}
+# Unknown API token keys an address may send per period before it gets 429s (key guessing).
+CONTINUUM_THROTTLE_BAD_TOKENS = os.environ.get("CONTINUUM_THROTTLE_BAD_TOKENS", "60/min")
+# Failed logins (dashboard and admin) per address and user name within the window before the form refuses.
+CONTINUUM_LOGIN_FAILURES = int(os.environ.get("CONTINUUM_LOGIN_FAILURES", "10"))
+CONTINUUM_LOGIN_WINDOW_S = int(os.environ.get("CONTINUUM_LOGIN_WINDOW_S", "900"))
+# Audit trail (django-auditlog, in the admin): the models people configure, not the high-volume rows robots
+# write (reports, events, verdicts) nor the jobs (recorded anyway). Big derived documents are left out.
+AUDITLOG_CID_GETTER = "apps.tenancy.audit.request_id"
+AUDITLOG_DISABLE_REMOTE_ADDR = False
+AUDITLOG_INCLUDE_TRACKING_MODELS = tuple(
+    {"model": model, "exclude_fields": list(excluded), **extra}
+    for model, excluded, extra in [
+        ("tenancy.Fleet", (), {"m2m_fields": {"members"}}),
+        ("tenancy.FleetToken", ("key_hash", "last_used"), {}),
+        ("clusters.Cluster", ("kubeconfig",), {}),  # secret: the trail says the cluster changed, not how
+        ("clusters.ComputeNode", (), {}),
+        ("clusters.Link", (), {}),
+        ("workloads.Application", ("dag",), {}),
+        ("scheduling.Schedule", ("platform", "ranks", "metrics"), {}),
+        ("containers.RosGraph", ("document",), {}),
+        ("containers.Clustering", ("graph_document", "result", "images"), {}),
+        ("containers.Placement", ("containers", "cluster_document", "plan", "baseline"), {}),
+        ("devices.DeviceProfile", (), {}),
+        ("realtime.RTPolicy", (), {}),
+        ("realtime.RealTime", (), {}),
+        ("verification.Assertion", (), {}),
+        ("verification.Monitor", ("state", "cpu"), {}),  # runtime state, rewritten by every event batch
+    ]
+)

@@ -12,6 +12,7 @@ from apps.jobs.api import JobViewSet
 from apps.realtime.api import register_routes as register_realtime
 from apps.scheduling.api import ComparisonViewSet, ScheduleViewSet
 from apps.tenancy.api import FleetViewSet
+from apps.tenancy.login import ThrottledLoginView
 from apps.verification.api import (
     AllocationRunViewSet,
     AssertionViewSet,
@@ -54,7 +55,7 @@ urlpatterns = [
     path("api/docs/", SpectacularSwaggerView.as_view(url_name="schema"), name="api-docs"),
     path("api/redoc/", SpectacularRedocView.as_view(url_name="schema"), name="api-redoc"),
     path("admin/", admin.site.urls),
-    path("login/", auth_views.LoginView.as_view(), name="login"),
+    path("login/", ThrottledLoginView.as_view(), name="login"),
     path("logout/", auth_views.LogoutView.as_view(), name="logout"),
     path("ros/", include("apps.containers.urls")),
     path("realtime/", include("apps.realtime.urls")),

@@ -50,7 +50,7 @@ def fleet_token(fleet, django_user_model):
 def api(fleet_token) -> APIClient:
     """An API client authenticated with the first fleet's token."""
     client = APIClient()
-    client.credentials(HTTP_AUTHORIZATION=f"Token {fleet_token.key}")
+    client.credentials(HTTP_AUTHORIZATION=f"Token {fleet_token.plaintext}")
     return client
 
 
@@ -62,7 +62,7 @@ def other_api(fleets, django_user_model) -> APIClient:
     robot = django_user_model.objects.create_user("beta-robot")
     token = FleetToken.objects.create(fleet=fleets[1], user=robot)
     client = APIClient()
-    client.credentials(HTTP_AUTHORIZATION=f"Token {token.key}")
+    client.credentials(HTTP_AUTHORIZATION=f"Token {token.plaintext}")
     return client
 
 

@@ -189,6 +189,8 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
 
     queryset = MonitoringReport.objects.all()
     serializer_class = MonitoringReportSerializer
+    robot_actions = {"create"}  # robots' tokens post reports (apps.tenancy.permissions)
+    throttle_scope = "reports"  # their own, high rate limit (REST_FRAMEWORK["DEFAULT_THROTTLE_RATES"])
     filterset_fields = ["cluster", "node", "container_name", "violation", "source"]
     ordering_fields = ["received_at"]
 

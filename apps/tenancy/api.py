@@ -1,28 +1,50 @@
 """API building blocks shared by every app: fleet scoping, the fleet field, engine errors as HTTP 400."""
 
+import logging
+import uuid
 from functools import partial
 
 from django.db.models import QuerySet
 from drf_spectacular.types import OpenApiTypes
 from drf_spectacular.utils import extend_schema_field
-from rest_framework import mixins, serializers, viewsets
+from rest_framework import mixins, serializers, status, viewsets
 from rest_framework.exceptions import ValidationError
+from rest_framework.response import Response
 from rest_framework.views import exception_handler as drf_exception_handler
+from rest_framework.views import set_rollback
 
 from continuum.engine.errors import InputError
 
+from .audit import request_id
 from .models import Fleet, FleetToken
 from .scoping import scope, visible_fleets
 
 #: Most choices a browsable-API form lists for one related field (DRF's default is 1000 rows a field).
 HTML_CUTOFF = 100
 
+log = logging.getLogger(__name__)
+
 
 def exception_handler(exc, context):
-    """Engine input errors become 400s that name the field and the offending element."""
+    """Engine input errors become 400s that name the field and the offending element; anything unexpected
+    becomes a 500 with an error id, its traceback logged under that id and never sent to the caller."""
     if isinstance(exc, InputError):
         exc = ValidationError({exc.field or "non_field_errors": [str(exc)]})
-    return drf_exception_handler(exc, context)
+    response = drf_exception_handler(exc, context)
+    if response is not None:
+        return response
+    error_id = str(uuid.uuid4())
+    request = context.get("request")
+    log.error(
+        "internal error %s (request %s, %s %s)",
+        error_id,
+        request_id(),
+        getattr(request, "method", "?"),
+        getattr(request, "path", "?"),
+        exc_info=(type(exc), exc, exc.__traceback__),
+    )
+    set_rollback()
+    return Response({"detail": "internal error", "error_id": error_id}, status=status.HTTP_500_INTERNAL_SERVER_ERROR)
 
 
 @extend_schema_field(OpenApiTypes.STR)

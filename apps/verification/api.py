@@ -63,6 +63,7 @@ class HandlerViewSet(FleetScopedMixin, mixins.UpdateModelMixin, viewsets.ReadOnl
     serializer_class = HandlerSerializer
     fleet_lookup = "cluster__fleet"
     filterset_fields = ["cluster", "is_coordinator"]
+    robot_actions = {"sync"}  # a robot may refresh its handlers' reports (apps.tenancy.permissions)
 
     @extend_schema(request=HandlerSyncSerializer, responses={200: HandlerSerializer(many=True)})
     @action(detail=False, methods=["post"])
@@ -97,6 +98,8 @@ class EventViewSet(viewsets.GenericViewSet):
     """Robots post events here, in batches; a malformed batch answers 400 and nothing of it is used."""
 
     serializer_class = EventBatchSerializer
+    robot_actions = {"create"}  # robots' tokens post events (apps.tenancy.permissions)
+    throttle_scope = "reports"  # their own, high rate limit (REST_FRAMEWORK["DEFAULT_THROTTLE_RATES"])
 
     @extend_schema(request=EventBatchSerializer)
     def create(self, request):

@@ -1,7 +1,7 @@
 """``python manage.py load_demo``: an administrator, a fleet with a token, a cluster and applications.
 
-Idempotent: running it again changes nothing that exists. The administrator's password is random, kept in
-var/demo-credentials.txt and printed.
+Idempotent: running it again changes nothing that exists. The administrator's password and the fleet token's
+key are random, kept in var/demo-credentials.txt (the database holds only the key's hash) and printed.
 """
 
 import secrets
@@ -14,7 +14,7 @@ from django.db import transaction
 
 from apps.clusters.models import Cluster, ComputeNode, Link
 from apps.jobs.services import start_job
-from apps.tenancy.models import Fleet, FleetToken
+from apps.tenancy.models import Fleet, FleetToken, hash_token_key
 from apps.workloads.models import Application
 from continuum.engine.formats import load_dag
 
@@ -28,12 +28,12 @@ class Command(BaseCommand):
         credentials = Path(settings.VAR_DIR) / "demo-credentials.txt"
         with transaction.atomic():
             password = self._admin(credentials)
-            fleet, token = self._fleet()
+            fleet, key = self._fleet(credentials)
             cluster = self._cluster(fleet)
             apps = self._applications(fleet)
         if not apps[0].schedules.exists():
             start_job("schedule", fleet, {"application": apps[0].pk, "algorithm": "heft", "cluster": cluster.pk})
-        self.stdout.write(f"demo ready: log in as admin / {password}  (fleet token for the API: {token.key})")
+        self.stdout.write(f"demo ready: log in as admin / {password}  (fleet token for the API: {key})")
 
     def _admin(self, credentials: Path) -> str:
         User = get_user_model()
@@ -48,14 +48,20 @@ class Command(BaseCommand):
             credentials.chmod(0o600)
         return credentials.read_text().split()[1]
 
-    def _fleet(self) -> tuple[Fleet, FleetToken]:
+    def _fleet(self, credentials: Path) -> tuple[Fleet, str]:
+        """The demo fleet and its token's key: the one kept in the credentials file while it still
+        authenticates, else a new token (keys are stored hashed, so a lost one cannot be read back)."""
         fleet, _ = Fleet.objects.get_or_create(slug="demo", defaults={"name": "Demo fleet"})
         fleet.members.add(get_user_model().objects.get(username="admin"))
         robot, _ = get_user_model().objects.get_or_create(username="demo-robot")
-        token = FleetToken.objects.filter(fleet=fleet).first() or FleetToken.objects.create(
-            fleet=fleet, user=robot, description="demo robot fleet"
-        )
-        return fleet, token
+        lines = credentials.read_text().splitlines()
+        kept = next((line.split()[1] for line in lines if line.startswith("token ")), None)
+        if kept and FleetToken.objects.filter(fleet=fleet, key_hash=hash_token_key(kept)).exists():
+            return fleet, kept
+        _, key = FleetToken.objects.create_token(fleet=fleet, user=robot, description="demo robot fleet")
+        lines = [line for line in lines if not line.startswith("token ")] + [f"token {key}"]
+        credentials.write_text("\n".join(lines) + "\n")
+        return fleet, key
 
     def _cluster(self, fleet: Fleet) -> Cluster:
         cluster, created = Cluster.objects.get_or_create(
