@@ -82,7 +82,7 @@ def view_model(view_class) -> type[models.Model] | None:
 # ---- the world: two fleets with data ----------------------------------------------------------------------
 def _client(token: FleetToken) -> APIClient:
     client = APIClient()
-    client.credentials(HTTP_AUTHORIZATION=f"Token {token.key}")
+    client.credentials(HTTP_AUTHORIZATION=f"Token {token.plaintext}")
     return client
 
 
