@@ -32,9 +32,15 @@ def _secret_key() -> str:
     if not path.exists():
         import secrets
 
-        VAR_DIR.mkdir(parents=True, exist_ok=True)
-        path.write_text(secrets.token_urlsafe(50))
-        path.chmod(0o600)
+        VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)
+        # Created owner-only (never readable by others, not even for a moment).
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        except FileExistsError:  # another process of the same server made it just now
+            fd = -1
+        if fd >= 0:
+            with os.fdopen(fd, "w") as f:
+                f.write(secrets.token_urlsafe(50))
     return path.read_text().strip()
 
 
@@ -104,6 +110,16 @@ DATABASES = {
 if DATABASES["default"]["ENGINE"].endswith("sqlite3"):
     # A file, not memory, so that a real worker process can share the test database.
     DATABASES["default"]["TEST"] = {"NAME": str(VAR_DIR / "test.sqlite3")}
+    # ---- SQLite under concurrent writers (the quick start serves many robots) ------------------------
+    # WAL: readers never wait for the writer. IMMEDIATE: a transaction takes the write lock when it begins,
+    # so two writers queue on the busy timeout instead of one failing with "database is locked" when it
+    # upgrades a read lock (SQLite cannot wait there). synchronous=NORMAL is durable in WAL mode except
+    # for the last commits on power loss.
+    DATABASES["default"]["OPTIONS"] = {
+        "init_command": "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;",
+        "transaction_mode": "IMMEDIATE",
+        "timeout": 20,
+    }
 DEFAULT_AUTO_FIELD = "django.db.models.BigAutoField"
 
 AUTH_PASSWORD_VALIDATORS = [
@@ -122,8 +138,17 @@ STATIC_URL = "static/"
 STATICFILES_DIRS = [BASE_DIR / "static"]
 STATIC_ROOT = VAR_DIR / "staticfiles"
 STATIC_ROOT.mkdir(parents=True, exist_ok=True)  # whitenoise warns about a missing root
-# Serve static files (plotly.js included) from the app itself; no CDN.
+# Serve static files (plotly.js included) from the app itself, also with DEBUG off; no CDN.
 WHITENOISE_USE_FINDERS = True
+# After `collectstatic` (scripts/start runs it, the Dockerfile too): serve the collected copies gzipped,
+# under content-hashed names with far-future cache headers. Off by default: a template would fail on a
+# file missing from a stale manifest.
+if env_bool("CONTINUUM_STATIC_MANIFEST", False):
+    STORAGES = {
+        "default": {"BACKEND": "django.core.files.storage.FileSystemStorage"},
+        "staticfiles": {"BACKEND": "whitenoise.storage.CompressedManifestStaticFilesStorage"},
+    }
+    WHITENOISE_USE_FINDERS = False  # the finders' copies would shadow the compressed collected ones
 
 REST_FRAMEWORK = {
     "DEFAULT_AUTHENTICATION_CLASSES": [
