@@ -192,7 +192,11 @@ CELERY_WORKER_PREFETCH_MULTIPLIER = 1
 CELERY_TASK_SERIALIZER = "json"
 CELERY_ACCEPT_CONTENT = ["json"]
 CELERY_RESULT_BACKEND = None
-# A job whose worker died unacknowledged is redelivered after the visibility timeout (longer than any job).
+# Acknowledgement and redelivery: a job's message is acknowledged late, when the job ends (acks_late), so a
+# worker that dies mid-job (SIGKILL, out of memory, power) leaves it unacknowledged, and Redis delivers it
+# again only after the visibility timeout. That timeout must exceed the longest job: a message held longer
+# is delivered a second time while the first run goes on (run_job then waits for that run). A lost worker
+# is noticed sooner by the jobs' heartbeats (CONTINUUM_JOB_* below).
 CELERY_BROKER_TRANSPORT_OPTIONS = {
     "visibility_timeout": int(os.environ.get("CELERY_VISIBILITY_TIMEOUT", 3600)),
     "unacked_restore_interval": int(os.environ.get("CELERY_RESTORE_INTERVAL", 10)),
@@ -201,6 +205,18 @@ CELERY_BROKER_TRANSPORT_OPTIONS = {
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
 # `celery -A continuum beat`: lifts RT-Kube's expired node taints (the rt_scheduler process does it too).
 CELERY_BEAT_SCHEDULE = {"rt-lift-taints": {"task": "continuum.rt_lift_taints", "schedule": 5.0}}
+
+# ---- Jobs whose worker is gone (apps/jobs/liveness.py) -----------------------------------------------
+# A worker's run stamps Job.heartbeat every CONTINUUM_JOB_HEARTBEAT_S seconds. The beat task below calls a
+# run lost when its process (on the beat's host) is gone or it has been silent for CONTINUUM_JOB_STALE_S,
+# and queues the job again, failing it after CONTINUUM_JOB_MAX_ATTEMPTS attempts ("worker lost: no
+# heartbeat since ..."). Job reads in the API check too (the quick start runs no beat). Worst case from the
+# last heartbeat: STALE_S + CHECK_S = 45 s with the defaults.
+CONTINUUM_JOB_HEARTBEAT_S = float(os.environ.get("CONTINUUM_JOB_HEARTBEAT_S", "10"))
+CONTINUUM_JOB_STALE_S = float(os.environ.get("CONTINUUM_JOB_STALE_S", "30"))
+CONTINUUM_JOB_CHECK_S = float(os.environ.get("CONTINUUM_JOB_CHECK_S", "15"))
+CONTINUUM_JOB_MAX_ATTEMPTS = int(os.environ.get("CONTINUUM_JOB_MAX_ATTEMPTS", "3"))
+CELERY_BEAT_SCHEDULE["jobs-recover-lost"] = {"task": "continuum.recover_lost_jobs", "schedule": CONTINUUM_JOB_CHECK_S}
 
 # ---- Continuum ------------------------------------------------------------------------------------
 # HEFT's average computation cost: "mean" (literature, Topcuoglu) or "max" (thesis Fig. 3.1). Spec 01 2.1.
