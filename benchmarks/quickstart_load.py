@@ -190,38 +190,43 @@ def error_text(body) -> str:
 
 def run(args) -> dict:
     with tempfile.TemporaryDirectory(prefix="continuum-qs-") as tmp:
-        port = free_port()
-        qs = QuickStart(args.root.resolve(), Path(tmp) / "var", port)
+        qs = QuickStart(args.root.resolve(), Path(tmp) / "var", free_port())
         try:
-            status, page = request(port, "GET", "/no-such-page/")
-            debug = status == 404 and "URLconf" in str(page)
-            cluster, containers = seed(qs, args.robots)
-            # One tally per robot (no shared counters between threads), summed afterwards.
-            shared = [{"status": Counter(), "sent": 0, "acknowledged": 0, "latency": [], "examples": {}}
-                      for _ in containers]  # fmt: skip
-            began = time.monotonic()
-            threads = [
-                threading.Thread(target=robot, args=(port, qs.token, cluster, c, args, began + args.duration, s))
-                for c, s in zip(containers, shared, strict=True)
-            ]
-            for t in threads:
-                t.start()
-            for t in threads:
-                t.join()
-            elapsed = time.monotonic() - began
-            out = {"status": Counter(), "sent": 0, "acknowledged": 0, "latency": [], "examples": {}}
-            for s in shared:
-                out["status"].update(s["status"])
-                out["sent"] += s["sent"]
-                out["acknowledged"] += s["acknowledged"]
-                out["latency"] += s["latency"]
-                for k, v in s["examples"].items():
-                    out["examples"].setdefault(k, v)
-            status, page = request(port, "GET", f"/api/v1/rt-reports/?cluster={cluster}&limit=1", token=qs.token)
-            stored = page["count"] if status == 200 else None
-            server = qs.server
+            return {"root": str(args.root), **measure(qs, args)}
         finally:
             qs.stop()
+
+
+def measure(qs: QuickStart, args) -> dict:
+    """The robots' load on a running quick start, and what the server says it stored."""
+    port = qs.port
+    status, page = request(port, "GET", "/no-such-page/")
+    debug = status == 404 and "URLconf" in str(page)
+    cluster, containers = seed(qs, args.robots)
+    # One tally per robot (no shared counters between threads), summed afterwards.
+    shared = [{"status": Counter(), "sent": 0, "acknowledged": 0, "latency": [], "examples": {}}
+              for _ in containers]  # fmt: skip
+    began = time.monotonic()
+    threads = [
+        threading.Thread(target=robot, args=(port, qs.token, cluster, c, args, began + args.duration, s))
+        for c, s in zip(containers, shared, strict=True)
+    ]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    elapsed = time.monotonic() - began
+    out = {"status": Counter(), "sent": 0, "acknowledged": 0, "latency": [], "examples": {}}
+    for s in shared:
+        out["status"].update(s["status"])
+        out["sent"] += s["sent"]
+        out["acknowledged"] += s["acknowledged"]
+        out["latency"] += s["latency"]
+        for k, v in s["examples"].items():
+            out["examples"].setdefault(k, v)
+    status, page = request(port, "GET", f"/api/v1/rt-reports/?cluster={cluster}&limit=1", token=qs.token)
+    stored = page["count"] if status == 200 else None
+    server = qs.server
     lat = sorted(1000 * x for x in out["latency"])
     latency = None
     if lat:
@@ -229,7 +234,6 @@ def run(args) -> dict:
                    "max": round(lat[-1], 1)}  # fmt: skip
     requests = sum(out["status"].values())
     return {
-        "root": str(args.root),
         "server": server,
         "debug_404_lists_urlconf": debug,
         "robots": args.robots,

@@ -137,6 +137,7 @@ USE_TZ = True
 STATIC_URL = "static/"
 STATICFILES_DIRS = [BASE_DIR / "static"]
 STATIC_ROOT = VAR_DIR / "staticfiles"
+VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)  # database and secret key: the owner's only
 STATIC_ROOT.mkdir(parents=True, exist_ok=True)  # whitenoise warns about a missing root
 # Serve static files (plotly.js included) from the app itself, also with DEBUG off; no CDN.
 WHITENOISE_USE_FINDERS = True
