@@ -1,15 +1,18 @@
 """A job whose worker is gone is noticed by its missing heartbeats, not after the broker's visibility timeout."""
 
 import subprocess
+import threading
 from datetime import timedelta
 
 import pytest
 import redis
+from django.db import connection
 from django.utils import timezone
 
 from apps.jobs.liveness import identity, lost_reason, recover_lost_jobs
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
+from apps.jobs.tasks import claim
 from apps.scheduling.models import Schedule
 
 from .test_celery_worker import PLATFORM, make_app, wait_for
@@ -103,3 +106,38 @@ def test_reading_a_job_whose_process_is_gone_fails_it(fleet, api, settings):
     assert api.get(f"/api/v1/jobs/{alive.pk}/").json()["state"] == "running"
     listed = {j["id"]: j["state"] for j in api.get("/api/v1/jobs/").json()["results"]}
     assert listed == {str(job.pk): "failed", str(alive.pk): "running"}
+
+
+def claim_in_thread(job_id: str, out: list) -> threading.Thread:
+    def run() -> None:
+        try:
+            out.append(claim(job_id, eager=False))
+        finally:
+            connection.close()
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return thread
+
+
+@pytest.mark.django_db(transaction=True)
+def test_a_second_delivery_waits_for_the_live_run_and_takes_over_a_lost_one(fleet, settings):
+    settings.CONTINUUM_JOB_HEARTBEAT_S = 0.1  # how often the waiting delivery looks again
+    live = running_job(fleet, identity(), silent_s=0)  # this very process runs it
+    out: list = []
+    waiting = claim_in_thread(str(live.pk), out)
+    waiting.join(1.0)
+    assert waiting.is_alive() and out == []  # not run a second time
+    assert Job.objects.get(pk=live.pk).attempts == 1
+    Job.objects.filter(pk=live.pk).update(state=Job.State.SUCCEEDED)
+    waiting.join(30)
+    assert out == [None]  # the live run finished it: nothing left to do
+
+    gone = subprocess.Popen(["sleep", "60"])
+    gone.kill()
+    gone.wait()
+    lost = running_job(fleet, identity(gone.pid), silent_s=0)
+    assert claim(str(lost.pk), eager=False) == 2
+    lost.refresh_from_db()
+    assert lost.state == Job.State.RUNNING and lost.worker == identity() and lost.attempts == 2
+    assert lost.interruption.endswith(f"process {identity(gone.pid)} is gone")
