@@ -4,10 +4,11 @@ The broker alone is slow to notice a dead worker: a job's message is acknowledge
 and Redis redelivers an unacknowledged message only after the visibility timeout (an hour, since it must
 exceed the longest job). Meanwhile the job would say ``running``. So a worker's run records its process
 (``Job.worker``: host, pid and pid namespace) and stamps ``Job.heartbeat`` every
-``CONTINUUM_JOB_HEARTBEAT_S`` from a thread; :func:`recover_lost_jobs` (Celery beat, every
-``CONTINUUM_JOB_CHECK_S``, and on job reads) calls a run lost when its process on this host is gone, or
-when it has been silent for ``CONTINUUM_JOB_STALE_S``, and queues the job again (or fails it, after
-``CONTINUUM_JOB_MAX_ATTEMPTS`` attempts or when there is no worker to queue it for) with the reason.
+``CONTINUUM_JOB_HEARTBEAT_S`` from a thread. :func:`recover_lost_jobs` calls a run lost when its process on
+this host is gone, or when it has been silent for ``CONTINUUM_JOB_STALE_S``, and queues the job again (or
+fails it, after ``CONTINUUM_JOB_MAX_ATTEMPTS`` attempts or when there is no worker to queue it for) with
+the reason. It runs every ``CONTINUUM_JOB_CHECK_S`` in a thread of every worker and as a Celery beat task,
+and on job reads in the API.
 
 A run is owned by its attempt number: writes of a run that lost the job (a worker that was only slow)
 match no row, and the message the broker redelivers later finds the job done, or waits for the live run.
@@ -20,6 +21,7 @@ import os
 import re
 import socket
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from datetime import datetime, timedelta
@@ -142,3 +144,26 @@ def heartbeats(job_id, attempt: int, interval: float | None = None) -> Iterator[
     finally:
         stop.set()
         thread.join(timeout=30)
+
+
+def watch(interval: float | None = None) -> threading.Thread:
+    """Run :func:`recover_lost_jobs` every ``interval`` seconds in a daemon thread of this process.
+
+    Every worker runs one (continuum/celery.py): a check sent by beat waits in the queue behind the jobs
+    when every worker slot is busy, this thread does not.
+    """
+    interval = settings.CONTINUUM_JOB_CHECK_S if interval is None else interval
+
+    def loop() -> None:
+        while True:
+            time.sleep(interval)
+            try:
+                recover_lost_jobs()
+            except Exception:  # the next round may succeed (database restarting, ...)
+                log.exception("checking for jobs whose worker is gone")
+            finally:
+                connection.close()  # not held across a fork of the worker's pool
+
+    thread = threading.Thread(target=loop, name="jobs-lost-worker-check", daemon=True)
+    thread.start()
+    return thread

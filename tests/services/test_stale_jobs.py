@@ -31,7 +31,8 @@ def test_worker_killed_mid_job_is_queued_again_long_before_the_visibility_timeou
     assert running.worker == identity(first.proc.pid)
     first.kill()
     assert Job.objects.get(pk=job.pk).state == Job.State.RUNNING  # interrupted, not finished
-    start_worker(visibility_timeout=3600, beat=True, env={"CONTINUUM_JOB_CHECK_S": "2"})
+    # A new worker, no beat: the check thread every worker runs notices (beat's task does the same).
+    start_worker(visibility_timeout=3600, env={"CONTINUUM_JOB_CHECK_S": "2"})
     # Noticed within a minute: queued again (and taken by the new worker), never left to the broker.
     job = wait_for(job.pk, lambda j: j.attempts > 1 or j.state != Job.State.RUNNING, timeout=60)
     assert job.interruption.startswith("worker lost: no heartbeat since "), job.interruption
@@ -68,6 +69,19 @@ def test_a_silent_worker_elsewhere_is_lost_a_beating_one_is_not(fleet, settings)
     for job in (beating, legacy):
         job.refresh_from_db()
         assert job.state == Job.State.RUNNING and not job.interruption
+
+
+@pytest.mark.django_db
+def test_celery_beat_runs_the_check(fleet, settings):
+    from continuum.celery import app
+
+    settings.CELERY_TASK_ALWAYS_EAGER = True
+    entry = settings.CELERY_BEAT_SCHEDULE["jobs-recover-lost"]
+    assert entry["schedule"] == settings.CONTINUUM_JOB_CHECK_S <= 15
+    lost = running_job(fleet, "elsewhere:7@1", silent_s=300)
+    assert app.tasks[entry["task"]].apply().get() == 1
+    lost.refresh_from_db()
+    assert lost.state == Job.State.FAILED and lost.error.startswith("worker lost: no heartbeat since ")
 
 
 @pytest.mark.django_db(transaction=True)
