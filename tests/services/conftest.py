@@ -38,7 +38,7 @@ def database_url() -> str:
 class Worker:
     """A ``celery worker`` process on a private queue; ``kill()`` is a SIGKILL, as a crash would be."""
 
-    def __init__(self, broker: str, queue: str, visibility_timeout: int, beat: bool = False, env: dict | None = None):
+    def __init__(self, broker: str, queue: str, visibility_timeout: int, env: dict | None = None):
         extra = env or {}
         env = dict(
             os.environ,
@@ -51,8 +51,6 @@ class Worker:
             **extra,
         )
         self.log = Path(f"/tmp/continuum-worker-{queue}-{uuid.uuid4().hex[:6]}.log")
-        # beat: this worker also runs Celery beat's periodic tasks (the stale-job check among them).
-        beat_args = ["--beat", "--schedule", str(self.log.with_suffix(".beat"))] if beat else []
         self.proc = subprocess.Popen(
             [
                 sys.executable,
@@ -70,7 +68,6 @@ class Worker:
                 "--without-gossip",
                 "--without-mingle",
                 "--loglevel=INFO",
-                *beat_args,
             ],
             cwd=ROOT,
             env=env,
@@ -117,8 +114,8 @@ def celery_broker(redis_url, settings):
 def start_worker(celery_broker, redis_url):
     workers: list[Worker] = []
 
-    def start(visibility_timeout: int = 3600, beat: bool = False, env: dict | None = None) -> Worker:
-        worker = Worker(redis_url, celery_broker, visibility_timeout, beat=beat, env=env)
+    def start(visibility_timeout: int = 3600, env: dict | None = None) -> Worker:
+        worker = Worker(redis_url, celery_broker, visibility_timeout, env=env)
         workers.append(worker)
         return worker
 
