@@ -141,9 +141,9 @@ VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)  # database and secret ke
 STATIC_ROOT.mkdir(parents=True, exist_ok=True)  # whitenoise warns about a missing root
 # Serve static files (plotly.js included) from the app itself, also with DEBUG off; no CDN.
 WHITENOISE_USE_FINDERS = True
-# After `collectstatic` (scripts/start runs it, the Dockerfile too): serve the collected copies gzipped,
-# under content-hashed names with far-future cache headers. Off by default: a template would fail on a
-# file missing from a stale manifest.
+# CONTINUUM_STATIC_MANIFEST=1 (scripts/start sets it, and runs `collectstatic` with it first): serve the
+# collected copies gzipped, under content-hashed names with far-future cache headers. Off by default: a
+# template would fail on a file missing from a stale or absent manifest.
 if env_bool("CONTINUUM_STATIC_MANIFEST", False):
     STORAGES = {
         "default": {"BACKEND": "django.core.files.storage.FileSystemStorage"},
@@ -208,11 +208,11 @@ CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
 CELERY_BEAT_SCHEDULE = {"rt-lift-taints": {"task": "continuum.rt_lift_taints", "schedule": 5.0}}
 
 # ---- Jobs whose worker is gone (apps/jobs/liveness.py) -----------------------------------------------
-# A worker's run stamps Job.heartbeat every CONTINUUM_JOB_HEARTBEAT_S seconds. The beat task below calls a
-# run lost when its process (on the beat's host) is gone or it has been silent for CONTINUUM_JOB_STALE_S,
-# and queues the job again, failing it after CONTINUUM_JOB_MAX_ATTEMPTS attempts ("worker lost: no
-# heartbeat since ..."). Job reads in the API check too (the quick start runs no beat). Worst case from the
-# last heartbeat: STALE_S + CHECK_S = 45 s with the defaults.
+# A worker's run stamps Job.heartbeat every CONTINUUM_JOB_HEARTBEAT_S seconds. Every CONTINUUM_JOB_CHECK_S
+# a thread of each worker (and the beat task below) calls a run lost when its process (on the checker's
+# host) is gone or it has been silent for CONTINUUM_JOB_STALE_S, and queues the job again, failing it after
+# CONTINUUM_JOB_MAX_ATTEMPTS attempts ("worker lost: no heartbeat since ..."). Job reads in the API check
+# too (the quick start runs no worker). Worst case from the last heartbeat: STALE_S + CHECK_S = 45 s.
 CONTINUUM_JOB_HEARTBEAT_S = float(os.environ.get("CONTINUUM_JOB_HEARTBEAT_S", "10"))
 CONTINUUM_JOB_STALE_S = float(os.environ.get("CONTINUUM_JOB_STALE_S", "30"))
 CONTINUUM_JOB_CHECK_S = float(os.environ.get("CONTINUUM_JOB_CHECK_S", "15"))
