@@ -3,9 +3,18 @@
 import os
 
 from celery import Celery
+from celery.signals import worker_ready
 
 os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
 
 app = Celery("continuum")
 app.config_from_object("django.conf:settings", namespace="CELERY")
 app.autodiscover_tasks()
+
+
+@worker_ready.connect
+def watch_for_lost_jobs(**_) -> None:
+    """Every worker checks for jobs whose worker is gone (apps/jobs/liveness.py), busy slots or not."""
+    from apps.jobs.liveness import watch
+
+    watch()

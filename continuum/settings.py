@@ -32,9 +32,15 @@ def _secret_key() -> str:
     if not path.exists():
         import secrets
 
-        VAR_DIR.mkdir(parents=True, exist_ok=True)
-        path.write_text(secrets.token_urlsafe(50))
-        path.chmod(0o600)
+        VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)
+        # Created owner-only (never readable by others, not even for a moment).
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        except FileExistsError:  # another process of the same server made it just now
+            fd = -1
+        if fd >= 0:
+            with os.fdopen(fd, "w") as f:
+                f.write(secrets.token_urlsafe(50))
     return path.read_text().strip()
 
 
@@ -107,6 +113,16 @@ DATABASES = {
 if DATABASES["default"]["ENGINE"].endswith("sqlite3"):
     # A file, not memory, so that a real worker process can share the test database.
     DATABASES["default"]["TEST"] = {"NAME": str(VAR_DIR / "test.sqlite3")}
+    # ---- SQLite under concurrent writers (the quick start serves many robots) ------------------------
+    # WAL: readers never wait for the writer. IMMEDIATE: a transaction takes the write lock when it begins,
+    # so two writers queue on the busy timeout instead of one failing with "database is locked" when it
+    # upgrades a read lock (SQLite cannot wait there). synchronous=NORMAL is durable in WAL mode except
+    # for the last commits on power loss.
+    DATABASES["default"]["OPTIONS"] = {
+        "init_command": "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;",
+        "transaction_mode": "IMMEDIATE",
+        "timeout": 20,
+    }
 DEFAULT_AUTO_FIELD = "django.db.models.BigAutoField"
 
 AUTH_PASSWORD_VALIDATORS = [
@@ -124,9 +140,19 @@ USE_TZ = True
 STATIC_URL = "static/"
 STATICFILES_DIRS = [BASE_DIR / "static"]
 STATIC_ROOT = VAR_DIR / "staticfiles"
+VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)  # database and secret key: the owner's only
 STATIC_ROOT.mkdir(parents=True, exist_ok=True)  # whitenoise warns about a missing root
-# Serve static files (plotly.js included) from the app itself; no CDN.
+# Serve static files (plotly.js included) from the app itself, also with DEBUG off; no CDN.
 WHITENOISE_USE_FINDERS = True
+# CONTINUUM_STATIC_MANIFEST=1 (scripts/start sets it, and runs `collectstatic` with it first): serve the
+# collected copies gzipped, under content-hashed names with far-future cache headers. Off by default: a
+# template would fail on a file missing from a stale or absent manifest.
+if env_bool("CONTINUUM_STATIC_MANIFEST", False):
+    STORAGES = {
+        "default": {"BACKEND": "django.core.files.storage.FileSystemStorage"},
+        "staticfiles": {"BACKEND": "whitenoise.storage.CompressedManifestStaticFilesStorage"},
+    }
+    WHITENOISE_USE_FINDERS = False  # the finders' copies would shadow the compressed collected ones
 
 REST_FRAMEWORK = {
     "DEFAULT_AUTHENTICATION_CLASSES": [
@@ -185,7 +211,11 @@ CELERY_WORKER_PREFETCH_MULTIPLIER = 1
 CELERY_TASK_SERIALIZER = "json"
 CELERY_ACCEPT_CONTENT = ["json"]
 CELERY_RESULT_BACKEND = None
-# A job whose worker died unacknowledged is redelivered after the visibility timeout (longer than any job).
+# Acknowledgement and redelivery: a job's message is acknowledged late, when the job ends (acks_late), so a
+# worker that dies mid-job (SIGKILL, out of memory, power) leaves it unacknowledged, and Redis delivers it
+# again only after the visibility timeout. That timeout must exceed the longest job: a message held longer
+# is delivered a second time while the first run goes on (run_job then waits for that run). A lost worker
+# is noticed sooner by the jobs' heartbeats (CONTINUUM_JOB_* below).
 CELERY_BROKER_TRANSPORT_OPTIONS = {
     "visibility_timeout": int(os.environ.get("CELERY_VISIBILITY_TIMEOUT", 3600)),
     "unacked_restore_interval": int(os.environ.get("CELERY_RESTORE_INTERVAL", 10)),
@@ -194,6 +224,18 @@ CELERY_BROKER_TRANSPORT_OPTIONS = {
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
 # `celery -A continuum beat`: lifts RT-Kube's expired node taints (the rt_scheduler process does it too).
 CELERY_BEAT_SCHEDULE = {"rt-lift-taints": {"task": "continuum.rt_lift_taints", "schedule": 5.0}}
+
+# ---- Jobs whose worker is gone (apps/jobs/liveness.py) -----------------------------------------------
+# A worker's run stamps Job.heartbeat every CONTINUUM_JOB_HEARTBEAT_S seconds. Every CONTINUUM_JOB_CHECK_S
+# a thread of each worker (and the beat task below) calls a run lost when its process (on the checker's
+# host) is gone or it has been silent for CONTINUUM_JOB_STALE_S, and queues the job again, failing it after
+# CONTINUUM_JOB_MAX_ATTEMPTS attempts ("worker lost: no heartbeat since ..."). Job reads in the API check
+# too (the quick start runs no worker). Worst case from the last heartbeat: STALE_S + CHECK_S = 45 s.
+CONTINUUM_JOB_HEARTBEAT_S = float(os.environ.get("CONTINUUM_JOB_HEARTBEAT_S", "10"))
+CONTINUUM_JOB_STALE_S = float(os.environ.get("CONTINUUM_JOB_STALE_S", "30"))
+CONTINUUM_JOB_CHECK_S = float(os.environ.get("CONTINUUM_JOB_CHECK_S", "15"))
+CONTINUUM_JOB_MAX_ATTEMPTS = int(os.environ.get("CONTINUUM_JOB_MAX_ATTEMPTS", "3"))
+CELERY_BEAT_SCHEDULE["jobs-recover-lost"] = {"task": "continuum.recover_lost_jobs", "schedule": CONTINUUM_JOB_CHECK_S}
 
 # ---- Continuum ------------------------------------------------------------------------------------
 # HEFT's average computation cost: "mean" (literature, Topcuoglu) or "max" (thesis Fig. 3.1). Spec 01 2.1.

@@ -7,6 +7,11 @@ VAR=${CONTINUUM_VAR_DIR:-$ROOT/var}
 mkdir -p "$VAR"
 
 say() { echo "[continuum] $*" >&2; }
+
+private_var() {  # var/ holds the database, the secret key and the demo credentials: the owner's only
+  umask 077           # what is created from now on (SQLite's -wal and -shm files too)
+  chmod -R go= "$VAR"  # what an older version left readable
+}
 as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 port_open() { (exec 3<>"/dev/tcp/127.0.0.1/$1") 2>/dev/null; }
 
@@ -20,14 +25,16 @@ apt_install() {
 }
 
 ensure_venv() {  # ensure_venv requirements-file
-  local req=$1 stamp
+  local req=$1 stamp tstamp
   PY=${PYTHON:-python3}
   if [ ! -x "$ROOT/.venv/bin/python" ]; then
     say "creating .venv"
     "$PY" -m venv "$ROOT/.venv" || { apt_install python3-venv && "$PY" -m venv "$ROOT/.venv"; }
   fi
   stamp="$ROOT/.venv/.installed-$(cat "$ROOT/requirements.txt" "$ROOT/$req" | sha256sum | cut -c1-16)"
-  if [ ! -f "$stamp" ]; then
+  # The test requirements include the runtime ones: a venv that scripts/test made serves scripts/start too.
+  tstamp="$ROOT/.venv/.installed-$(cat "$ROOT/requirements.txt" "$ROOT/requirements-test.txt" | sha256sum | cut -c1-16)"
+  if [ ! -f "$stamp" ] && [ ! -f "$tstamp" ]; then
     say "installing Python packages from $req"
     "$ROOT/.venv/bin/python" -m pip install -q --upgrade pip >&2
     "$ROOT/.venv/bin/python" -m pip install -q -r "$ROOT/$req" >&2

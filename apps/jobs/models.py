@@ -26,6 +26,14 @@ class Job(FleetOwned):
     result_url = models.CharField(max_length=300, blank=True)
     error = models.TextField(blank=True)
     attempts = models.PositiveSmallIntegerField(default=0)
+    # Liveness of the run (apps/jobs/liveness.py): who runs it and its last sign of life.
+    worker = models.CharField(max_length=200, blank=True, help_text="host:pid of the process running the job")
+    heartbeat = models.DateTimeField(
+        null=True, blank=True, help_text="last sign of life of a worker's run (in-process runs send none)"
+    )
+    interruption = models.CharField(
+        max_length=300, blank=True, help_text="why an earlier attempt ended unfinished (e.g. its worker was lost)"
+    )
     created = models.DateTimeField(auto_now_add=True)
     started = models.DateTimeField(null=True, blank=True)
     finished = models.DateTimeField(null=True, blank=True)

@@ -38,7 +38,8 @@ def database_url() -> str:
 class Worker:
     """A ``celery worker`` process on a private queue; ``kill()`` is a SIGKILL, as a crash would be."""
 
-    def __init__(self, broker: str, queue: str, visibility_timeout: int):
+    def __init__(self, broker: str, queue: str, visibility_timeout: int, env: dict | None = None):
+        extra = env or {}
         env = dict(
             os.environ,
             CELERY_BROKER_URL=broker,
@@ -47,8 +48,9 @@ class Worker:
             CELERY_VISIBILITY_TIMEOUT=str(visibility_timeout),
             CELERY_RESTORE_INTERVAL="1",
             CELERY_RESTORE_THROTTLE="1",
+            **extra,
         )
-        self.log = Path(f"/tmp/continuum-worker-{queue}.log")
+        self.log = Path(f"/tmp/continuum-worker-{queue}-{uuid.uuid4().hex[:6]}.log")
         self.proc = subprocess.Popen(
             [
                 sys.executable,
@@ -112,8 +114,8 @@ def celery_broker(redis_url, settings):
 def start_worker(celery_broker, redis_url):
     workers: list[Worker] = []
 
-    def start(visibility_timeout: int = 3600) -> Worker:
-        worker = Worker(redis_url, celery_broker, visibility_timeout)
+    def start(visibility_timeout: int = 3600, env: dict | None = None) -> Worker:
+        worker = Worker(redis_url, celery_broker, visibility_timeout, env=env)
         workers.append(worker)
         return worker
 
