@@ -253,12 +253,12 @@ def test_deletions_are_mirrored_both_ways(api, custom, rt_kube_cluster, schedule
     wait_for(lambda: not RealTime.objects.filter(cluster=cluster, name="gps").exists(), "gps deleted here")
 
 
-def test_scheduler_survives_an_unreachable_api(api, kube_server):
+def test_scheduler_survives_an_unreachable_api(kube_admin, api, kube_server):
     from apps.clusters.models import Cluster
 
     dead = kubeconfig_text(f"https://127.0.0.1:{free_port()}", "token", kube_server.ca_path.read_bytes())
     doc = {"name": "gone", "kubeconfig": dead, "nodes": [{"name": "n1"}]}
-    pk = api.post("/api/v1/clusters/import/", doc, format="json").data["id"]
+    pk = kube_admin.post("/api/v1/clusters/import/", doc, format="json").data["id"]
     sched = RTScheduler(Cluster.objects.get(pk=pk).pk, period=0.01, watch=False)
     began = time.monotonic()
     assert sched.run(max_cycles=3) == 3
