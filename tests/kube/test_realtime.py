@@ -209,8 +209,9 @@ def test_realtime_objects_pods_binding_eviction_taint_and_rebinding(api, kube, c
 
     # The taint expires (4 s): the scheduler lifts it from the node.
     wait_for(lambda: ("rt.monitoring/violation", "true", "NoSchedule") not in taints_of(kube, "node0"), "taint lifted")
-    taint = NodeTaint.objects.get(cluster=cluster)
-    assert taint.lifted_at is not None and taint.applied_at is not None
+    # The API is written first, the row right after (apps.realtime.monitoring.lift_expired_taints): wait for it.
+    taint = wait_for(lambda: NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=False).first(), "lifted row")
+    assert taint.applied_at is not None
     assert ("RealTime", "RT", "NoSchedule") in taints_of(kube, "node0")  # the RT taint stays
     assert scheduler.errors == 0, scheduler.last_error
 
