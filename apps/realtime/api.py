@@ -7,6 +7,7 @@ import yaml
 from django.core.exceptions import ValidationError as DjangoValidationError
 from django.db import transaction
 from django.http import HttpResponse
+from django.utils import timezone
 from drf_spectacular.utils import OpenApiParameter, extend_schema
 from rest_framework import mixins, status, viewsets
 from rest_framework.decorators import action
@@ -225,12 +226,28 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
             policy = cluster.rt_policy
         except RTPolicy.DoesNotExist:
             policy = RTPolicy.for_cluster(cluster)
+        received = timezone.now()
         try:
             reports = monitoring.parse_batch(payload)
-            result = monitoring.ingest(cluster, reports, policy=policy)
+            if monitoring.may_call_kube(cluster, reports, policy):
+                monitoring.check_nodes(cluster, reports)  # the caller's error: 400, not a failed job
+                return self._ingest_in_job(request, cluster, payload, received)
+            result = monitoring.ingest(cluster, reports, policy=policy, received_at=received)
         except InputError as exc:
             raise ValidationError({exc.field or "reports": [str(exc)]}) from exc
         return Response({"cluster": cluster.pk, **result}, status=status.HTTP_201_CREATED)
+
+    def _ingest_in_job(self, request, cluster: Cluster, payload, received) -> Response:
+        """A batch whose reconcile may evict and taint through Kubernetes: an ``rt_reports`` job. Without a
+        broker it runs at once and the answer is the same as in-request ingestion; with one, 202 and the job."""
+        items = payload.get("reports", [payload]) if isinstance(payload, dict) else payload
+        args = {"cluster": cluster.pk, "reports": items, "received_at": received.isoformat()}
+        job = start_job("rt_reports", cluster.fleet, args, request.user)
+        if job.state == job.State.SUCCEEDED:
+            return Response({"cluster": cluster.pk, **(job.result or {})}, status=status.HTTP_201_CREATED)
+        if job.state == job.State.FAILED:
+            raise ValidationError({"reports": [job.error]})
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
     @staticmethod
     def _cluster(request, payload) -> Cluster:

@@ -1,14 +1,16 @@
 """Job kinds of RT-Kube: ``rt_whatif`` (a placement over a set of containers), ``rt_sync`` (the mirror), and
 ``rt_push``/``rt_delete`` (a RealTime written to or deleted from the API, out of the web request)."""
 
+from datetime import datetime
+
 from django.db import transaction
 
 from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
 from continuum.engine import rt_kube
 
-from . import planning, sync
-from .models import RealTime, RTPlan
+from . import monitoring, planning, sync
+from .models import RealTime, RTPlan, RTPolicy
 
 
 def _cluster(job) -> Cluster:
@@ -103,3 +105,24 @@ def rt_delete(job, progress) -> tuple[dict, str]:
         raise ValueError(f"not deleted from Kubernetes: {problem}")
     row.delete()
     return {"deleted": pk}, f"/api/v1/realtimes/?cluster={row.cluster_id}"
+
+
+@job_kind("rt_reports")
+def rt_reports(job, progress) -> tuple[dict, str]:
+    """Arguments: ``cluster``, ``reports`` (Monitoring objects or specs), ``received_at`` (ISO 8601). Ingests a
+    missed-deadline batch whose reconcile may call Kubernetes (eviction, taint), out of the web request.
+    Eq. 3.19's response time still counts from when the request was received."""
+    cluster = _cluster(job)
+    args = job.arguments or {}
+    try:
+        received = datetime.fromisoformat(args.get("received_at") or "")
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"argument 'received_at' must be an ISO 8601 time, got {args.get('received_at')!r}") from exc
+    reports = monitoring.parse_batch({"reports": args.get("reports")})
+    try:
+        policy = cluster.rt_policy
+    except RTPolicy.DoesNotExist:
+        policy = RTPolicy.for_cluster(cluster)
+    result = monitoring.ingest(cluster, reports, policy=policy, received_at=received)
+    progress(100, f"{result['accepted']} reports, {len(result['events'])} events")
+    return result, f"/api/v1/rt-events/?cluster={cluster.pk}"
