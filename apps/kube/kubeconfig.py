@@ -34,6 +34,8 @@ from urllib.parse import urlsplit
 
 import yaml
 
+#: PyYAML's safe loader, in C when libyaml is there (about 10x faster than the pure-Python one).
+SAFE_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 #: Most entries a list (clusters, users, contexts) may have; real kubeconfigs have a handful.
 MAX_ENTRIES = 100
 MAX_TOKEN_CHARS = 16_384
@@ -117,7 +119,7 @@ def parse(text: str, policy: ServerPolicy) -> dict[str, Any]:
     if size > policy.max_bytes:
         raise KubeconfigError("kubeconfig", f"too large: {size} bytes, at most {policy.max_bytes}")
     try:
-        doc = yaml.safe_load(text)
+        doc = yaml.load(text, Loader=SAFE_LOADER)  # safe: no Python objects
     except yaml.YAMLError as exc:
         raise KubeconfigError("kubeconfig", f"not valid YAML ({exc})") from exc
     if not isinstance(doc, dict):
