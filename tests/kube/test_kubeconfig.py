@@ -180,3 +180,23 @@ def test_contexts_must_point_at_known_entries_and_the_selected_context_must_exis
     d["contexts"].append(copy.deepcopy(d["contexts"][0]) | {"name": "ctx2"})
     assert refused(d).path == "current-context"
     assert validate(text(d), "ctx2", STRICT).context == "ctx2"
+
+
+def test_the_client_configuration_is_built_from_the_validated_fields_only():
+    import os
+    import stat
+    from pathlib import Path
+
+    from apps.kube.gateway import configuration_for
+
+    target = validate(text(doc(user={"client-certificate-data": B64(CA), "client-key-data": B64(KEY)})), "", STRICT)
+    conf = configuration_for(target)
+    assert conf.host == "https://k8s.example.org:6443" and conf.verify_ssl is True
+    assert conf.ca_cert_data == CA.decode() and conf.ssl_ca_cert is None
+    assert "authorization" not in conf.api_key
+    # urllib3 loads client certificates from files only: private ones (0600 in a 0700 directory).
+    for path, data in ((conf.cert_file, CA), (conf.key_file, KEY)):
+        assert stat.S_IMODE(os.stat(path).st_mode) == 0o600 and Path(path).read_bytes() == data
+        assert stat.S_IMODE(os.stat(os.path.dirname(path)).st_mode) == 0o700
+    token = configuration_for(validate(text(doc()), "", STRICT))
+    assert token.api_key == {"authorization": "Bearer abc.def-123"} and token.cert_file is None
