@@ -275,7 +275,7 @@ def check_server(server: Any, where: str, policy: ServerPolicy) -> str:
         raise KubeconfigError(where, f"not a URL ({exc})") from exc
     host = (url.hostname or "").lower()
     if url.scheme.lower() not in ("https", "http") or not host:
-        raise KubeconfigError(where, f"must be an https:// URL, not {server!r}")
+        raise KubeconfigError(where, f"must be an https:// URL, not {url.scheme or 'no'} scheme")
     if url.username is not None or url.password is not None:
         raise KubeconfigError(where, "must not carry credentials in the URL")
     if url.query or url.fragment:

@@ -101,6 +101,7 @@ def test_a_refused_field_in_an_unused_user_is_refused_too():
         ("http://k8s.example.org", "must use https"),
         ("http://127.0.0.2:8080", "must use https"),
         ("ftp://k8s.example.org", "https://"),
+        ("ftp://u:hunter2@k8s.example.org", "https://"),
         ("https://admin:pw@k8s.example.org", "credentials in the URL"),
         ("https://k8s.example.org/?x=1", "query"),
         ("https://k8s.example.org:99999", "not a URL"),
@@ -111,6 +112,7 @@ def test_a_refused_field_in_an_unused_user_is_refused_too():
 def test_server_must_be_https(server, why):
     exc = refused(doc(server=server))
     assert exc.path == "clusters[0].cluster.server" and why in str(exc)
+    assert "hunter2" not in str(exc)  # a password in the URL is never echoed
 
 
 def test_http_only_on_loopback_and_only_when_allowed():

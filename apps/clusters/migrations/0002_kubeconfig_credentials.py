@@ -7,7 +7,7 @@ import apps.kube.credentials
 
 def encrypt_existing(apps, schema_editor):
     """Encrypt every plain-text kubeconfig written before this migration (re-encrypt with the newest key)."""
-    from apps.kube.credentials import rotate
+    from apps.kube.credentials import Undecryptable, decrypt, rotate
 
     table = apps.get_model("clusters", "Cluster")._meta.db_table
     connection = schema_editor.connection
@@ -16,6 +16,8 @@ def encrypt_existing(apps, schema_editor):
         cursor.execute(f"SELECT id, kubeconfig FROM {qn(table)} WHERE kubeconfig <> ''")
         rows = cursor.fetchall()
         for pk, stored in rows:
+            if isinstance(decrypt(stored), Undecryptable):
+                continue  # encrypted with a key not configured here: leave it for that key
             cursor.execute(f"UPDATE {qn(table)} SET kubeconfig = %s WHERE id = %s", [rotate(stored), pk])
 
 
