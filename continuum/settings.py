@@ -313,3 +313,35 @@ AUDITLOG_INCLUDE_TRACKING_MODELS = tuple(
         ("verification.Monitor", ("state", "cpu"), {}),  # runtime state, rewritten by every event batch
     ]
 )
+# ---- Kubernetes credentials (issue 10, trust boundary; apps/kube/kubeconfig.py, apps/kube/credentials.py) ----
+def _credentials_keys() -> list[str]:
+    """Fernet keys that encrypt kubeconfigs at rest: CONTINUUM_CREDENTIALS_KEY (comma-separated, newest first,
+    for rotation), else a random key kept in var/credentials_key (0600). Web and worker must share it."""
+    if os.environ.get("CONTINUUM_CREDENTIALS_KEY"):
+        return [k.strip() for k in os.environ["CONTINUUM_CREDENTIALS_KEY"].split(",") if k.strip()]
+    path = VAR_DIR / "credentials_key"
+    if not path.exists():
+        import base64
+
+        VAR_DIR.mkdir(parents=True, exist_ok=True)
+        key = base64.urlsafe_b64encode(os.urandom(32))  # a Fernet key
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        except FileExistsError:  # another process made it meanwhile: use theirs
+            pass
+        else:
+            with os.fdopen(fd, "wb") as out:
+                out.write(key)
+    return [path.read_text().strip()]
+
+
+CONTINUUM_CREDENTIALS_KEYS = _credentials_keys()
+# Plain http to a Kubernetes API is refused (it would expose the credentials), except on a loopback address
+# when this is on (tests, a local kind/k3d cluster).
+CONTINUUM_KUBE_ALLOW_HTTP_LOOPBACK = env_bool("CONTINUUM_KUBE_ALLOW_HTTP_LOOPBACK", False)
+# Comma-separated host names (api.example.org, *.example.org) and IP networks (10.0.0.0/8) a kubeconfig's
+# server may name; empty: any host. Names are compared as written, never resolved.
+CONTINUUM_KUBE_API_ALLOWED_HOSTS = [
+    h.strip() for h in os.environ.get("CONTINUUM_KUBE_API_ALLOWED_HOSTS", "").split(",") if h.strip()
+]
+CONTINUUM_KUBECONFIG_MAX_BYTES = int(os.environ.get("CONTINUUM_KUBECONFIG_MAX_BYTES", 64 * 1024))

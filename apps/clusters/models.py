@@ -4,6 +4,7 @@ from django.conf import settings
 from django.core.validators import MinValueValidator
 from django.db import models
 
+from apps.kube.credentials import EncryptedTextField
 from apps.tenancy.models import FleetOwned
 from continuum.engine.cluster import Cluster as EngineCluster
 from continuum.engine.errors import InputError
@@ -13,7 +14,9 @@ from continuum.engine.platform import Platform
 class Cluster(FleetOwned):
     name = models.CharField(max_length=100)
     description = models.TextField(blank=True)
-    kubeconfig = models.TextField(
+    # Encrypted at rest; validated where it is saved (serializers, admin) and again where it is loaded
+    # (apps.kube.gateway.target_for). Setting it needs the clusters.change_cluster_credentials permission.
+    kubeconfig = EncryptedTextField(
         blank=True, help_text="kubeconfig (YAML) of this cluster's Kubernetes API; empty for a model-only cluster"
     )
     kube_context = models.CharField(max_length=200, blank=True)
@@ -31,6 +34,9 @@ class Cluster(FleetOwned):
     class Meta:
         ordering = ["name"]
         constraints = [models.UniqueConstraint(fields=["fleet", "name"], name="unique_cluster_name_per_fleet")]
+        permissions = [
+            ("change_cluster_credentials", "Can set a cluster's Kubernetes credentials (kubeconfig, context)")
+        ]
 
     def __str__(self) -> str:
         return self.name

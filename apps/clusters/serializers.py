@@ -1,6 +1,9 @@
 from django.db import transaction
 from rest_framework import serializers
+from rest_framework.exceptions import PermissionDenied
 
+from apps.kube.credentials import Undecryptable
+from apps.kube.kubeconfig import KubeconfigError, validate
 from apps.tenancy.api import (
     DefaultFleetMixin,
     FleetField,
@@ -9,8 +12,54 @@ from apps.tenancy.api import (
     ScopedSerializer,
     VisibleRelatedField,
 )
+from apps.tenancy.models import FleetToken
 
 from .models import Cluster, ComputeNode, Link
+
+CREDENTIALS_PERMISSION = "clusters.change_cluster_credentials"
+CREDENTIAL_FIELDS = ("kubeconfig", "kube_context")
+
+
+def may_set_credentials(request) -> bool:
+    """Whether the caller may set Kubernetes credentials: an operator signed in as themselves with the
+    ``clusters.change_cluster_credentials`` permission. Never a fleet token: tokens are robots, and a robot
+    that could set a kubeconfig could point the server at any host with any credentials."""
+    user = getattr(request, "user", None)
+    if user is None or not user.is_authenticated or isinstance(getattr(request, "auth", None), FleetToken):
+        return False
+    return user.has_perm(CREDENTIALS_PERMISSION)
+
+
+def check_credentials(request, attrs: dict, instance: Cluster | None) -> None:
+    """403 when the credentials change without the permission; 400 naming the field when the kubeconfig is
+    refused (apps.kube.kubeconfig). Runs before anything is stored."""
+    from apps.kube.gateway import server_policy  # the gateway imports the cluster models
+
+    current = {f: (getattr(instance, f) if instance is not None else "") for f in CREDENTIAL_FIELDS}
+    changed = [f for f in CREDENTIAL_FIELDS if f in attrs and attrs[f] != current[f]]
+    if not changed:
+        return
+    if not may_set_credentials(request):
+        raise PermissionDenied(
+            {
+                changed[0]: [
+                    f"setting a cluster's Kubernetes credentials needs the permission {CREDENTIALS_PERMISSION} "
+                    "(an operator's account; fleet tokens never have it)"
+                ]
+            }
+        )
+    text = attrs.get("kubeconfig", current["kubeconfig"])
+    if not text:
+        return
+    if isinstance(text, Undecryptable):
+        raise serializers.ValidationError(
+            {"kubeconfig": ["the stored kubeconfig cannot be decrypted with the current key: set it again"]}
+        )
+    try:
+        validate(text, attrs.get("kube_context", current["kube_context"]), server_policy())
+    except KubeconfigError as exc:
+        field = "kube_context" if exc.path == "kube_context" else "kubeconfig"
+        raise serializers.ValidationError({field: [str(exc)]}) from exc
 
 
 class ClusterSerializer(FleetOwnedSerializer):
@@ -41,6 +90,11 @@ class ClusterSerializer(FleetOwnedSerializer):
 
     def get_has_kubeconfig(self, obj) -> bool:
         return bool(obj.kubeconfig)
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        check_credentials(self.context.get("request"), attrs, self.instance)
+        return attrs
 
 
 class VisibleClusterField(VisibleRelatedField):
@@ -150,6 +204,7 @@ class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
             for end in ("src", "dst"):
                 if link[end] not in names:
                     raise serializers.ValidationError({"links": [f"links[{i}] refers to unknown node {link[end]!r}"]})
+        check_credentials(self.context.get("request"), attrs, None)
         if Cluster.objects.filter(fleet=attrs["fleet"], name=attrs["name"]).exists():
             raise serializers.ValidationError(
                 {"name": [f"fleet {attrs['fleet'].slug!r} already has cluster {attrs['name']!r}"]}

@@ -12,27 +12,35 @@ pushing twice leaves the cluster and the database as the first call did.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import hashlib
 import json
+import os
 import re
+import shutil
+import tempfile
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
+from pathlib import Path
 
 import urllib3
-import yaml
 from django.conf import settings
 from django.db import transaction
 from django.utils import timezone
-from kubernetes import client, config
+from kubernetes import client
 from kubernetes.client.exceptions import ApiException
-from kubernetes.config.config_exception import ConfigException
 from kubernetes.utils import parse_quantity
 
 from apps.clusters.models import Cluster, ComputeNode
 from apps.scheduling.models import Assignment, Schedule
 from continuum.engine.heft4k import nice_container
+
+from . import kubeconfig
+from .credentials import Undecryptable
+from .kubeconfig import KubeconfigError, KubeTarget, ServerPolicy
 
 #: (connect, read) seconds for every API call, so a black-holed API fails the job instead of hanging it.
 REQUEST_TIMEOUT = (5, 30)
@@ -54,26 +62,73 @@ class KubeError(ValueError):
 # -- connecting ---------------------------------------------------------------------------------------------
 
 
-def api_client_for(cluster: Cluster) -> client.ApiClient:
-    """An API client for ``cluster`` built from its stored kubeconfig text and context (no global state)."""
-    if not cluster.kubeconfig.strip():
+def server_policy() -> ServerPolicy:
+    """Where kubeconfigs may point, from the settings (``CONTINUUM_KUBE_*``)."""
+    return ServerPolicy(
+        allow_http_loopback=settings.CONTINUUM_KUBE_ALLOW_HTTP_LOOPBACK,
+        allowed_hosts=tuple(settings.CONTINUUM_KUBE_API_ALLOWED_HOSTS),
+        max_bytes=settings.CONTINUUM_KUBECONFIG_MAX_BYTES,
+    )
+
+
+def target_for(cluster: Cluster) -> KubeTarget:
+    """The cluster's validated API target. The stored kubeconfig is checked again on every load: rows saved
+    before validation existed (or written to the database directly) get no pass."""
+    text = cluster.kubeconfig
+    if isinstance(text, Undecryptable):
+        raise KubeError(
+            f"cluster {cluster.name!r}: its kubeconfig cannot be decrypted with CONTINUUM_CREDENTIALS_KEY "
+            "(was the key changed without keeping the old one?); set the kubeconfig again"
+        )
+    if not text.strip():
         raise KubeError(f"cluster {cluster.name!r} has no kubeconfig: it is a model-only cluster")
     try:
-        doc = yaml.safe_load(cluster.kubeconfig)
-    except yaml.YAMLError as exc:
-        raise KubeError(f"cluster {cluster.name!r}: the kubeconfig is not valid YAML ({exc})") from exc
-    if not isinstance(doc, dict):
-        raise KubeError(f"cluster {cluster.name!r}: the kubeconfig is not a YAML mapping")
+        return kubeconfig.validate(text, cluster.kube_context, server_policy())
+    except KubeconfigError as exc:
+        raise KubeError(f"cluster {cluster.name!r}: kubeconfig refused: {exc}") from exc
+
+
+#: Client certificate files by content digest: urllib3 only loads them from files. Private directory (0700),
+#: files 0600, removed at exit.
+_CERT_DIR: list[Path] = []
+_CERT_LOCK = threading.Lock()
+
+
+def _private_file(data: bytes, suffix: str) -> str:
+    with _CERT_LOCK:
+        if not _CERT_DIR:
+            _CERT_DIR.append(Path(tempfile.mkdtemp(prefix="continuum-kube-certs-")))
+            atexit.register(shutil.rmtree, _CERT_DIR[0], True)
+        path = _CERT_DIR[0] / f"{hashlib.sha256(data).hexdigest()}{suffix}"
+        if not path.exists():
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            with os.fdopen(fd, "wb") as out:
+                out.write(data)
+        return str(path)
+
+
+def configuration_for(target: KubeTarget) -> client.Configuration:
+    """The client configuration of a validated target, set field by field: no kubeconfig loader, so no exec
+    plugin, auth provider or file path can ever come into play. TLS is always verified."""
     configuration = client.Configuration()
-    try:
-        config.load_kube_config_from_dict(
-            doc, context=cluster.kube_context or None, client_configuration=configuration, persist_config=False
-        )
-    except (ConfigException, KeyError, TypeError, ValueError) as exc:
-        raise KubeError(f"cluster {cluster.name!r}: unusable kubeconfig ({exc})") from exc
+    configuration.host = target.server
+    configuration.verify_ssl = True
+    configuration.ca_cert_data = target.ca_pem  # None: the system's CAs
+    configuration.tls_server_name = target.tls_server_name
+    if target.token:
+        configuration.api_key = {"authorization": f"Bearer {target.token}"}
+    if target.client_cert_pem and target.client_key_pem:
+        configuration.cert_file = _private_file(target.client_cert_pem, ".crt")
+        configuration.key_file = _private_file(target.client_key_pem, ".key")
     # Retry refused/reset connections briefly; never re-send a request the server may have acted on.
     configuration.retries = urllib3.Retry(total=2, connect=2, read=0, status=0, other=0, backoff_factor=0.2)
-    return client.ApiClient(configuration)
+    return configuration
+
+
+def api_client_for(cluster: Cluster) -> client.ApiClient:
+    """An API client for ``cluster`` from its validated kubeconfig and context (no global state). The one
+    builder every caller uses (gateway, RT-Kube's JSON client, container pushes, HEFT4K)."""
+    return client.ApiClient(configuration_for(target_for(cluster)))
 
 
 def describe(exc: BaseException, server: str = "") -> str:

@@ -5,9 +5,9 @@ from django import forms
 from django.contrib import admin, messages
 from django.core.exceptions import ValidationError
 
+from apps.jobs.services import start_job
 from continuum.engine.errors import InputError
 
-from . import sync
 from .kube import has_api
 from .models import (
     Monitoring,
@@ -123,10 +123,14 @@ class RealTimeAdmin(admin.ModelAdmin):
         super().save_related(request, form, formsets, change)
         row = form.instance
         if has_api(row.cluster):
-            if sync.push_realtime(row):
+            # A job, not a Kubernetes call in this request (it runs at once without a broker).
+            job = start_job("rt_push", row.cluster.fleet, {"realtimes": [row.pk]}, request.user)
+            if job.state == job.State.SUCCEEDED:
                 messages.info(request, f"RealTime {row} written to the Kubernetes API of {row.cluster}.")
+            elif job.state == job.State.FAILED:
+                messages.warning(request, f"RealTime {row} saved here, not in Kubernetes: {job.error}")
             else:
-                messages.warning(request, f"RealTime {row} saved here, not in Kubernetes: {row.sync_error}")
+                messages.info(request, f"RealTime {row} saved; job {job.pk} writes it to the Kubernetes API.")
 
 
 @admin.register(RTPolicy)

@@ -7,6 +7,7 @@ import yaml
 from django.core.exceptions import ValidationError as DjangoValidationError
 from django.db import transaction
 from django.http import HttpResponse
+from django.utils import timezone
 from drf_spectacular.utils import OpenApiParameter, extend_schema
 from rest_framework import mixins, status, viewsets
 from rest_framework.decorators import action
@@ -21,7 +22,7 @@ from apps.tenancy.scoping import visible_fleets
 from continuum.engine.errors import InputError
 from continuum.engine.rt_model import REALTIME_KIND, realtime_from_yaml, realtime_to_yaml, rtset_from_dict
 
-from . import monitoring, planning, sync
+from . import monitoring, planning
 from .kube import has_api
 from .models import (
     Monitoring,
@@ -75,16 +76,24 @@ class RealTimeViewSet(ClusterScoped, viewsets.ModelViewSet):
     def perform_create(self, serializer):
         row = serializer.save()
         if has_api(row.cluster):
-            sync.push_realtime(row)
+            push_in_job([row], self.request.user)
 
     perform_update = perform_create
 
-    def perform_destroy(self, instance):
-        if has_api(instance.cluster) and instance.uid:
-            problem = sync.delete_realtime_object(instance)
-            if problem:
-                raise ValidationError({"non_field_errors": [f"not deleted from Kubernetes: {problem}"]})
-        instance.delete()
+    @extend_schema(responses={204: None, 202: JobSerializer})
+    def destroy(self, request, *args, **kwargs):
+        """Delete the row; with a Kubernetes API, its object there first (a job: 202 with the job when a worker
+        runs it, 204 once done, 400 with the reason when the API refused and the row stays)."""
+        instance = self.get_object()
+        if not (has_api(instance.cluster) and instance.uid):
+            instance.delete()
+            return Response(status=status.HTTP_204_NO_CONTENT)
+        job = start_job("rt_delete", instance.cluster.fleet, {"realtime": instance.pk}, request.user)
+        if job.state == job.State.SUCCEEDED:
+            return Response(status=status.HTTP_204_NO_CONTENT)
+        if job.state == job.State.FAILED:
+            raise ValidationError({"non_field_errors": [job.error]})
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
     @extend_schema(responses={(200, "application/yaml"): str})
     @action(detail=True, methods=["get"])
@@ -111,9 +120,8 @@ class RealTimeViewSet(ClusterScoped, viewsets.ModelViewSet):
         s.is_valid(raise_exception=True)
         cluster = s.validated_data["cluster"]
         rows = import_realtimes(cluster, s.validated_data["yaml"], s.validated_data.get("namespace"))
-        if has_api(cluster):
-            for row in rows:
-                sync.push_realtime(row)
+        if has_api(cluster) and rows:
+            push_in_job(rows, request.user)
         return Response(
             RealTimeSerializer(rows, many=True, context=self.get_serializer_context()).data,
             status=status.HTTP_201_CREATED,
@@ -133,6 +141,24 @@ class RealTimeViewSet(ClusterScoped, viewsets.ModelViewSet):
             args["namespace"] = s.validated_data["namespace"]
         job = start_job("rt_sync", cluster.fleet, args, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+
+def push_in_job(rows: list[RealTime], user=None):
+    """Write the rows to their cluster's Kubernetes API in an ``rt_push`` job: no Kubernetes call in the web
+    request. Without a broker the job runs at once and the rows show its outcome; with one they show it once
+    the worker is done (``sync_state``, and the job)."""
+    job = start_job("rt_push", rows[0].cluster.fleet, {"realtimes": [r.pk for r in rows]}, user)
+    fresh = {
+        r.pk: r
+        for r in RealTime.objects.filter(pk__in=[r.pk for r in rows]).only(
+            "uid", "resource_version", "dirty", "sync_state", "sync_error"
+        )
+    }
+    for row in rows:
+        if row.pk in fresh:
+            for field in ("uid", "resource_version", "dirty", "sync_state", "sync_error"):
+                setattr(row, field, getattr(fresh[row.pk], field))
+    return job
 
 
 def import_realtimes(cluster: Cluster, text: str, namespace: str | None = None) -> list[RealTime]:
@@ -202,12 +228,28 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
             policy = cluster.rt_policy
         except RTPolicy.DoesNotExist:
             policy = RTPolicy.for_cluster(cluster)
+        received = timezone.now()
         try:
             reports = monitoring.parse_batch(payload)
-            result = monitoring.ingest(cluster, reports, policy=policy)
+            if monitoring.may_call_kube(cluster, reports, policy):
+                monitoring.check_nodes(cluster, reports)  # the caller's error: 400, not a failed job
+                return self._ingest_in_job(request, cluster, payload, received)
+            result = monitoring.ingest(cluster, reports, policy=policy, received_at=received)
         except InputError as exc:
             raise ValidationError({exc.field or "reports": [str(exc)]}) from exc
         return Response({"cluster": cluster.pk, **result}, status=status.HTTP_201_CREATED)
+
+    def _ingest_in_job(self, request, cluster: Cluster, payload, received) -> Response:
+        """A batch whose reconcile may evict and taint through Kubernetes: an ``rt_reports`` job. Without a
+        broker it runs at once and the answer is the same as in-request ingestion; with one, 202 and the job."""
+        items = payload.get("reports", [payload]) if isinstance(payload, dict) else payload
+        args = {"cluster": cluster.pk, "reports": items, "received_at": received.isoformat()}
+        job = start_job("rt_reports", cluster.fleet, args, request.user)
+        if job.state == job.State.SUCCEEDED:
+            return Response({"cluster": cluster.pk, **(job.result or {})}, status=status.HTTP_201_CREATED)
+        if job.state == job.State.FAILED:
+            raise ValidationError({"reports": [job.error]})
+        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
     @staticmethod
     def _cluster(request, payload) -> Cluster:

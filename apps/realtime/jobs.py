@@ -1,4 +1,7 @@
-"""Job kinds of RT-Kube: ``rt_whatif`` (a placement over a set of containers) and ``rt_sync`` (the mirror)."""
+"""Job kinds of RT-Kube: ``rt_whatif`` (a placement over a set of containers), ``rt_sync`` (the mirror), and
+``rt_push``/``rt_delete`` (a RealTime written to or deleted from the API, out of the web request)."""
+
+from datetime import datetime
 
 from django.db import transaction
 
@@ -6,8 +9,8 @@ from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
 from continuum.engine import rt_kube
 
-from . import planning, sync
-from .models import RTPlan
+from . import monitoring, planning, sync
+from .models import RealTime, RTPlan, RTPolicy
 
 
 def _cluster(job) -> Cluster:
@@ -57,3 +60,69 @@ def rt_sync(job, progress) -> tuple[dict, str]:
     result = sync.full_sync(cluster, (job.arguments or {}).get("namespace"), progress)
     progress(100, "synced")
     return result, f"/api/v1/realtimes/?cluster={cluster.pk}"
+
+
+def _realtimes(job, ids) -> list[RealTime]:
+    if not isinstance(ids, list) or not ids or not all(isinstance(i, int) and not isinstance(i, bool) for i in ids):
+        raise ValueError(f"argument 'realtimes' must be a non-empty list of RealTime ids, got {ids!r}")
+    rows = list(RealTime.objects.select_related("cluster").filter(pk__in=ids, cluster__fleet=job.fleet))
+    if not rows:
+        raise ValueError(f"RealTime objects {ids} do not exist")
+    return rows
+
+
+@job_kind("rt_push")
+def rt_push(job, progress) -> tuple[dict, str]:
+    """Arguments: ``realtimes`` (ids). Writes the rows to their cluster's Kubernetes API (create or replace);
+    each row records its outcome (sync_state, sync_error). Runs as a job so that no web request calls
+    Kubernetes. Fails, naming the rows and why, when any could not be written."""
+    rows = _realtimes(job, (job.arguments or {}).get("realtimes"))
+    failed = []
+    for i, row in enumerate(rows, 1):
+        if not sync.push_realtime(row):
+            failed.append(f"{row.namespace}/{row.name}: {row.sync_error}")
+        progress(100 * i / len(rows), f"pushed {i}/{len(rows)}")
+    if failed:
+        shown = "; ".join(failed)
+        raise ValueError(f"{len(failed)} of {len(rows)} RealTime objects not written to Kubernetes: {shown}")
+    return {"pushed": [r.pk for r in rows]}, f"/api/v1/realtimes/?cluster={rows[0].cluster_id}"
+
+
+@job_kind("rt_delete")
+def rt_delete(job, progress) -> tuple[dict, str]:
+    """Arguments: ``realtime`` (id). Deletes its object from the Kubernetes API, then the row; when the API
+    refuses, the row stays (with the reason in sync_error) and the job fails with it. Idempotent: a row gone
+    already means done."""
+    pk = (job.arguments or {}).get("realtime")
+    if not isinstance(pk, int) or isinstance(pk, bool):
+        raise ValueError(f"argument 'realtime' must be the id of a RealTime, got {pk!r}")
+    row = RealTime.objects.select_related("cluster").filter(pk=pk, cluster__fleet=job.fleet).first()
+    if row is None:
+        return {"deleted": pk, "already": True}, ""
+    problem = sync.delete_realtime_object(row)
+    if problem:
+        RealTime.objects.filter(pk=row.pk).update(sync_state=RealTime.SyncState.ERROR, sync_error=problem[:500])
+        raise ValueError(f"not deleted from Kubernetes: {problem}")
+    row.delete()
+    return {"deleted": pk}, f"/api/v1/realtimes/?cluster={row.cluster_id}"
+
+
+@job_kind("rt_reports")
+def rt_reports(job, progress) -> tuple[dict, str]:
+    """Arguments: ``cluster``, ``reports`` (Monitoring objects or specs), ``received_at`` (ISO 8601). Ingests a
+    missed-deadline batch whose reconcile may call Kubernetes (eviction, taint), out of the web request.
+    Eq. 3.19's response time still counts from when the request was received."""
+    cluster = _cluster(job)
+    args = job.arguments or {}
+    try:
+        received = datetime.fromisoformat(args.get("received_at") or "")
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"argument 'received_at' must be an ISO 8601 time, got {args.get('received_at')!r}") from exc
+    reports = monitoring.parse_batch({"reports": args.get("reports")})
+    try:
+        policy = cluster.rt_policy
+    except RTPolicy.DoesNotExist:
+        policy = RTPolicy.for_cluster(cluster)
+    result = monitoring.ingest(cluster, reports, policy=policy, received_at=received)
+    progress(100, f"{result['accepted']} reports, {len(result['events'])} events")
+    return result, f"/api/v1/rt-events/?cluster={cluster.pk}"

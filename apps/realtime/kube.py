@@ -1,7 +1,8 @@
 """RT-Kube's calls to a cluster's Kubernetes API, as plain JSON (thesis 3.4, Fig. 3.32; spec 03 sections 3, 4.4, 5.4).
 
 Everything goes through :class:`Kube`, a thin JSON client on the cluster's ``ApiClient`` (from
-:func:`apps.kube.gateway.api_client_for`): no generated model classes, so custom objects, Bindings and
+:func:`apps.kube.gateway.api_client_for`, the one builder: server, credentials and TLS come from the validated
+kubeconfig, never from the kubeconfig loader): no generated model classes, so custom objects, Bindings and
 Status answers need no special handling and large pod lists parse quickly.
 
 - The two CustomResourceDefinitions (apiextensions v1, with status subresources): ``realtimes.rt.scheduling``

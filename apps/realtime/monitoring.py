@@ -247,6 +247,28 @@ def insert_rows(
         return [row[0] for row in cursor.fetchall()] if returning else cursor.rowcount
 
 
+def check_nodes(cluster: Cluster, reports: Sequence[Report]) -> dict[str, int]:
+    """The cluster's node ids by name; InputError naming the first report on a node the cluster lacks."""
+    node_ids = dict(ComputeNode.objects.filter(cluster=cluster).values_list("name", "id"))
+    for i, r in enumerate(reports):
+        if r.node not in node_ids:
+            raise InputError(f"reports[{i}]: node {r.node!r} is not a node of cluster {cluster.name!r}", "reports")
+    return node_ids
+
+
+def may_call_kube(cluster: Cluster, reports: Sequence[Report], policy: RTPolicy) -> bool:
+    """Whether ingesting the batch may call the cluster's Kubernetes API (an eviction, a taint): it has an API
+    and a report crosses a threshold. The REST endpoint then ingests in a job (no Kubernetes call in a web
+    request); the common batch, under every threshold, stays in the request."""
+    if not has_api(cluster):
+        return False
+    monitor_policy = policy.monitor_policy()
+    return any(
+        is_violation(EngineReport(r.node, r.container, r.missed_period, r.missed_total), monitor_policy)
+        for r in reports
+    )
+
+
 def ingest(
     cluster: Cluster,
     reports: Sequence[Report],
@@ -266,10 +288,7 @@ def ingest(
     received = received_at or timezone.now()
     policy = policy or RTPolicy.for_cluster(cluster)
     monitor_policy = policy.monitor_policy()
-    node_ids = dict(ComputeNode.objects.filter(cluster=cluster).values_list("name", "id"))
-    for i, r in enumerate(reports):
-        if r.node not in node_ids:
-            raise InputError(f"reports[{i}]: node {r.node!r} is not a node of cluster {cluster.name!r}", "reports")
+    node_ids = check_nodes(cluster, reports)
     first: dict[str, Report] = {}
     for r in reports:  # the same id twice in one batch: the first one counts
         first.setdefault(r.report_id, r)

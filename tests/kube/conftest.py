@@ -100,12 +100,27 @@ def make_node(kube):
 
 
 @pytest.fixture
-def kube_cluster(api, cluster_doc, kubeconfig, kube_namespace, make_node):
+def kube_admin(fleet, django_user_model):
+    """An operator of the first fleet, signed in (session), with the permission to set Kubernetes credentials
+    (clusters.change_cluster_credentials): fleet tokens may not set a kubeconfig."""
+    from django.contrib.auth.models import Permission
+    from rest_framework.test import APIClient
+
+    user = django_user_model.objects.create_user("kube-admin")
+    fleet.members.add(user)
+    user.user_permissions.add(Permission.objects.get(codename="change_cluster_credentials"))
+    client = APIClient()
+    client.force_login(user)
+    return client
+
+
+@pytest.fixture
+def kube_cluster(api, kube_admin, cluster_doc, kubeconfig, kube_namespace, make_node):
     """The conftest's 4-node edge cluster, imported through the API with the test server's kubeconfig,
     a fresh namespace, and the same 4 nodes (Ready) in the Kubernetes API."""
     from apps.clusters.models import Cluster
 
-    response = api.post(
+    response = kube_admin.post(
         "/api/v1/clusters/import/", {"name": "edge", "kubeconfig": kubeconfig, **cluster_doc}, format="json"
     )
     assert response.status_code == 201, response.data

@@ -188,11 +188,11 @@ def test_a_refused_placement_fails_the_remap_and_is_recorded(api, kube, kube_clu
     assert event.status == "applied" and event.pods_moved == 4
 
 
-def test_the_watcher_gives_up_after_bounded_reconnects(api, cluster, kube_server):
+def test_the_watcher_gives_up_after_bounded_reconnects(kube_admin, api, cluster, kube_server):
     from apps.kube.gateway import KubeError
 
     closed = kubeconfig_text(f"https://127.0.0.1:{free_port()}", "token", kube_server.ca_path.read_bytes())
-    assert api.patch(f"/api/v1/clusters/{cluster.pk}/", {"kubeconfig": closed}, format="json").status_code == 200
+    assert kube_admin.patch(f"/api/v1/clusters/{cluster.pk}/", {"kubeconfig": closed}, format="json").status_code == 200
     cluster.refresh_from_db()
     waits = []
     with pytest.raises(KubeError, match="node watch gave up after 2 reconnects: Kubernetes API unreachable"):

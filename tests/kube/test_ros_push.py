@@ -159,10 +159,11 @@ def test_failures_are_recorded_per_container(api, kube, kube_cluster, kube_names
     assert len(found) == 3 and rows[gone_container].deployment not in found
 
 
-def test_an_unreachable_api_fails_every_container_cleanly(api, kube_server, kube_cluster):
+def test_an_unreachable_api_fails_every_container_cleanly(kube_admin, api, kube_server, kube_cluster):
     placement = autoware_placement(api, kube_cluster)
     closed = kubeconfig_text(f"https://127.0.0.1:{free_port()}", "token", kube_server.ca_path.read_bytes())
-    assert api.patch(f"/api/v1/clusters/{kube_cluster.pk}/", {"kubeconfig": closed}, format="json").status_code == 200
+    response = kube_admin.patch(f"/api/v1/clusters/{kube_cluster.pk}/", {"kubeconfig": closed}, format="json")
+    assert response.status_code == 200, response.data
     job = run(api, f"/api/v1/placements/{placement.pk}/push/")
     assert job["state"] == "failed" and "Kubernetes API unreachable" in job["error"]
     rows = ContainerDeployment.objects.filter(placement=placement)
