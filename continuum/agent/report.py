@@ -6,7 +6,7 @@ report), ``missedDeadlinesTotal`` (since the command started), Eq. 3.19's ``miss
 report's period: when the miss that the report carries happened) and ``sentAt`` (when it left), plus ``id``
 (a UUID, for the server to drop a batch it has already stored when an answer was lost and the batch is sent
 again). A report is made only when there is something new: at the start (a 0/0 report: the container is
-monitored), for each interval with overruns, the kernel's refusal, and once at the end.
+monitored), for each interval with overruns (the last one when the command ends), and the kernel's refusal.
 
 Nothing is lost while the server cannot be reached: reports wait in an outbox, in order, and each attempt sends
 all of them in one batch (the endpoint takes many) after an exponential back-off with jitter (``interval`` up
@@ -156,9 +156,9 @@ class Reporter:
             self._thread.start()
 
     def close(self, flush_timeout: float = 10.0) -> None:
-        """The final report, then up to ``flush_timeout`` seconds (retrying) to deliver what waits."""
+        """The last overruns' report, then up to ``flush_timeout`` seconds (retrying) to deliver what waits."""
         with self._lock:
-            self._snapshot(force=True)
+            self._snapshot()
             self._closing = True
             self._flush_until = time.monotonic() + flush_timeout
             self._next_try = 0.0
