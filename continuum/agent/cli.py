@@ -76,6 +76,8 @@ def parser() -> argparse.ArgumentParser:
     api.add_argument("--flush-timeout", type=float, default=10.0,
                      help="seconds to deliver the last reports once COMMAND ended (10)")  # fmt: skip
     api.add_argument("--http-timeout", type=_positive, default=5.0, help="seconds per request (5)")
+    run.add_argument("--tracer-priority", type=int, default=1, choices=range(0, 100), metavar="0-99",
+                     help="SCHED_FIFO priority of the agent's tracing thread (1; 0: leave it SCHED_OTHER)")  # fmt: skip
     run.add_argument("--json", action="store_true", help="print one JSON object on stdout at the end")
     run.add_argument("command", nargs=argparse.REMAINDER, help="-- COMMAND ARGS...")
     return ap
@@ -174,9 +176,19 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
 
     previous = {sig: signal.signal(sig, forward) for sig in FORWARDED}
 
+    tracer = {"policy": "other"}
+
     def started(pid: int) -> None:
         child["pid"] = pid
         reporter.start()  # after the fork: the child never shares the reporter's thread
+        # A command stopped at its SIGXCPU waits for this thread: it must get the CPU at once, also when SCHED_OTHER
+        # work (a stress, other pods) fills what the deadline tasks leave. Only this thread (not the reporter).
+        if args.tracer_priority:
+            try:
+                os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(args.tracer_priority))
+                tracer["policy"] = f"fifo:{args.tracer_priority}"
+            except OSError:
+                pass  # e.g. no RT runtime in this cgroup: trace at SCHED_OTHER (reported in the JSON)
 
     began = time.monotonic()
     try:
@@ -210,7 +222,7 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         "overruns": reporter.overruns,
         "kernel_rejected": outcome.refused == errno.EBUSY,
         "exit_code": outcome.exit_code if outcome.refused is None and outcome.exec_errno is None else None,
-        "signal": outcome.signal,
+        "signal": outcome.signal if outcome.refused is None else None,
         "reported": reporter.acknowledged,
         "pending": reporter.pending if target is not None else 0,
         "rejection_reported": reporter.rejection_acknowledged,
@@ -226,6 +238,7 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         "period_ms": params.period_ns / 1e6,
         "bandwidth": params.bandwidth,
         "duration_s": round(duration, 3),
+        "tracer_policy": tracer["policy"],
         **info,
     }
     if target is not None and reporter.pending:

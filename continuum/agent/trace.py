@@ -11,11 +11,14 @@ command or its image, works for any executable (static, Go, Python...), and a de
 (``PTRACE_O_TRACECLONE``) since SIGXCPU is process-directed and may be delivered to any of them; child processes
 are not traced. Cost: one stop per overrun (a few microseconds), nothing otherwise.
 
-Order of events: the agent forks; the child waits on a pipe until the agent has seized it, makes itself a
-deadline task (``sched_setattr``; a failure, e.g. the kernel's EBUSY admission refusal, goes back to the agent
-through a close-on-exec pipe) and execs the command, which keeps the policy. ``SCHED_FLAG_RESET_ON_FORK`` is
-set: a deadline task may not fork, so without it the command could not start a thread or a child; with it
-those start as ordinary SCHED_OTHER tasks and only the command's main thread is the deadline task.
+Order of events: the agent forks; the child waits on a pipe until the agent has seized it and execs the command
+(an exec failure goes back through a close-on-exec pipe). The exec stops the child (``PTRACE_O_TRACEEXEC``)
+before the command's first instruction; there the agent makes it a deadline task (``sched_setattr`` on its
+pid), so the budget is spent on the command only, not on the exec (tearing down the forked copy of the agent
+costs a few ms of CPU, which would already overrun a short runtime). If the kernel refuses (EBUSY: admission),
+the stopped child is killed: the command never runs. ``SCHED_FLAG_RESET_ON_FORK`` is set: a deadline task may
+not fork, so without it the command could not start a thread or a child; with it those start as ordinary
+SCHED_OTHER tasks and only the command's main thread is the deadline task.
 """
 
 from __future__ import annotations
@@ -35,6 +38,8 @@ PTRACE_CONT = 7
 PTRACE_SEIZE = 0x4206
 PTRACE_LISTEN = 0x4208
 PTRACE_O_TRACECLONE = 0x08
+PTRACE_O_TRACEEXEC = 0x10
+PTRACE_EVENT_EXEC = 4
 PTRACE_O_EXITKILL = 0x100000
 PTRACE_EVENT_STOP = 128
 __WALL = 0x40000000
@@ -54,8 +59,8 @@ def _ptrace(request: int, pid: int, data: int = 0) -> None:
 
 @dataclass
 class Outcome:
-    """How the command ended. ``refused``: sched_setattr's errno (the command never ran); ``exec_errno``: exec
-    failed; else ``exit_code`` (or ``signal`` if a signal killed it)."""
+    """How the command ended. ``refused``: sched_setattr's errno (the command was killed before its first
+    instruction); ``exec_errno``: exec failed; else ``exit_code`` (or ``signal`` if a signal killed it)."""
 
     pid: int
     refused: int | None = None
@@ -64,20 +69,14 @@ class Outcome:
     signal: int | None = None
 
 
-def _child(go: int, report: int, params: DeadlineParams | None, argv: Sequence[str]) -> None:
-    """In the forked child: wait to be traced, become a deadline task, exec. Never returns."""
+def _child(go: int, report: int, argv: Sequence[str]) -> None:
+    """In the forked child: wait to be traced, exec. Never returns."""
     try:
         os.read(go, 1)
         os.close(go)
         # Python ignores SIGPIPE and SIGXFSZ; an ignored signal stays ignored across exec.
         for sig in (signal.SIGPIPE, signal.SIGXFSZ, signal.SIGINT, signal.SIGTERM, signal.SIGXCPU):
             signal.signal(sig, signal.SIG_DFL)
-        if params is not None:
-            try:
-                set_deadline(params)
-            except OSError as exc:
-                os.write(report, struct.pack("=ci", b"s", exc.errno or 0))
-                os._exit(1)
         try:
             os.execvp(argv[0], list(argv))
         except OSError as exc:
@@ -103,11 +102,11 @@ def run_traced(
     if pid == 0:
         os.close(go_w)
         os.close(rep_r)
-        _child(go_r, rep_w, params, argv)
+        _child(go_r, rep_w, argv)
     os.close(go_r)
     os.close(rep_w)
     try:
-        _ptrace(PTRACE_SEIZE, pid, PTRACE_O_TRACECLONE | PTRACE_O_EXITKILL)
+        _ptrace(PTRACE_SEIZE, pid, PTRACE_O_TRACECLONE | PTRACE_O_TRACEEXEC | PTRACE_O_EXITKILL)
     except OSError:
         os.kill(pid, signal.SIGKILL)
         os.waitpid(pid, 0)
@@ -126,19 +125,28 @@ def run_traced(
     os.close(rep_r)
     outcome = Outcome(pid)
     if len(failure) == 5:
-        kind, code = struct.unpack("=ci", failure)
-        if kind == b"s":
-            outcome.refused = code
-        else:
-            outcome.exec_errno = code
-    elif on_started is not None:
-        on_started(pid)
-    _trace_loop(pid, outcome, on_overrun)
+        outcome.exec_errno = struct.unpack("=ci", failure)[1]
+
+    def exec_stop() -> None:
+        """The command is loaded and stopped before its first instruction: make it the deadline task."""
+        if params is not None:
+            try:
+                set_deadline(params, pid)
+            except OSError as exc:
+                outcome.refused = exc.errno or 0
+                os.kill(pid, signal.SIGKILL)  # it never runs without its guarantee
+                return
+        if on_started is not None:
+            on_started(pid)
+
+    _trace_loop(pid, outcome, on_overrun, exec_stop)
     return outcome
 
 
-def _trace_loop(pid: int, outcome: Outcome, on_overrun: Callable[[float], None]) -> None:
+def _trace_loop(pid: int, outcome: Outcome, on_overrun: Callable[[float], None], exec_stop: Callable[[], None]
+                ) -> None:  # fmt: skip
     """Wait for the command (and reap anything else, as PID 1 of a container must) until its main thread ends."""
+    execed = False
     while True:
         try:
             tid, status = os.waitpid(-1, __WALL)
@@ -161,6 +169,11 @@ def _trace_loop(pid: int, outcome: Outcome, on_overrun: Callable[[float], None])
                 _ptrace(PTRACE_CONT, tid, 0)  # suppressed: counted, not delivered
             else:
                 _ptrace(PTRACE_CONT, tid, sig)
+        elif event == PTRACE_EVENT_EXEC and tid == pid and not execed:
+            execed = True
+            exec_stop()
+            if outcome.refused is None:
+                _ptrace(PTRACE_CONT, tid, 0)
         elif event == PTRACE_EVENT_STOP and sig in _STOP_SIGNALS:
             _ptrace(PTRACE_LISTEN, tid)  # a group-stop (Ctrl-Z, SIGSTOP): stay stopped until SIGCONT
         else:
