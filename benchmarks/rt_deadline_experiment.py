@@ -48,6 +48,7 @@ sys.path.insert(0, str(HERE))
 
 from rt_kube_thesis import PERIODS, THESIS_431  # noqa: E402
 
+from continuum.agent.sched import DeadlineParams, rt_bandwidth, set_deadline  # noqa: E402
 from continuum.engine import rt_kube  # noqa: E402
 from continuum.engine.rt_model import cluster_from_dict, rtset_from_dict  # noqa: E402
 from continuum.engine.rt_sim import SimParams, kube_default_placer, rt_kube_placer, simulate  # noqa: E402
@@ -123,6 +124,31 @@ class Partitions:
         """Move the calling process into node's partition (R: stays in the root cpuset)."""
         if node in self.dirs:
             (self.dirs[node] / "cgroup.procs").write_text(str(os.getpid()))
+
+
+def admission_cap(parts: Partitions, node: str = "J") -> float:
+    """The largest bandwidth the kernel admits for one task in an empty partition (bisection to 0.001, each probe
+    a forked process that enters the partition, asks for SCHED_DEADLINE and exits)."""
+
+    def admitted(bw: float) -> bool:
+        pid = os.fork()
+        if pid == 0:
+            code = 1
+            try:
+                parts.enter(node)
+                set_deadline(DeadlineParams(round(bw * 10_000_000), 10_000_000, 10_000_000))
+                code = 0
+            finally:
+                os._exit(code)
+        return os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]) == 0
+
+    lo, hi = 0.0, 1.0
+    if admitted(hi):
+        return hi
+    while hi - lo > 0.001:
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if admitted(mid) else (lo, mid)
+    return lo
 
 
 # ---- the sets ------------------------------------------------------------------------------------------------
@@ -238,7 +264,8 @@ def by_class(docs, results: dict[str, dict]) -> dict[str, dict]:
         out[cls] = {"containers": len(members), "rejected": rejected, "pending": pending, "jobs": jobs,
                     "missed": missed, "overruns": sum(r.get("overruns", 0) for r in running),
                     "missed_running_pct": run_pct,
-                    "missed_total_pct": (len(running) * run_pct + rejected * 100.0) / placed if placed else 0.0}  # fmt: skip
+                    "missed_total_pct": (len(running) * run_pct + rejected * 100.0) / placed if placed else 0.0,
+                    }  # fmt: skip
     return out
 
 
@@ -278,6 +305,10 @@ def main() -> None:
         print(f"partitions: J = CPU {parts.dirs['J'].joinpath('cpuset.cpus').read_text().strip()}, "
               f"I = CPU {parts.dirs['I'].joinpath('cpuset.cpus').read_text().strip()} (exclusive cpusets, "
               f"root sched_load_balance off); R = root cpuset; {args.seconds} s per run, seed {args.seed}")  # fmt: skip
+        cap = admission_cap(parts)
+        results["admission_cap"] = {"measured": cap, "sched_rt_ratio": rt_bandwidth()}
+        print(f"kernel admission in one partition (1 CPU), measured: {cap:.3f} of the CPU for deadline tasks; "
+              f"sched_rt_runtime_us/sched_rt_period_us = {rt_bandwidth():.3f} (RT-Kube's and rt_sim's threshold)")
         for dep, mix in MIXES.items():
             docs = container_docs(mix, args.seed)
             results[dep] = {}
@@ -297,8 +328,8 @@ def main() -> None:
         tm = THESIS_MIXES[dep]
         print(f"\n{dep} deployment: here A {mix[0]}, B {mix[1]}, C {mix[2]} + stress (thesis: A {tm[0]}, B {tm[1]}, "
               f"C {tm[2]} + stress)")  # fmt: skip
-        print(f"    {'config':<22} {'source':<22} {'rejected':<9} {'pending':<9} {'missed % (running - +rejected)':<44} "
-              "overruns")  # fmt: skip
+        head = f"{'missed % (running - +rejected)':<44}"
+        print(f"    {'config':<22} {'source':<22} {'rejected':<9} {'pending':<9} {head} overruns")
         for config in CONFIGS:
             row = results[dep][config]
             counts: dict[str, dict[str, int]] = {}
@@ -319,6 +350,16 @@ def main() -> None:
             f"{n} {r['status'][:3]}" + (f" {r['missed']}/{r['jobs']} ovr {r['overruns']}" if "jobs" in r else "")
             for n, r in results[dep][cfg]["real_containers"].items() if n != "stress")
         for dep in MIXES for cfg in CONFIGS))  # fmt: skip
+    print("\nreal vs simulator, kernel rejections (A+B+C) and deadlines missed by running tasks:")
+    for dep in MIXES:
+        for config in CONFIGS:
+            real, sim = results[dep][config]["real"], results[dep][config]["sim"]
+            rj = [sum(x[c]["rejected"] for c in "ABC") for x in (real, sim)]
+            jobs = [sum(x[c]["jobs"] for c in "ABC") for x in (real, sim)]
+            missed = [sum(x[c]["missed"] for c in "ABC") for x in (real, sim)]
+            pct = [100.0 * m / j if j else 0.0 for m, j in zip(missed, jobs, strict=True)]
+            print(f"  {dep} {config:<16} rejected real {rj[0]} sim {rj[1]}{'  <- differs' if rj[0] != rj[1] else ''}; "
+                  f"missed real {pct[0]:.1f}% sim {pct[1]:.1f}% of running jobs")  # fmt: skip
     print(f"\n(total {time.monotonic() - t0:.1f} s)")
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2, default=str))
