@@ -1,12 +1,13 @@
 """Tables 4.30-4.31 for real: deadline tasks on this machine's kernel, next to the thesis and our simulator.
 
-    sudo python benchmarks/rt_deadline_experiment.py [--seconds 8] [--seed 0] [--json FILE]
+    sudo python benchmarks/rt_deadline_experiment.py [--seconds 8] [--seed 0] [--exec-high 1.0] [--json FILE]
 
 What runs. Each RT container of Table 4.30 is one process of ``benchmarks/rt_deadline_worker.c`` (a
 cyclicdeadline-like periodic job, compiled here with gcc) started by the node agent
 (``python -m continuum.agent run --runtime-ms WCET --deadline-ms P --period-ms P -- worker job ...``): the kernel
 admits or refuses it (EBUSY: Eq. 2.4), SIGXCPU counts its runtime overruns, the worker counts its missed
-deadlines. The one non-RT container is a memory stress (a 64 MiB buffer written line by line), SCHED_OTHER.
+deadlines. Each job's demand is U(0.3, --exec-high) x WCET of CPU time, the simulator's model. The one non-RT
+container is a memory stress (a 64 MiB buffer written line by line), SCHED_OTHER.
 
 Scaled to this machine (2 CPUs): the thesis' nodes were J (Jetson, 8 cores, class C, 7.6 of RT bandwidth) and I
 (16-core server for A and B); here each is one CPU, an exclusive cpuset partition (cgroup v1 ``cpuset`` with
@@ -203,7 +204,7 @@ def _deadline_child(agent: subprocess.Popen) -> bool:
     return False
 
 
-def run_real(docs, where, seconds, seed, worker, parts) -> dict[str, dict]:
+def run_real(docs, where, seconds, seed, worker, parts, high=1.0) -> dict[str, dict]:
     """Start the containers in creation order (each admitted or refused before the next starts); once all are
     there, let their jobs begin together (a go file) and wait for them."""
     go = Path(tempfile.mkdtemp(prefix="rt-deadline-")) / "go"
@@ -221,7 +222,7 @@ def run_real(docs, where, seconds, seed, worker, parts) -> dict[str, dict]:
             cmd = [sys.executable, "-m", "continuum.agent", "run", "--runtime-ms", str(WCET_MS), "--deadline-ms",
                    str(d["period"]), "--period-ms", str(d["period"]), "--container", d["name"], "--json", "--",
                    str(worker), "job", str(round(WCET_MS * 1000)), str(p_us), str(p_us), str(seconds),
-                   str(seed * 1000 + i), str(go)]  # fmt: skip
+                   str(seed * 1000 + i), str(go), str(high)]  # fmt: skip
         proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                 preexec_fn=lambda node=node: parts.enter(node))  # fmt: skip
         procs[d["name"]] = proc
@@ -269,11 +270,11 @@ def by_class(docs, results: dict[str, dict]) -> dict[str, dict]:
     return out
 
 
-def simulated(config, docs, seconds, seed) -> dict[str, dict]:
+def simulated(config, docs, seconds, seed, high=1.0) -> dict[str, dict]:
     containers = rtset_from_dict({"containers": docs})
     placer = rt_kube_placer() if config == "RT-Kube" else kube_default_placer(seed, pin="J")
     params = SimParams(horizon_ms=seconds * 1000.0, seed=seed, p_overrun_stress=0.05, p_overrun_non_rt_kernel=0.02,
-                       stressors=frozenset({"stress"}))  # fmt: skip
+                       stressors=frozenset({"stress"}), exec_high=high)  # fmt: skip
     r = simulate(containers, nodes(config == "RT-Kube"), placer, params)
     out = r.by_class()
     for cls, row in out.items():
@@ -293,6 +294,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seconds", type=int, default=8, help="length of each run (default 8)")
     ap.add_argument("--seed", type=int, default=0, help="creation order and job demands")
+    ap.add_argument("--exec-high", type=float, default=1.0, help="jobs run U(0.3, this) x WCET (default 1.0)")
     ap.add_argument("--json", help="write every figure to this file")
     args = ap.parse_args()
     if os.geteuid() != 0:
@@ -304,7 +306,8 @@ def main() -> None:
     with Partitions() as parts:
         print(f"partitions: J = CPU {parts.dirs['J'].joinpath('cpuset.cpus').read_text().strip()}, "
               f"I = CPU {parts.dirs['I'].joinpath('cpuset.cpus').read_text().strip()} (exclusive cpusets, "
-              f"root sched_load_balance off); R = root cpuset; {args.seconds} s per run, seed {args.seed}")  # fmt: skip
+              f"root sched_load_balance off); R = root cpuset; {args.seconds} s per run, seed {args.seed}, "
+              f"jobs U(0.3, {args.exec_high}) x WCET")  # fmt: skip
         cap = admission_cap(parts)
         results["admission_cap"] = {"measured": cap, "sched_rt_ratio": rt_bandwidth()}
         print(f"kernel admission in one partition (1 CPU), measured: {cap:.3f} of the CPU for deadline tasks; "
@@ -314,12 +317,12 @@ def main() -> None:
             results[dep] = {}
             for config in CONFIGS:
                 where = placement(config, docs, args.seed)
-                real = run_real(docs, where, args.seconds, args.seed, worker, parts)
+                real = run_real(docs, where, args.seconds, args.seed, worker, parts, args.exec_high)
                 results[dep][config] = {
                     "placement": where,
                     "real": by_class(docs, real),
                     "real_containers": real,
-                    "sim": simulated(config, docs, args.seconds, args.seed),
+                    "sim": simulated(config, docs, args.seconds, args.seed, args.exec_high),
                 }
     print("\nrejected A/B/C = refused by the kernel (EBUSY); pending = kept out of the kernel by RT-Kube;")
     print("missed % = deadlines missed by the running tasks - with the rejected ones counted at 100 % (Table 4.31);")

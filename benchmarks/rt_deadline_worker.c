@@ -2,13 +2,13 @@
  * cyclicdeadline in each container). It does not set its own policy: continuum.agent makes it a SCHED_DEADLINE
  * task before exec; it only does the work of each job and measures whether the job met its deadline.
  *
- *   rt_deadline_worker job WCET_US PERIOD_US DEADLINE_US SECONDS SEED GO   one periodic task
+ *   rt_deadline_worker job WCET_US PERIOD_US DEADLINE_US SECONDS SEED GO [HIGH]   one periodic task
  *   rt_deadline_worker stress MIB SECONDS GO                               memory stress (SCHED_OTHER)
  *
  * Both wait (polling every 10 ms) until the file GO exists, so that a set of them starts together once every
  * one has been admitted (or refused) by the kernel, in creation order.
  *
- * job: each job burns U(0.3, 1.0) x WCET of its own CPU time (CLOCK_THREAD_CPUTIME_ID), then sched_yield()s,
+ * job: each job burns U(0.3, HIGH) x WCET of its own CPU time (HIGH default 1.0) (CLOCK_THREAD_CPUTIME_ID), then sched_yield()s,
  * which under SCHED_DEADLINE gives up the rest of the runtime until the next period. Job k is released at
  * t0 + k*PERIOD (t0: the start of a period, after a first yield) and misses if it completes after its release
  * + DEADLINE. A job that completes after the next release starts the next one at once (backlog), as a real
@@ -42,7 +42,8 @@ static double uniform(void) { /* xorshift64*: a fixed sequence per seed */
 }
 
 static int job(int argc, char **argv) {
-    if (argc != 8) return 2;
+    if (argc != 8 && argc != 9) return 2;
+    double high = argc == 9 ? atof(argv[8]) : 1.0;
     wait_for(argv[7]);
     int64_t wcet = atoll(argv[2]) * 1000, period = atoll(argv[3]) * 1000, deadline = atoll(argv[4]) * 1000;
     int64_t seconds = atoll(argv[5]);
@@ -54,7 +55,7 @@ static int job(int argc, char **argv) {
     for (long k = 0;; k++) {
         int64_t release = t0 + k * period;
         if (release >= end) break;
-        int64_t demand = (int64_t)((0.3 + 0.7 * uniform()) * (double)wcet);
+        int64_t demand = (int64_t)((0.3 + (high - 0.3) * uniform()) * (double)wcet);
         int64_t start = now_ns(CLOCK_THREAD_CPUTIME_ID);
         while (now_ns(CLOCK_THREAD_CPUTIME_ID) - start < demand) {
         }
@@ -89,6 +90,6 @@ static int stress(int argc, char **argv) {
 int main(int argc, char **argv) {
     if (argc > 1 && strcmp(argv[1], "job") == 0) return job(argc, argv);
     if (argc > 1 && strcmp(argv[1], "stress") == 0) return stress(argc, argv);
-    fprintf(stderr, "usage: %s job WCET_US PERIOD_US DEADLINE_US SECONDS SEED GO | stress MIB SECONDS GO\n", argv[0]);
+    fprintf(stderr, "usage: %s job WCET_US PERIOD_US DEADLINE_US SECONDS SEED GO [HIGH] | stress MIB SECONDS GO\n", argv[0]);
     return 2;
 }
