@@ -264,3 +264,12 @@ def test_command_not_found_is_127():
     status, out, err = agent("--runtime-ms", "1", "--deadline-ms", "10", "--period-ms", "10", "--json", "--",
                              "/nonexistent/command")  # fmt: skip
     assert status == 127 and out["exit_code"] is None and "No such file" in err
+
+
+def test_the_agent_needs_no_django():
+    """It runs on a robot without the rest of Continuum: importing it loads no Django, DRF or Celery."""
+    code = ("import sys, continuum.agent.cli\n"
+            "bad = sorted(m for m in sys.modules if m.split('.')[0] in ('django', 'rest_framework', 'celery'))\n"
+            "print(bad)")  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
