@@ -17,6 +17,7 @@ import subprocess
 import sys
 import threading
 import time
+from datetime import datetime
 from pathlib import Path
 
 import pytest
@@ -81,9 +82,39 @@ def test_hog_overruns_are_counted_and_reported(server):
     assert sum(r["missed_period"] for r in rows) == out["overruns"]
     assert max(r["missed_total"] for r in rows) == out["overruns"]
     counted = [r for r in rows if r["missed_period"]]
-    assert counted and all(r["miss_at"] and r["sent_at"] and r["miss_at"] <= r["sent_at"] for r in counted)
+    assert counted and all(r["miss_at"] and r["sent_at"] for r in counted)
+    assert all(datetime.fromisoformat(r["miss_at"].replace("Z", "+00:00"))
+               <= datetime.fromisoformat(r["sent_at"].replace("Z", "+00:00")) for r in counted)  # fmt: skip
     latest = server["api"].get("/api/v1/rt-monitorings/?container_name=hog").data["results"]
     assert [m["missed_total"] for m in latest] == [out["overruns"]]
+
+
+def test_hog_over_the_threshold_is_evicted_by_the_reconcile(server):
+    """Real overruns, reported with the pod's name, go through the monitor's reconcile like any report: the
+    cluster's default threshold (10 per report) is crossed, a lower-class stateless pod on the node is the victim,
+    the node is tainted, and the event keeps the agent's Eq. 3.19 stamps (missAt <= sentAt <= received)."""
+    from apps.realtime.models import RealTime
+    from tests.realtime.conftest import make_pod
+
+    cluster = server["cluster"]
+    row = RealTime.objects.get(pk=server["realtime"]("slam", period=10, deadline=10, wcet=2)["id"])
+    RealTime.objects.filter(pk=row.pk).update(criticality="B")
+    make_pod(cluster, "slam-0", "node0", "B", True, cpu=0.2, realtime=row, utilization=0.2, container="slam")
+    make_pod(cluster, "logger", "node0", "A", True, cpu=1.0, utilization=0.1)
+    status, out, err = agent("--realtime", "slam", "--pod", "slam-0", "--server", server["url"], "--token",
+                             server["token"], "--node", "node0", "--json", "--", sys.executable, "-c",
+                             HOG.format(s=1.5))  # fmt: skip
+    assert status == 0, err
+    assert out["overruns"] > 10 and out["reported"] == out["overruns"]
+    assert out["server_violations"] >= 1
+    events = server["api"].get(f"/api/v1/rt-events/?cluster={cluster.pk}&kind=eviction").data["results"]
+    assert len(events) == 1, events
+    event = events[0]
+    assert event["container"].endswith("/slam-0") and event["victim"].endswith("/logger")
+    stamps = [datetime.fromisoformat(event[k].replace("Z", "+00:00")) for k in ("miss_at", "sent_at", "received_at")]
+    assert stamps == sorted(stamps)
+    taints = server["api"].get(f"/api/v1/rt-taints/?cluster={cluster.pk}").data["results"]
+    assert [(t["node"], t["key"]) for t in taints] == [("node0", "rt.monitoring/violation")]
 
 
 def test_sleeper_reports_none(server):
