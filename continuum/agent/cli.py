@@ -1,0 +1,249 @@
+"""``python -m continuum.agent run ...``: the node agent's command line (see the package docstring)."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import errno
+import json
+import os
+import signal
+import socket
+import sys
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+from .report import Reporter, Target
+from .sched import DeadlineParams, refusal
+from .trace import run_traced
+
+PROG = "continuum.agent"
+#: Exit statuses of the agent itself (otherwise it exits with the command's status, 128+N if signal N killed it).
+EXIT_USAGE = 2
+EXIT_UNAVAILABLE = 69
+EXIT_KERNEL_REJECTED = 75
+EXIT_NOT_PERMITTED = 77
+EXIT_NOT_EXECUTABLE = 126
+EXIT_NOT_FOUND = 127
+FORWARDED = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2)
+
+
+class UsageError(Exception):
+    """Bad input: exit status 2 and one line on stderr."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(message)
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"{text!r} must be a positive number")
+    return value
+
+
+def parser() -> argparse.ArgumentParser:
+    ap = _Parser(prog=f"python -m {PROG}", description="Continuum's node agent (RT-Kube, thesis 3.4).")
+    sub = ap.add_subparsers(dest="action", required=True)
+    run = sub.add_parser("run", help="run COMMAND under SCHED_DEADLINE, count and report its runtime overruns")
+    timing = run.add_argument_group("timing (ms; default: the RealTime object's, with the node's WCET as runtime)")
+    timing.add_argument("--runtime-ms", type=_positive, help="runtime (WCET on this node)")
+    timing.add_argument("--deadline-ms", type=_positive, help="relative deadline")
+    timing.add_argument("--period-ms", type=_positive, help="period")
+    api = run.add_argument_group("reporting to Continuum")
+    api.add_argument("--realtime", metavar="NAME", help="the RealTime object: timing fetched, named in reports")
+    api.add_argument("--namespace", help="the RealTime object's namespace (when the name is ambiguous)")
+    api.add_argument("--cluster", type=int, help="cluster id (default: the RealTime object's, or the fleet's only)")
+    api.add_argument("--server", default=os.environ.get("CONTINUUM_SERVER"),
+                     help="base URL, e.g. http://continuum:8000 (env CONTINUUM_SERVER)")  # fmt: skip
+    api.add_argument("--token", default=os.environ.get("CONTINUUM_TOKEN"),
+                     help="fleet API token (env CONTINUUM_TOKEN; better: arguments show in ps)")  # fmt: skip
+    api.add_argument("--node", default=os.environ.get("NODE_NAME") or socket.gethostname(),
+                     help="node name in reports (env NODE_NAME, else the host name)")  # fmt: skip
+    api.add_argument("--container", help="containerName in reports (default: the RealTime name, else COMMAND's)")
+    api.add_argument("--pod", default=os.environ.get("POD_NAME", ""), help="pod name in reports (env POD_NAME)")
+    api.add_argument("--interval", type=_positive, default=0.5, help="seconds between reports (1/f_c; 0.5)")
+    api.add_argument("--max-backoff", type=_positive, default=10.0, help="longest wait between retries (10 s)")
+    api.add_argument("--flush-timeout", type=float, default=10.0,
+                     help="seconds to deliver the last reports once COMMAND ended (10)")  # fmt: skip
+    api.add_argument("--http-timeout", type=_positive, default=5.0, help="seconds per request (5)")
+    run.add_argument("--tracer-priority", type=int, default=1, choices=range(0, 100), metavar="0-99",
+                     help="SCHED_FIFO priority of the agent's tracing thread (1; 0: leave it SCHED_OTHER)")  # fmt: skip
+    run.add_argument("--json", action="store_true", help="print one JSON object on stdout at the end")
+    run.add_argument("command", nargs=argparse.REMAINDER, help="-- COMMAND ARGS...")
+    return ap
+
+
+def _get_json(server: str, token: str, path: str, params: dict[str, Any], timeout: float) -> Any:
+    url = server.rstrip("/") + path + "?" + urllib.parse.urlencode({k: v for k, v in params.items() if v is not None})
+    request = urllib.request.Request(url, headers={"Authorization": f"Token {token}", "Accept": "application/json"})
+    with urllib.request.urlopen(request, timeout=timeout) as response:
+        return json.loads(response.read())
+
+
+def fetch_realtime(args: argparse.Namespace) -> dict[str, Any]:
+    """The RealTime object named ``args.realtime`` (exactly one among the caller's fleets' clusters)."""
+    params = {"search": args.realtime, "cluster": args.cluster, "namespace": args.namespace, "limit": 100}
+    try:
+        page = _get_json(args.server, args.token, "/api/v1/realtimes/", params, args.http_timeout)
+    except urllib.error.HTTPError as exc:
+        raise UsageError(f"cannot read RealTime {args.realtime!r}: HTTP {exc.code} from {args.server}") from exc
+    except (OSError, ValueError) as exc:
+        raise ConnectionError(f"cannot reach {args.server} to read RealTime {args.realtime!r}: {exc}") from exc
+    rows = page.get("results", page) if isinstance(page, dict) else page
+    hits = [r for r in rows if isinstance(r, dict) and r.get("name") == args.realtime]
+    if not hits:
+        raise UsageError(f"no RealTime {args.realtime!r} among your fleets' clusters")
+    if len(hits) > 1:
+        where = ", ".join(f"cluster {r.get('cluster')} namespace {r.get('namespace')}" for r in hits)
+        raise UsageError(f"RealTime {args.realtime!r} is ambiguous ({where}): give --cluster / --namespace")
+    return hits[0]
+
+
+def resolve(args: argparse.Namespace) -> tuple[DeadlineParams, Target | None, dict[str, Any]]:
+    """The deadline parameters and where reports go; UsageError names the problem."""
+    command = args.command[1:] if args.command[:1] == ["--"] else args.command
+    if not command:
+        raise UsageError("no COMMAND given (run ... -- COMMAND ARGS...)")
+    args.command = command
+    if args.server and not args.token:
+        raise UsageError("--server needs --token (or CONTINUUM_TOKEN)")
+    if args.server and urllib.parse.urlsplit(args.server).scheme not in ("http", "https"):
+        raise UsageError(f"--server {args.server!r} must be an http(s) URL")
+    info: dict[str, Any] = {}
+    timing = {"runtime": args.runtime_ms, "deadline": args.deadline_ms, "period": args.period_ms}
+    cluster = args.cluster
+    if args.realtime:
+        if not args.server:
+            raise UsageError("--realtime needs --server and --token to read the object")
+        row = fetch_realtime(args)
+        wcets = {w.get("node"): w.get("wcet") for w in row.get("wcets", [])}
+        if timing["runtime"] is None and args.node not in wcets:
+            raise UsageError(f"RealTime {args.realtime!r} has no WCET for node {args.node!r} (it has: "
+                             f"{', '.join(map(str, wcets)) or 'none'}); give --node or --runtime-ms")  # fmt: skip
+        defaults = {"runtime": wcets.get(args.node), "deadline": row.get("deadline"), "period": row.get("period")}
+        timing = {k: v if v is not None else defaults[k] for k, v in timing.items()}
+        cluster = cluster if cluster is not None else row.get("cluster")
+        info["realtime"] = {"id": row.get("id"), "name": row.get("name"), "namespace": row.get("namespace"),
+                            "cluster": row.get("cluster"), "criticality": row.get("criticality")}  # fmt: skip
+    missing = [f"--{k}-ms" for k, v in timing.items() if v is None]
+    if missing:
+        raise UsageError(f"missing {', '.join(missing)} (or --realtime with --server to read them)")
+    params = DeadlineParams.from_ms(float(timing["runtime"]), float(timing["deadline"]), float(timing["period"]))
+    problem = params.problem()
+    if problem:
+        raise UsageError(problem)
+    container = args.container or args.realtime or os.path.basename(command[0])
+    target = None
+    if args.server:
+        if not args.node:
+            raise UsageError("no node name: give --node (or NODE_NAME)")
+        target = Target(args.server, args.token, args.node, container, args.pod, cluster, args.http_timeout)
+    info.update(node=args.node, container=container)
+    return params, target, info
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        args = parser().parse_args(argv)
+        params, target, info = resolve(args)
+    except UsageError as exc:
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except ConnectionError as exc:
+        print(f"{PROG}: {exc}", file=sys.stderr)
+        return EXIT_UNAVAILABLE
+    return run(args, params, target, info)
+
+
+def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None, info: dict[str, Any]) -> int:
+    reporter = Reporter(target, interval=args.interval, max_backoff=args.max_backoff)
+    child = {"pid": 0}
+
+    def forward(sig: int, _frame: object) -> None:
+        if child["pid"]:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(child["pid"], sig)
+
+    previous = {sig: signal.signal(sig, forward) for sig in FORWARDED}
+
+    tracer = {"policy": "other"}
+
+    def started(pid: int) -> None:
+        child["pid"] = pid
+        reporter.start()  # after the fork: the child never shares the reporter's thread
+        # A command stopped at its SIGXCPU waits for this thread: it must get the CPU at once, also when SCHED_OTHER
+        # work (a stress, other pods) fills what the deadline tasks leave. Only this thread (not the reporter).
+        if args.tracer_priority:
+            try:
+                os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(args.tracer_priority))
+                tracer["policy"] = f"fifo:{args.tracer_priority}"
+            except OSError:
+                pass  # e.g. no RT runtime in this cgroup: trace at SCHED_OTHER (reported in the JSON)
+
+    began = time.monotonic()
+    try:
+        outcome = run_traced(args.command, params, reporter.overrun, started)
+    except OSError as exc:
+        print(f"{PROG}: cannot trace the command: {exc}", file=sys.stderr)
+        return EXIT_UNAVAILABLE
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    reason = None
+    if outcome.refused is not None:
+        status, text = refusal(outcome.refused)
+        reason = f"{text} ({errno.errorcode.get(outcome.refused, outcome.refused)})"
+        if outcome.refused == errno.EBUSY:
+            reporter.kernel_rejected(reason)
+        reporter.start()
+        print(f"{PROG}: {reason}", file=sys.stderr)
+    elif outcome.exec_errno is not None:
+        status = EXIT_NOT_FOUND if outcome.exec_errno == errno.ENOENT else EXIT_NOT_EXECUTABLE
+        reason = f"cannot run {args.command[0]!r}: {os.strerror(outcome.exec_errno)}"
+        reporter.start()
+        print(f"{PROG}: {reason}", file=sys.stderr)
+    elif outcome.signal is not None:
+        status = 128 + outcome.signal
+    else:
+        status = outcome.exit_code or 0
+    duration = time.monotonic() - began
+    reporter.close(args.flush_timeout)
+    result = {
+        "overruns": reporter.overruns,
+        "kernel_rejected": outcome.refused == errno.EBUSY,
+        "exit_code": outcome.exit_code if outcome.refused is None and outcome.exec_errno is None else None,
+        "signal": outcome.signal if outcome.refused is None else None,
+        "reported": reporter.acknowledged,
+        "pending": reporter.pending if target is not None else 0,
+        "rejection_reported": reporter.rejection_acknowledged,
+        "reports_acknowledged": reporter.reports_acknowledged,
+        "server_violations": reporter.server_violations,
+        "report_failures": reporter.failures,
+        "report_error": reporter.fatal or (reporter.last_error if reporter.pending else None),
+        "reporting": target is not None,
+        "status": status,
+        "reason": reason,
+        "runtime_ms": params.runtime_ns / 1e6,
+        "deadline_ms": params.deadline_ns / 1e6,
+        "period_ms": params.period_ns / 1e6,
+        "bandwidth": params.bandwidth,
+        "duration_s": round(duration, 3),
+        "tracer_policy": tracer["policy"],
+        **info,
+    }
+    if target is not None and reporter.pending:
+        print(f"{PROG}: {reporter.pending} overruns not delivered: {result['report_error']}", file=sys.stderr)
+    if args.json:
+        sys.stdout.flush()
+        print(json.dumps(result), flush=True)
+    return status
