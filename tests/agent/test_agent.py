@@ -58,7 +58,7 @@ def server(live_server, fleet_token, api, rt_cluster):
         assert response.status_code == 201, response.data
         return response.data
 
-    return {"url": live_server.url, "token": fleet_token.key, "realtime": realtime, "api": api,
+    return {"url": live_server.url, "token": fleet_token.plaintext, "realtime": realtime, "api": api,
             "cluster": rt_cluster}  # fmt: skip
 
 
