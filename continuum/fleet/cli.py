@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import logging
 import math
 import os
 import sys
@@ -67,7 +68,7 @@ def _fleet(args: argparse.Namespace) -> Fleet:
     if not server or not token:
         raise BadInput("give --server and --token (or CONTINUUM_SERVER and CONTINUUM_TOKEN)")
     try:
-        return Fleet(server, token, timeout=args.timeout_http)
+        return Fleet(server, token, timeout=args.timeout_http, retries=args.retries)
     except ValueError as exc:
         raise BadInput(str(exc)) from None
 
@@ -169,6 +170,8 @@ def _post(args: argparse.Namespace, events: Callable[[], Iterator[list[Any]]], s
     total = sum(1 for _ in events())
     if not total:
         raise BadInput(f"{source}: no events")
+    if args.cluster is None:
+        raise BadInput("give --cluster (or --dry-run)")
     with _fleet(args) as fleet, _bar(args, unit="ev", desc=source, total=total) as bar:
         last = [0]
 
@@ -194,8 +197,6 @@ def cmd_bag_events(args: argparse.Namespace) -> None:
         for e in events():
             print(json.dumps(e))
         return
-    if args.cluster is None:
-        raise BadInput("give --cluster (or --dry-run)")
     _post(args, events, Path(args.bag).name)
 
 
@@ -270,6 +271,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bars on stderr (default: when stderr is a terminal)")  # fmt: skip
     p.add_argument("--timeout-http", type=_positive(float), default=30.0, help="seconds per request")
+    p.add_argument("--retries", type=int, choices=range(0, 11), default=4, metavar="0..10",
+                   help="tries when the server cannot be reached or is busy (429/503), with back-off")  # fmt: skip
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     up = sub.add_parser("upload", help="upload a DAG (application) or a ROS graph file")
@@ -342,6 +345,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    # httpx logs every request at INFO: noise on a robot's stderr, where only errors and progress belong.
+    logging.getLogger("httpx").setLevel(logging.WARNING)
     try:
         args = build_parser().parse_args(argv)
         if getattr(args, "batch_size", 1) > MAX_EVENTS:

@@ -59,7 +59,8 @@ def test_events_for_the_stl_monitors(robot_bag):
     events = list(events_from_bag(robot_bag))
     speed = [e for e in events if e[0] == "speed.data"]
     assert speed == [["speed.data", 0.5 * i, i * 50.0] for i in range(21)]
-    assert [e for e in events if e[0] == "arrived.data"] == [["arrived.data", False, 0.0], ["arrived.data", True, 1000.0]]
+    arrived = [e for e in events if e[0] == "arrived.data"]
+    assert arrived == [["arrived.data", False, 0.0], ["arrived.data", True, 1000.0]]
     assert not any(e[0].startswith("scan") for e in events)  # strings are not signals
     assert [e[2] for e in events] == sorted(e[2] for e in events)  # in recording order
     only = list(events_from_bag(robot_bag, topics=["/arrived"], signals=["arrived.data"]))
