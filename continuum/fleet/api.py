@@ -147,8 +147,9 @@ class Fleet:
             raise ValueError(f"server {server!r} is not an http(s) URL")
         if not token or not token.isprintable() or " " in token:
             raise ValueError("token must be a fleet API token (printable, no spaces)")
+        self.server = server.rstrip("/")
         self.client = AuthenticatedClient(
-            base_url=server.rstrip("/"), token=token, prefix="Token", timeout=httpx.Timeout(timeout)
+            base_url=self.server, token=token, prefix="Token", timeout=httpx.Timeout(timeout)
         )
         self.retries, self.backoff = retries, backoff
 
@@ -176,7 +177,7 @@ class Fleet:
                 resp = fn(*args, client=self.client, **kw)
             except (httpx.ConnectError, httpx.ConnectTimeout) as exc:
                 if last:
-                    raise ApiError(None, f"cannot reach {self.client._base_url}: {exc}", what) from exc
+                    raise ApiError(None, f"cannot reach {self.server}: {exc}", what) from exc
                 self._sleep(attempt, None)
                 continue
             except httpx.TransportError as exc:
