@@ -73,3 +73,14 @@ def test_generated_names_are_by_resource():
     assert ReportBatchRequest.from_dict({"reports": [{"node": "n"}]}).to_dict() == {"reports": [{"node": "n"}]}
     client = AuthenticatedClient(base_url="http://127.0.0.1:1", token="t", prefix="Token")
     assert client.get_httpx_client().headers["Authorization"] == "Token t"
+
+
+def test_the_client_and_fleet_layer_import_no_django():
+    code = (
+        "import sys, continuum.client, continuum.fleet.cli, continuum.fleet.rosbag; "
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in ('django', 'rest_framework', 'apps')))"
+    )
+    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120,
+                         env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT)})  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "[]"
