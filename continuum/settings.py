@@ -197,6 +197,9 @@ SPECTACULAR_SETTINGS = {
     "SWAGGER_UI_FAVICON_HREF": "SIDECAR",
     "REDOC_DIST": "SIDECAR",
     "ENUM_NAME_OVERRIDES": {"AlgorithmEnum": "apps.scheduling.serializers.ALGORITHM_CHOICES"},
+    # Operations tagged and named by resource ("jobs", "jobs_retrieve"), not all under "v1" ("v1_jobs_retrieve"):
+    # the docs group them by resource and the generated client (continuum/client/) has usable names.
+    "SCHEMA_PATH_PREFIX": r"/api/v[0-9]+",
 }
 
 # ---- Celery ---------------------------------------------------------------------------------------

@@ -31,9 +31,10 @@ ensure_venv() {  # ensure_venv requirements-file
     say "creating .venv"
     "$PY" -m venv "$ROOT/.venv" || { apt_install python3-venv && "$PY" -m venv "$ROOT/.venv"; }
   fi
-  stamp="$ROOT/.venv/.installed-$(cat "$ROOT/requirements.txt" "$ROOT/$req" | sha256sum | cut -c1-16)"
+  # requirements-robot.txt (the fleet client's, included by requirements-test.txt) is hashed too.
+  stamp="$ROOT/.venv/.installed-$(cat "$ROOT/requirements.txt" "$ROOT/requirements-robot.txt" "$ROOT/$req" | sha256sum | cut -c1-16)"
   # The test requirements include the runtime ones: a venv that scripts/test made serves scripts/start too.
-  tstamp="$ROOT/.venv/.installed-$(cat "$ROOT/requirements.txt" "$ROOT/requirements-test.txt" | sha256sum | cut -c1-16)"
+  tstamp="$ROOT/.venv/.installed-$(cat "$ROOT/requirements.txt" "$ROOT/requirements-robot.txt" "$ROOT/requirements-test.txt" | sha256sum | cut -c1-16)"
   if [ ! -f "$stamp" ] && [ ! -f "$tstamp" ]; then
     say "installing Python packages from $req"
     "$ROOT/.venv/bin/python" -m pip install -q --upgrade pip >&2

@@ -1,0 +1,257 @@
+from http import HTTPStatus
+from typing import Any
+
+import httpx
+
+from ... import errors
+from ...client import AuthenticatedClient, Client
+from ...models.handler_sync_request import HandlerSyncRequest
+from ...models.paginated_handler_list import PaginatedHandlerList
+from ...types import UNSET, Response, Unset
+
+
+def _get_kwargs(
+    *,
+    body: HandlerSyncRequest,
+    cluster: int | Unset = UNSET,
+    is_coordinator: bool | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> dict[str, Any]:
+    headers: dict[str, Any] = {}
+
+    params: dict[str, Any] = {}
+
+    params["cluster"] = cluster
+
+    params["is_coordinator"] = is_coordinator
+
+    params["limit"] = limit
+
+    params["offset"] = offset
+
+    params["ordering"] = ordering
+
+    params["search"] = search
+
+    params = {k: v for k, v in params.items() if v is not UNSET and v is not None}
+
+    _kwargs: dict[str, Any] = {
+        "method": "post",
+        "url": "/api/v1/handlers/sync/",
+        "params": params,
+    }
+
+    _kwargs["json"] = body.to_dict()
+
+    headers["Content-Type"] = "application/json"
+
+    _kwargs["headers"] = headers
+    return _kwargs
+
+
+def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> PaginatedHandlerList | None:
+    if response.status_code == 200:
+        response_200 = PaginatedHandlerList.from_dict(response.json())
+
+        return response_200
+
+    if client.raise_on_unexpected_status:
+        raise errors.UnexpectedStatus(response.status_code, response.content)
+    else:
+        return None
+
+
+def _build_response(
+    *, client: AuthenticatedClient | Client, response: httpx.Response
+) -> Response[PaginatedHandlerList]:
+    return Response(
+        status_code=HTTPStatus(response.status_code),
+        content=response.content,
+        headers=response.headers,
+        parsed=_parse_response(client=client, response=response),
+    )
+
+
+def sync_detailed(
+    *,
+    client: AuthenticatedClient,
+    body: HandlerSyncRequest,
+    cluster: int | Unset = UNSET,
+    is_coordinator: bool | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> Response[PaginatedHandlerList]:
+    """Create a handler per node of the cluster and read their reports, the coordinator and the
+    monitors' verdicts from the cluster's verification network (Redis).
+
+    Args:
+        cluster (int | Unset):
+        is_coordinator (bool | Unset):
+        limit (int | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+        body (HandlerSyncRequest): The base of every plain serializer of the API.
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        Response[PaginatedHandlerList]
+    """
+
+    kwargs = _get_kwargs(
+        body=body,
+        cluster=cluster,
+        is_coordinator=is_coordinator,
+        limit=limit,
+        offset=offset,
+        ordering=ordering,
+        search=search,
+    )
+
+    response = client.get_httpx_client().request(
+        **kwargs,
+    )
+
+    return _build_response(client=client, response=response)
+
+
+def sync(
+    *,
+    client: AuthenticatedClient,
+    body: HandlerSyncRequest,
+    cluster: int | Unset = UNSET,
+    is_coordinator: bool | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> PaginatedHandlerList | None:
+    """Create a handler per node of the cluster and read their reports, the coordinator and the
+    monitors' verdicts from the cluster's verification network (Redis).
+
+    Args:
+        cluster (int | Unset):
+        is_coordinator (bool | Unset):
+        limit (int | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+        body (HandlerSyncRequest): The base of every plain serializer of the API.
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        PaginatedHandlerList
+    """
+
+    return sync_detailed(
+        client=client,
+        body=body,
+        cluster=cluster,
+        is_coordinator=is_coordinator,
+        limit=limit,
+        offset=offset,
+        ordering=ordering,
+        search=search,
+    ).parsed
+
+
+async def asyncio_detailed(
+    *,
+    client: AuthenticatedClient,
+    body: HandlerSyncRequest,
+    cluster: int | Unset = UNSET,
+    is_coordinator: bool | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> Response[PaginatedHandlerList]:
+    """Create a handler per node of the cluster and read their reports, the coordinator and the
+    monitors' verdicts from the cluster's verification network (Redis).
+
+    Args:
+        cluster (int | Unset):
+        is_coordinator (bool | Unset):
+        limit (int | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+        body (HandlerSyncRequest): The base of every plain serializer of the API.
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        Response[PaginatedHandlerList]
+    """
+
+    kwargs = _get_kwargs(
+        body=body,
+        cluster=cluster,
+        is_coordinator=is_coordinator,
+        limit=limit,
+        offset=offset,
+        ordering=ordering,
+        search=search,
+    )
+
+    response = await client.get_async_httpx_client().request(**kwargs)
+
+    return _build_response(client=client, response=response)
+
+
+async def asyncio(
+    *,
+    client: AuthenticatedClient,
+    body: HandlerSyncRequest,
+    cluster: int | Unset = UNSET,
+    is_coordinator: bool | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> PaginatedHandlerList | None:
+    """Create a handler per node of the cluster and read their reports, the coordinator and the
+    monitors' verdicts from the cluster's verification network (Redis).
+
+    Args:
+        cluster (int | Unset):
+        is_coordinator (bool | Unset):
+        limit (int | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+        body (HandlerSyncRequest): The base of every plain serializer of the API.
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        PaginatedHandlerList
+    """
+
+    return (
+        await asyncio_detailed(
+            client=client,
+            body=body,
+            cluster=cluster,
+            is_coordinator=is_coordinator,
+            limit=limit,
+            offset=offset,
+            ordering=ordering,
+            search=search,
+        )
+    ).parsed

@@ -1,0 +1,261 @@
+from http import HTTPStatus
+from typing import Any
+
+import httpx
+
+from ... import errors
+from ...client import AuthenticatedClient, Client
+from ...models.paginated_rt_pod_list import PaginatedRTPodList
+from ...types import UNSET, Response, Unset
+
+
+def _get_kwargs(
+    *,
+    cluster: int | Unset = UNSET,
+    criticality: str | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    namespace: str | Unset = UNSET,
+    node: str | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> dict[str, Any]:
+
+    params: dict[str, Any] = {}
+
+    params["cluster"] = cluster
+
+    params["criticality"] = criticality
+
+    params["limit"] = limit
+
+    params["namespace"] = namespace
+
+    params["node"] = node
+
+    params["offset"] = offset
+
+    params["ordering"] = ordering
+
+    params["search"] = search
+
+    params = {k: v for k, v in params.items() if v is not UNSET and v is not None}
+
+    _kwargs: dict[str, Any] = {
+        "method": "get",
+        "url": "/api/v1/rt-pods/",
+        "params": params,
+    }
+
+    return _kwargs
+
+
+def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> PaginatedRTPodList | None:
+    if response.status_code == 200:
+        response_200 = PaginatedRTPodList.from_dict(response.json())
+
+        return response_200
+
+    if client.raise_on_unexpected_status:
+        raise errors.UnexpectedStatus(response.status_code, response.content)
+    else:
+        return None
+
+
+def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> Response[PaginatedRTPodList]:
+    return Response(
+        status_code=HTTPStatus(response.status_code),
+        content=response.content,
+        headers=response.headers,
+        parsed=_parse_response(client=client, response=response),
+    )
+
+
+def sync_detailed(
+    *,
+    client: AuthenticatedClient,
+    cluster: int | Unset = UNSET,
+    criticality: str | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    namespace: str | Unset = UNSET,
+    node: str | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> Response[PaginatedRTPodList]:
+    """The pods the RT scheduler sees, with their node and reserved utilization.
+
+    Args:
+        cluster (int | Unset):
+        criticality (str | Unset):
+        limit (int | Unset):
+        namespace (str | Unset):
+        node (str | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        Response[PaginatedRTPodList]
+    """
+
+    kwargs = _get_kwargs(
+        cluster=cluster,
+        criticality=criticality,
+        limit=limit,
+        namespace=namespace,
+        node=node,
+        offset=offset,
+        ordering=ordering,
+        search=search,
+    )
+
+    response = client.get_httpx_client().request(
+        **kwargs,
+    )
+
+    return _build_response(client=client, response=response)
+
+
+def sync(
+    *,
+    client: AuthenticatedClient,
+    cluster: int | Unset = UNSET,
+    criticality: str | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    namespace: str | Unset = UNSET,
+    node: str | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> PaginatedRTPodList | None:
+    """The pods the RT scheduler sees, with their node and reserved utilization.
+
+    Args:
+        cluster (int | Unset):
+        criticality (str | Unset):
+        limit (int | Unset):
+        namespace (str | Unset):
+        node (str | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        PaginatedRTPodList
+    """
+
+    return sync_detailed(
+        client=client,
+        cluster=cluster,
+        criticality=criticality,
+        limit=limit,
+        namespace=namespace,
+        node=node,
+        offset=offset,
+        ordering=ordering,
+        search=search,
+    ).parsed
+
+
+async def asyncio_detailed(
+    *,
+    client: AuthenticatedClient,
+    cluster: int | Unset = UNSET,
+    criticality: str | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    namespace: str | Unset = UNSET,
+    node: str | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> Response[PaginatedRTPodList]:
+    """The pods the RT scheduler sees, with their node and reserved utilization.
+
+    Args:
+        cluster (int | Unset):
+        criticality (str | Unset):
+        limit (int | Unset):
+        namespace (str | Unset):
+        node (str | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        Response[PaginatedRTPodList]
+    """
+
+    kwargs = _get_kwargs(
+        cluster=cluster,
+        criticality=criticality,
+        limit=limit,
+        namespace=namespace,
+        node=node,
+        offset=offset,
+        ordering=ordering,
+        search=search,
+    )
+
+    response = await client.get_async_httpx_client().request(**kwargs)
+
+    return _build_response(client=client, response=response)
+
+
+async def asyncio(
+    *,
+    client: AuthenticatedClient,
+    cluster: int | Unset = UNSET,
+    criticality: str | Unset = UNSET,
+    limit: int | Unset = UNSET,
+    namespace: str | Unset = UNSET,
+    node: str | Unset = UNSET,
+    offset: int | Unset = UNSET,
+    ordering: str | Unset = UNSET,
+    search: str | Unset = UNSET,
+) -> PaginatedRTPodList | None:
+    """The pods the RT scheduler sees, with their node and reserved utilization.
+
+    Args:
+        cluster (int | Unset):
+        criticality (str | Unset):
+        limit (int | Unset):
+        namespace (str | Unset):
+        node (str | Unset):
+        offset (int | Unset):
+        ordering (str | Unset):
+        search (str | Unset):
+
+    Raises:
+        errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
+        httpx.TimeoutException: If the request takes longer than Client.timeout.
+
+    Returns:
+        PaginatedRTPodList
+    """
+
+    return (
+        await asyncio_detailed(
+            client=client,
+            cluster=cluster,
+            criticality=criticality,
+            limit=limit,
+            namespace=namespace,
+            node=node,
+            offset=offset,
+            ordering=ordering,
+            search=search,
+        )
+    ).parsed

@@ -1,0 +1,89 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, TypeVar
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..types import UNSET, Unset
+
+T = TypeVar("T", bound="AllocationRequestRequest")
+
+
+@_attrs_define
+class AllocationRequestRequest:
+    """Start the MILP on a cluster's statistics (``cluster``) or on a ``stats`` document.
+
+    Attributes:
+        cluster (int | Unset):
+        stats (Any | Unset):
+        apply (bool | Unset): move the monitors (cluster only) Default: False.
+        time_limit (float | Unset):  Default: 10.0.
+    """
+
+    cluster: int | Unset = UNSET
+    stats: Any | Unset = UNSET
+    apply: bool | Unset = False
+    time_limit: float | Unset = 10.0
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        cluster = self.cluster
+
+        stats = self.stats
+
+        apply = self.apply
+
+        time_limit = self.time_limit
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update({})
+        if cluster is not UNSET:
+            field_dict["cluster"] = cluster
+        if stats is not UNSET:
+            field_dict["stats"] = stats
+        if apply is not UNSET:
+            field_dict["apply"] = apply
+        if time_limit is not UNSET:
+            field_dict["time_limit"] = time_limit
+
+        return field_dict
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        d = dict(src_dict)
+        cluster = d.pop("cluster", UNSET)
+
+        stats = d.pop("stats", UNSET)
+
+        apply = d.pop("apply", UNSET)
+
+        time_limit = d.pop("time_limit", UNSET)
+
+        allocation_request_request = cls(
+            cluster=cluster,
+            stats=stats,
+            apply=apply,
+            time_limit=time_limit,
+        )
+
+        allocation_request_request.additional_properties = d
+        return allocation_request_request
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties

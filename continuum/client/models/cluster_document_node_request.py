@@ -1,0 +1,238 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any, TypeVar, cast
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..models.arch_enum import ArchEnum, check_arch_enum
+from ..models.blank_enum import BlankEnum, check_blank_enum
+from ..models.criticality_enum import CriticalityEnum, check_criticality_enum
+from ..types import UNSET, Unset
+
+if TYPE_CHECKING:
+    from ..models.cluster_document_node_request_labels import ClusterDocumentNodeRequestLabels
+    from ..models.cluster_document_node_request_taints_item import ClusterDocumentNodeRequestTaintsItem
+
+
+T = TypeVar("T", bound="ClusterDocumentNodeRequest")
+
+
+@_attrs_define
+class ClusterDocumentNodeRequest:
+    """One node of a ``continuum.cluster/v1`` document.
+
+    Attributes:
+        name (str):
+        arch (ArchEnum | Unset): * `amd64` - Amd64
+            * `arm64` - Arm64
+            * `riscv64` - Riscv64 Default: 'amd64'.
+        cpu (float | Unset):  Default: 1.0.
+        memory_mib (int | Unset):  Default: 1024.
+        storage_mib (int | Unset):  Default: 0.
+        accelerators (list[str] | Unset):
+        processor_class (str | Unset): class that DAG task costs name Default: 'cpu'.
+        speed (float | Unset):  Default: 1.0.
+        rt (bool | Unset):  Default: False.
+        criticality (BlankEnum | CriticalityEnum | Unset):
+        rt_threshold (float | None | Unset):
+        labels (ClusterDocumentNodeRequestLabels | Unset):
+        taints (list[ClusterDocumentNodeRequestTaintsItem] | Unset):
+    """
+
+    name: str
+    arch: ArchEnum | Unset = "amd64"
+    cpu: float | Unset = 1.0
+    memory_mib: int | Unset = 1024
+    storage_mib: int | Unset = 0
+    accelerators: list[str] | Unset = UNSET
+    processor_class: str | Unset = "cpu"
+    speed: float | Unset = 1.0
+    rt: bool | Unset = False
+    criticality: BlankEnum | CriticalityEnum | Unset = UNSET
+    rt_threshold: float | Unset | None = UNSET
+    labels: ClusterDocumentNodeRequestLabels | Unset = UNSET
+    taints: list[ClusterDocumentNodeRequestTaintsItem] | Unset = UNSET
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        name = self.name
+
+        arch: str | Unset = UNSET
+        if not isinstance(self.arch, Unset):
+            arch = self.arch
+
+        cpu = self.cpu
+
+        memory_mib = self.memory_mib
+
+        storage_mib = self.storage_mib
+
+        accelerators: list[str] | Unset = UNSET
+        if not isinstance(self.accelerators, Unset):
+            accelerators = self.accelerators
+
+        processor_class = self.processor_class
+
+        speed = self.speed
+
+        rt = self.rt
+
+        criticality: str | Unset
+        if isinstance(self.criticality, Unset):
+            criticality = UNSET
+        elif isinstance(self.criticality, str):
+            criticality = self.criticality
+        else:
+            criticality = self.criticality
+
+        rt_threshold: float | Unset | None
+        rt_threshold = UNSET if isinstance(self.rt_threshold, Unset) else self.rt_threshold
+
+        labels: dict[str, Any] | Unset = UNSET
+        if not isinstance(self.labels, Unset):
+            labels = self.labels.to_dict()
+
+        taints: list[dict[str, Any]] | Unset = UNSET
+        if not isinstance(self.taints, Unset):
+            taints = []
+            for taints_item_data in self.taints:
+                taints_item = taints_item_data.to_dict()
+                taints.append(taints_item)
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update(
+            {
+                "name": name,
+            }
+        )
+        if arch is not UNSET:
+            field_dict["arch"] = arch
+        if cpu is not UNSET:
+            field_dict["cpu"] = cpu
+        if memory_mib is not UNSET:
+            field_dict["memory_mib"] = memory_mib
+        if storage_mib is not UNSET:
+            field_dict["storage_mib"] = storage_mib
+        if accelerators is not UNSET:
+            field_dict["accelerators"] = accelerators
+        if processor_class is not UNSET:
+            field_dict["processor_class"] = processor_class
+        if speed is not UNSET:
+            field_dict["speed"] = speed
+        if rt is not UNSET:
+            field_dict["rt"] = rt
+        if criticality is not UNSET:
+            field_dict["criticality"] = criticality
+        if rt_threshold is not UNSET:
+            field_dict["rt_threshold"] = rt_threshold
+        if labels is not UNSET:
+            field_dict["labels"] = labels
+        if taints is not UNSET:
+            field_dict["taints"] = taints
+
+        return field_dict
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.cluster_document_node_request_labels import ClusterDocumentNodeRequestLabels
+        from ..models.cluster_document_node_request_taints_item import ClusterDocumentNodeRequestTaintsItem
+
+        d = dict(src_dict)
+        name = d.pop("name")
+
+        _arch = d.pop("arch", UNSET)
+        arch: ArchEnum | Unset
+        arch = UNSET if isinstance(_arch, Unset) else check_arch_enum(_arch)
+
+        cpu = d.pop("cpu", UNSET)
+
+        memory_mib = d.pop("memory_mib", UNSET)
+
+        storage_mib = d.pop("storage_mib", UNSET)
+
+        accelerators = cast(list[str], d.pop("accelerators", UNSET))
+
+        processor_class = d.pop("processor_class", UNSET)
+
+        speed = d.pop("speed", UNSET)
+
+        rt = d.pop("rt", UNSET)
+
+        def _parse_criticality(data: object) -> BlankEnum | CriticalityEnum | Unset:
+            if isinstance(data, Unset):
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                criticality_type_0 = check_criticality_enum(data)
+
+                return criticality_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            if not isinstance(data, str):
+                raise TypeError()
+            criticality_type_1 = check_blank_enum(data)
+
+            return criticality_type_1
+
+        criticality = _parse_criticality(d.pop("criticality", UNSET))
+
+        def _parse_rt_threshold(data: object) -> float | Unset | None:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(float | Unset | None, data)
+
+        rt_threshold = _parse_rt_threshold(d.pop("rt_threshold", UNSET))
+
+        _labels = d.pop("labels", UNSET)
+        labels: ClusterDocumentNodeRequestLabels | Unset
+        labels = UNSET if isinstance(_labels, Unset) else ClusterDocumentNodeRequestLabels.from_dict(_labels)
+
+        _taints = d.pop("taints", UNSET)
+        taints: list[ClusterDocumentNodeRequestTaintsItem] | Unset = UNSET
+        if _taints is not UNSET:
+            taints = []
+            for taints_item_data in _taints:
+                taints_item = ClusterDocumentNodeRequestTaintsItem.from_dict(taints_item_data)
+
+                taints.append(taints_item)
+
+        cluster_document_node_request = cls(
+            name=name,
+            arch=arch,
+            cpu=cpu,
+            memory_mib=memory_mib,
+            storage_mib=storage_mib,
+            accelerators=accelerators,
+            processor_class=processor_class,
+            speed=speed,
+            rt=rt,
+            criticality=criticality,
+            rt_threshold=rt_threshold,
+            labels=labels,
+            taints=taints,
+        )
+
+        cluster_document_node_request.additional_properties = d
+        return cluster_document_node_request
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties

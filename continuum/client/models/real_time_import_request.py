@@ -1,0 +1,81 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, TypeVar
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..types import UNSET, Unset
+
+T = TypeVar("T", bound="RealTimeImportRequest")
+
+
+@_attrs_define
+class RealTimeImportRequest:
+    """The base of every plain serializer of the API.
+
+    Attributes:
+        cluster (int):
+        yaml (str): RealTime objects (Listing 3.33); other kinds are skipped
+        namespace (str | Unset): for objects that name none
+    """
+
+    cluster: int
+    yaml: str
+    namespace: str | Unset = UNSET
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        cluster = self.cluster
+
+        yaml = self.yaml
+
+        namespace = self.namespace
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update(
+            {
+                "cluster": cluster,
+                "yaml": yaml,
+            }
+        )
+        if namespace is not UNSET:
+            field_dict["namespace"] = namespace
+
+        return field_dict
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        d = dict(src_dict)
+        cluster = d.pop("cluster")
+
+        yaml = d.pop("yaml")
+
+        namespace = d.pop("namespace", UNSET)
+
+        real_time_import_request = cls(
+            cluster=cluster,
+            yaml=yaml,
+            namespace=namespace,
+        )
+
+        real_time_import_request.additional_properties = d
+        return real_time_import_request
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties

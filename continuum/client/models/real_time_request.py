@@ -1,0 +1,158 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any, TypeVar
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from ..models.criticality_enum import CriticalityEnum, check_criticality_enum
+from ..types import UNSET, Unset
+
+if TYPE_CHECKING:
+    from ..models.wcet_request import WcetRequest
+
+
+T = TypeVar("T", bound="RealTimeRequest")
+
+
+@_attrs_define
+class RealTimeRequest:
+    """A RealTime object (Listing 3.33). ``wcets`` keeps the order of ``spec.rtWcets``.
+
+    Attributes:
+        cluster (int):
+        name (str): pods link to it by label rt-scheduling
+        criticality (CriticalityEnum): * `A` - A
+            * `B` - B
+            * `C` - C
+            * `D` - D
+        period (float): rtPeriod, ms
+        deadline (float): rtDeadline, ms
+        wcets (list[WcetRequest]):
+        namespace (str | Unset): default: the cluster's namespace
+        stateless (bool | Unset): may be evicted and re-created elsewhere
+        cpu (float | Unset): CPU request, cores
+        memory_mib (float | Unset): memory request, MiB
+    """
+
+    cluster: int
+    name: str
+    criticality: CriticalityEnum
+    period: float
+    deadline: float
+    wcets: list[WcetRequest]
+    namespace: str | Unset = UNSET
+    stateless: bool | Unset = UNSET
+    cpu: float | Unset = UNSET
+    memory_mib: float | Unset = UNSET
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        cluster = self.cluster
+
+        name = self.name
+
+        criticality: str = self.criticality
+
+        period = self.period
+
+        deadline = self.deadline
+
+        wcets = []
+        for wcets_item_data in self.wcets:
+            wcets_item = wcets_item_data.to_dict()
+            wcets.append(wcets_item)
+
+        namespace = self.namespace
+
+        stateless = self.stateless
+
+        cpu = self.cpu
+
+        memory_mib = self.memory_mib
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update(
+            {
+                "cluster": cluster,
+                "name": name,
+                "criticality": criticality,
+                "period": period,
+                "deadline": deadline,
+                "wcets": wcets,
+            }
+        )
+        if namespace is not UNSET:
+            field_dict["namespace"] = namespace
+        if stateless is not UNSET:
+            field_dict["stateless"] = stateless
+        if cpu is not UNSET:
+            field_dict["cpu"] = cpu
+        if memory_mib is not UNSET:
+            field_dict["memory_mib"] = memory_mib
+
+        return field_dict
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.wcet_request import WcetRequest
+
+        d = dict(src_dict)
+        cluster = d.pop("cluster")
+
+        name = d.pop("name")
+
+        criticality = check_criticality_enum(d.pop("criticality"))
+
+        period = d.pop("period")
+
+        deadline = d.pop("deadline")
+
+        wcets = []
+        _wcets = d.pop("wcets")
+        for wcets_item_data in _wcets:
+            wcets_item = WcetRequest.from_dict(wcets_item_data)
+
+            wcets.append(wcets_item)
+
+        namespace = d.pop("namespace", UNSET)
+
+        stateless = d.pop("stateless", UNSET)
+
+        cpu = d.pop("cpu", UNSET)
+
+        memory_mib = d.pop("memory_mib", UNSET)
+
+        real_time_request = cls(
+            cluster=cluster,
+            name=name,
+            criticality=criticality,
+            period=period,
+            deadline=deadline,
+            wcets=wcets,
+            namespace=namespace,
+            stateless=stateless,
+            cpu=cpu,
+            memory_mib=memory_mib,
+        )
+
+        real_time_request.additional_properties = d
+        return real_time_request
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties

@@ -1,0 +1,133 @@
+from __future__ import annotations
+
+from collections.abc import Mapping
+from io import BytesIO
+from typing import Any, TypeVar
+
+from attrs import define as _attrs_define
+from attrs import field as _attrs_field
+
+from .. import types
+from ..models.ros_graph_import_format_enum import RosGraphImportFormatEnum, check_ros_graph_import_format_enum
+from ..types import UNSET, File, Unset
+
+T = TypeVar("T", bound="RosGraphImportRequest")
+
+
+@_attrs_define
+class RosGraphImportRequest:
+    """Upload a ROS graph: continuum.rosgraph/v1, Autoware reference system JSON, iRobot ros2-performance
+    topology JSON or an rqt_graph ``.dot``. A bad file is refused whole with the line or element at fault.
+
+        Attributes:
+            file (File):
+            fleet (str | Unset):
+            format_ (RosGraphImportFormatEnum | Unset): * `rosgraph` - rosgraph
+                * `autoware` - autoware
+                * `irobot` - irobot
+                * `dot` - dot
+            name (str | Unset): default: the name in the file
+            description (str | Unset):  Default: ''.
+    """
+
+    file: File
+    fleet: str | Unset = UNSET
+    format_: RosGraphImportFormatEnum | Unset = UNSET
+    name: str | Unset = UNSET
+    description: str | Unset = ""
+    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        file = self.file.to_tuple()
+
+        fleet = self.fleet
+
+        format_: str | Unset = UNSET
+        if not isinstance(self.format_, Unset):
+            format_ = self.format_
+
+        name = self.name
+
+        description = self.description
+
+        field_dict: dict[str, Any] = {}
+        field_dict.update(self.additional_properties)
+        field_dict.update(
+            {
+                "file": file,
+            }
+        )
+        if fleet is not UNSET:
+            field_dict["fleet"] = fleet
+        if format_ is not UNSET:
+            field_dict["format"] = format_
+        if name is not UNSET:
+            field_dict["name"] = name
+        if description is not UNSET:
+            field_dict["description"] = description
+
+        return field_dict
+
+    def to_multipart(self) -> types.RequestFiles:
+        files: types.RequestFiles = []
+
+        files.append(("file", self.file.to_tuple()))
+
+        if not isinstance(self.fleet, Unset):
+            files.append(("fleet", (None, str(self.fleet).encode(), "text/plain")))
+
+        if not isinstance(self.format_, Unset):
+            files.append(("format", (None, str(self.format_).encode(), "text/plain")))
+
+        if not isinstance(self.name, Unset):
+            files.append(("name", (None, str(self.name).encode(), "text/plain")))
+
+        if not isinstance(self.description, Unset):
+            files.append(("description", (None, str(self.description).encode(), "text/plain")))
+
+        for prop_name, prop in self.additional_properties.items():
+            files.append((prop_name, (None, str(prop).encode(), "text/plain")))
+
+        return files
+
+    @classmethod
+    def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        d = dict(src_dict)
+        file = File(payload=BytesIO(d.pop("file")))
+
+        fleet = d.pop("fleet", UNSET)
+
+        _format_ = d.pop("format", UNSET)
+        format_: RosGraphImportFormatEnum | Unset
+        format_ = UNSET if isinstance(_format_, Unset) else check_ros_graph_import_format_enum(_format_)
+
+        name = d.pop("name", UNSET)
+
+        description = d.pop("description", UNSET)
+
+        ros_graph_import_request = cls(
+            file=file,
+            fleet=fleet,
+            format_=format_,
+            name=name,
+            description=description,
+        )
+
+        ros_graph_import_request.additional_properties = d
+        return ros_graph_import_request
+
+    @property
+    def additional_keys(self) -> list[str]:
+        return list(self.additional_properties.keys())
+
+    def __getitem__(self, key: str) -> Any:
+        return self.additional_properties[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self.additional_properties[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        del self.additional_properties[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.additional_properties
