@@ -2,8 +2,12 @@ from django.db import transaction
 from rest_framework import serializers
 
 from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, VisibleRelatedField
+from apps.tenancy.bounds import at_most_items
+from continuum.engine import limits
 
 from .models import Cluster, ComputeNode, Link
+
+LIMITS = limits.get()
 
 
 class ClusterSerializer(FleetOwnedSerializer):
@@ -130,8 +134,22 @@ class ClusterImportSerializer(DefaultFleetMixin, serializers.Serializer):
     kubeconfig = serializers.CharField(required=False, allow_blank=True, default="")
     kube_context = serializers.CharField(required=False, allow_blank=True, default="")
     namespace = serializers.CharField(required=False, max_length=63, default="continuum")
-    nodes = ClusterDocumentNodeSerializer(many=True, allow_empty=False)
-    links = ClusterDocumentLinkSerializer(many=True, default=list)
+    # The list lengths are checked before any node is validated (a 400,000-node document took minutes).
+    nodes = ClusterDocumentNodeSerializer(
+        many=True, allow_empty=False, max_length=LIMITS.nodes, error_messages=at_most_items("nodes")
+    )
+    links = ClusterDocumentLinkSerializer(
+        many=True, default=list, max_length=LIMITS.links, error_messages=at_most_items("links")
+    )
+
+    def to_internal_value(self, data):
+        # The limits in force now (an override may be lower than the one the fields were built with).
+        lim = limits.get()
+        for key, maximum in (("nodes", lim.nodes), ("links", lim.links)):
+            items = data.get(key) if hasattr(data, "get") else None
+            if isinstance(items, list) and len(items) > maximum:
+                raise serializers.ValidationError({key: [f"{key}: at most {maximum:,} (got {len(items):,})"]})
+        return super().to_internal_value(data)
 
     def validate(self, attrs):
         attrs = super().validate(attrs)
@@ -139,10 +157,19 @@ class ClusterImportSerializer(DefaultFleetMixin, serializers.Serializer):
         dup = sorted({n for n in names if names.count(n) > 1})
         if dup:
             raise serializers.ValidationError({"nodes": [f"duplicate node name {dup[0]!r}"]})
+        seen: dict[tuple[str, str], int] = {}
         for i, link in enumerate(attrs["links"]):
             for end in ("src", "dst"):
                 if link[end] not in names:
                     raise serializers.ValidationError({"links": [f"links[{i}] refers to unknown node {link[end]!r}"]})
+            if link["src"] == link["dst"]:
+                raise serializers.ValidationError({"links": [f"links[{i}] joins node {link['src']!r} to itself"]})
+            pair = (link["src"], link["dst"])
+            if pair in seen:
+                raise serializers.ValidationError(
+                    {"links": [f"links[{i}] repeats links[{seen[pair]}] ({pair[0]} -> {pair[1]})"]}
+                )
+            seen[pair] = i
         if Cluster.objects.filter(fleet=attrs["fleet"], name=attrs["name"]).exists():
             raise serializers.ValidationError(
                 {"name": [f"fleet {attrs['fleet'].slug!r} already has cluster {attrs['name']!r}"]}

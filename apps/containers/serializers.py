@@ -6,6 +6,7 @@ from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import DefaultFleetMixin, FleetField
+from apps.tenancy.bounds import BoundedFileField
 from apps.tenancy.scoping import visible_fleets
 from continuum.engine.cluster import normalize_arch
 from continuum.engine.errors import InputError
@@ -88,7 +89,7 @@ class RosGraphImportSerializer(DefaultFleetMixin, serializers.Serializer):
     topology JSON or an rqt_graph ``.dot``. A bad file is refused whole with the line or element at fault."""
 
     fleet = FleetField(required=False)
-    file = serializers.FileField()
+    file = BoundedFileField()
     format = serializers.ChoiceField(choices=READERS, required=False, help_text="default: guessed from the file")
     name = serializers.CharField(max_length=200, required=False, help_text="default: the name in the file")
     description = serializers.CharField(required=False, allow_blank=True, default="")

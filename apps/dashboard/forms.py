@@ -3,11 +3,10 @@ the engine (and the API's serializers), so errors name the culprit."""
 
 from __future__ import annotations
 
-import json
-
 from django import forms
 
 from apps.clusters.models import Cluster
+from apps.tenancy.bounds import BoundedFormFileField
 from apps.workloads.importing import FORMATS, generate_dag, read_dag_file
 from apps.workloads.models import Application
 from continuum.engine import algorithms
@@ -17,6 +16,7 @@ from continuum.engine.errors import InputError
 from continuum.engine.generators import SHAPES
 from continuum.engine.heft import RANK_MODES
 from continuum.engine.platform import Platform
+from continuum.engine.safeload import loads_json
 
 FORMAT_HELP = "continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX (.dax/.xml), Kasahara STG (.stg), thesis CSV (.csv)"
 #: STG reader options (``continuum.engine.formats.stg``) offered as form fields.
@@ -29,9 +29,9 @@ def json_object(text: str | None, not_object: str) -> dict:
     if not text:
         return {}
     try:
-        value = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise forms.ValidationError(f"not JSON (line {exc.lineno} column {exc.colno}: {exc.msg})") from exc
+        value = loads_json(text)
+    except InputError as exc:
+        raise forms.ValidationError(str(exc)) from exc
     if not isinstance(value, dict):
         raise forms.ValidationError(not_object)
     return value
@@ -67,7 +67,7 @@ def _store(fleet, graph, source_format: str, user) -> Application:
 class UploadForm(FleetChoiceMixin, forms.Form):
     """A DAG file in any supported format; the fleet is asked for only when the user has several."""
 
-    file = forms.FileField(help_text=FORMAT_HELP)
+    file = BoundedFormFileField(help_text=FORMAT_HELP)
     format = forms.ChoiceField(
         choices=[("", "from the file name or content"), *((f, f) for f in FORMATS)], required=False, label="Format"
     )

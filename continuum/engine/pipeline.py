@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
+from . import limits
 from . import overlap as ov
 from .dag import TaskGraph
 from .errors import InputError
@@ -61,8 +62,11 @@ def releases(
     """Release time of each frame (see the module docstring)."""
     if isinstance(frames, bool) or not isinstance(frames, int) or frames < 1:
         raise InputError(f"frames must be a positive integer, not {frames!r}", "frames")
+    limits.check("frames", frames)
     if batch is not None and (isinstance(batch, bool) or not isinstance(batch, int) or batch < 1):
         raise InputError(f"batch must be a positive integer, not {batch!r}", "batch")
+    if batch is not None:
+        limits.check("batch", batch, name="frames")
     if fps is not None and period is not None:
         raise InputError("give either fps or period, not both", "fps")
     if fps is not None:

@@ -26,7 +26,6 @@ system JSON (``ros-realtime/reference-system``), iRobot's ``ros2-performance`` t
 from __future__ import annotations
 
 import itertools
-import json
 import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
@@ -34,6 +33,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .errors import InputError
+from .safeload import loads_json
 
 FORMAT = "continuum.rosgraph/v1"
 LEVELS = ("mission", "macro", "functionality", "driver")
@@ -345,10 +345,7 @@ def load_rosgraph(text: str, fmt: str | None = None, name: str = "", **params: A
     stripped = text.lstrip()
     if fmt == "dot" or (fmt is None and not stripped.startswith(("{", "["))):
         return from_dot(text, name=name, **params)
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}") from exc
+    doc = loads_json(text)
     fmt = fmt or guess_json_format(doc)
     if fmt == "autoware":
         return from_autoware(doc, **params)
