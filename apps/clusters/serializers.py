@@ -46,6 +46,10 @@ class VisibleClusterField(VisibleRelatedField):
 
 class ComputeNodeSerializer(serializers.ModelSerializer):
     cluster = VisibleClusterField()
+    # A list of names, never null (the column is NOT NULL; "null" used to reach the database).
+    accelerators = serializers.ListField(
+        child=serializers.CharField(max_length=64), required=False, max_length=64, help_text='e.g. ["igpu"]'
+    )
 
     class Meta:
         model = ComputeNode

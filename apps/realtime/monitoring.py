@@ -75,7 +75,10 @@ def _stamp(value: Any, where: str, key: str) -> datetime | None:
     if isinstance(value, int | float):
         if not math.isfinite(value):
             raise InputError(f"{where}: {key} must be finite", key)
-        return datetime.fromtimestamp(value, UTC)
+        try:
+            return datetime.fromtimestamp(value, UTC)
+        except (OverflowError, OSError, ValueError) as exc:  # beyond year 9999 (or the platform's time_t)
+            raise InputError(f"{where}: {key} {value!r} is not a time this system can represent", key) from exc
     if isinstance(value, str):
         try:
             stamp = datetime.fromisoformat(value.replace("Z", "+00:00"))

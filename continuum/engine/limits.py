@@ -28,6 +28,8 @@ class Limits:
 
     #: Frames one schedule request may pipeline (and the largest ``batch``).
     frames: int = 1000
+    #: Frames x tasks of one pipelined schedule (every frame's tasks are placed and kept in memory).
+    frame_tasks: int = 1_000_000
     #: Tasks of one DAG (imported, generated or built from a ROS graph).
     tasks: int = 20_000
     #: Edges of one DAG.

@@ -197,6 +197,13 @@ def pipeline(
     from .algorithms import SCHEDULERS, call
 
     release = releases(frames, fps=fps, period=period, batch=batch, time_unit=dag.time_unit)
+    most = limits.get().frame_tasks
+    if len(release) * len(dag) > most:
+        raise InputError(
+            f"frames: at most {max(1, most // len(dag)):,} for a DAG of {len(dag):,} tasks "
+            f"(frames x tasks: at most {most:,})",
+            "frames",
+        )
     if algorithm in NATIVE:
         schedule = call(
             algorithm, NATIVE[algorithm], dag, platform, release, in_order=in_order, progress=progress, **params
