@@ -266,10 +266,12 @@ class RTPlanViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
         s.is_valid(raise_exception=True)
         data = s.validated_data
         cluster = data["cluster"]
-        # Bad parameters or containers are the caller's error (400), not a failed job.
-        planning.params_for(cluster, data.get("params"))
-        if data.get("containers") is not None:
-            rtset_from_dict(data["containers"], list(cluster.nodes.values_list("name", flat=True)))
+        # Bad parameters or containers are the caller's error (400), not a failed job. params_for may create
+        # the cluster's default RT policy: inside one transaction, a 400 leaves nothing behind.
+        with transaction.atomic():
+            planning.params_for(cluster, data.get("params"))
+            if data.get("containers") is not None:
+                rtset_from_dict(data["containers"], list(cluster.nodes.values_list("name", flat=True)))
         args = {"cluster": cluster.pk, "with_bound": data["with_bound"]}
         for key in ("realtimes", "containers", "params"):
             if key in data:

@@ -128,8 +128,8 @@ def test_a_second_rt_policy_for_a_cluster_is_a_400(api, cluster):
 
 
 def test_a_duplicate_link_in_a_cluster_document(api):
-    doc = {"name": "dup", "nodes": [{"name": "a"}, {"name": "b"}],
-           "links": [{"src": "a", "dst": "b", "bandwidth_mbps": 1}, {"src": "a", "dst": "b", "bandwidth_mbps": 2}]}  # fmt: skip
+    link = {"src": "a", "dst": "b", "bandwidth_mbps": 1}
+    doc = {"name": "dup", "nodes": [{"name": "a"}, {"name": "b"}], "links": [link, {**link, "bandwidth_mbps": 2}]}
     response = api.post("/api/v1/clusters/import/", doc, format="json")
     assert response.status_code == 400 and "links[1]" in str(response.data["links"]), response.data
     assert not Cluster.objects.exists() and not Link.objects.exists()
