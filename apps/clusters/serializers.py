@@ -2,7 +2,7 @@ from django.db import transaction
 from rest_framework import serializers
 
 from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, VisibleRelatedField
-from apps.tenancy.bounds import at_most_items
+from apps.tenancy.bounds import at_most, at_most_items
 from continuum.engine import limits
 
 from .models import Cluster, ComputeNode, Link
@@ -71,6 +71,7 @@ class ComputeNodeSerializer(serializers.ModelSerializer):
             "taints",
             "status",
         ]
+        extra_kwargs = {"cpu": {"max_value": LIMITS.cores, "error_messages": at_most("cpu")}}
 
     def validate_taints(self, value):
         if not isinstance(value, list) or not all(
@@ -109,7 +110,7 @@ class ClusterDocumentNodeSerializer(serializers.Serializer):
 
     name = serializers.CharField(max_length=253)
     arch = serializers.ChoiceField(ComputeNode.Arch.choices, default=ComputeNode.Arch.AMD64)
-    cpu = serializers.FloatField(min_value=0, default=1.0)
+    cpu = serializers.FloatField(min_value=0, max_value=LIMITS.cores, default=1.0, error_messages=at_most("cpu"))
     memory_mib = serializers.IntegerField(min_value=0, default=1024)
     storage_mib = serializers.IntegerField(min_value=0, default=0)
     accelerators = serializers.ListField(child=serializers.CharField(), default=list)

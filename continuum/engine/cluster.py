@@ -274,6 +274,8 @@ def _parse_node(index: int, raw: Any) -> ClusterNode:
         raise InputError(f"{where} has an invalid class {cls!r}", "nodes")
     if raw.get("cpu") is not None and _limit(where, raw, "cpu") == 0:
         raise InputError(f"{where} cpu must be a positive number, not 0", "nodes")
+    if raw.get("cpu") is not None and _limit(where, raw, "cpu") > limits.get().cores:
+        raise InputError(f"{where}: cpu: at most {limits.get().cores}", "nodes")
     speed = _limit(where, raw, "speed")
     if speed is not None and speed <= 0:
         raise InputError(f"{where} speed must be a positive number, not {speed!r}", "nodes")

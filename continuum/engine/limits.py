@@ -40,6 +40,8 @@ class Limits:
     out_degree: float = 100.0
     #: Processors of one platform document or generated cost table.
     processors: int = 1024
+    #: CPU cores of one processor or cluster node (a node's ``cpu``).
+    cores: int = 1024
     #: Nodes of one cluster document (``continuum.cluster/v1``, RT sets) and of one ROS graph.
     nodes: int = 5000
     #: Links of one cluster document and edges of one ROS graph.

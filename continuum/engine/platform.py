@@ -74,6 +74,8 @@ class Platform:
                 raise InputError(f"processor {p.id!r} has invalid speed {p.speed!r}", "processors")
             if isinstance(p.cores, bool) or not isinstance(p.cores, int) or p.cores < 1:
                 raise InputError(f"processor {p.id!r} has invalid cores {p.cores!r} (a positive integer)", "processors")
+            if p.cores > limits.get().cores:
+                raise InputError(f"processor {p.id!r}: cores: at most {limits.get().cores}", "processors")
         if self.routing not in ROUTINGS:
             raise InputError(f"unknown routing {self.routing!r} (choose from {', '.join(ROUTINGS)})", "routing")
         _check_bandwidth(self.bandwidth, "platform")

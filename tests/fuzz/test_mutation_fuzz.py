@@ -15,6 +15,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -27,14 +28,16 @@ from hypothesis import strategies as st
 from .mutation import mutated_json, mutated_text
 
 DATA = Path(__file__).resolve().parent.parent / "data"
+# CONTINUUM_FUZZ_EXAMPLES=500 explores further (random, not derandomized) when hunting for new crashes.
+EXPLORE = int(os.environ.get("CONTINUUM_FUZZ_EXAMPLES", "0"))
 FUZZ = settings(
-    max_examples=30,
+    max_examples=EXPLORE or 30,
     deadline=None,
-    derandomize=True,
+    derandomize=not EXPLORE,
     database=None,
     suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow, HealthCheck.data_too_large],
 )
-FEW = settings(FUZZ, max_examples=15)
+FEW = settings(FUZZ, max_examples=EXPLORE or 15)
 
 DAG_JSON = ["topcuoglu.dag.json", "fig31.dag.json", "heft4k-mini.dag.json", "montage-chameleon-2mass-005d-001.json"]
 DAG_TEXT = ["robot.stg", "diamond.dax", "orb_graph.csv"]
