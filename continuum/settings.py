@@ -140,8 +140,8 @@ REST_FRAMEWORK = {
     "DEFAULT_PAGINATION_CLASS": "apps.tenancy.bounds.BoundedLimitOffsetPagination",
     "DEFAULT_PARSER_CLASSES": [
         "apps.tenancy.bounds.SafeJSONParser",
-        "rest_framework.parsers.FormParser",
-        "rest_framework.parsers.MultiPartParser",
+        "apps.tenancy.bounds.SafeFormParser",
+        "apps.tenancy.bounds.SafeMultiPartParser",
     ],
     "PAGE_SIZE": 50,
     "DEFAULT_SCHEMA_CLASS": "drf_spectacular.openapi.AutoSchema",

@@ -8,6 +8,7 @@ from continuum.engine import limits
 from .models import Cluster, ComputeNode, Link
 
 LIMITS = limits.get()
+INT32_MAX = 2**31 - 1
 
 
 class ClusterSerializer(FleetOwnedSerializer):
@@ -111,8 +112,9 @@ class ClusterDocumentNodeSerializer(serializers.Serializer):
     name = serializers.CharField(max_length=253)
     arch = serializers.ChoiceField(ComputeNode.Arch.choices, default=ComputeNode.Arch.AMD64)
     cpu = serializers.FloatField(min_value=0, max_value=LIMITS.cores, default=1.0, error_messages=at_most("cpu"))
-    memory_mib = serializers.IntegerField(min_value=0, default=1024)
-    storage_mib = serializers.IntegerField(min_value=0, default=0)
+    # The columns are 32-bit integers; a larger number is a 400 here, not a database error.
+    memory_mib = serializers.IntegerField(min_value=0, max_value=INT32_MAX, default=1024)
+    storage_mib = serializers.IntegerField(min_value=0, max_value=INT32_MAX, default=0)
     accelerators = serializers.ListField(child=serializers.CharField(), default=list)
     processor_class = serializers.CharField(default="cpu", help_text="class that DAG task costs name")
     speed = serializers.FloatField(min_value=0.001, default=1.0)

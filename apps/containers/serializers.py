@@ -6,8 +6,9 @@ from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import DefaultFleetMixin, FleetField
-from apps.tenancy.bounds import BoundedFileField
+from apps.tenancy.bounds import BoundedFileField, at_most
 from apps.tenancy.scoping import visible_fleets
+from continuum.engine import limits
 from continuum.engine.cluster import normalize_arch
 from continuum.engine.errors import InputError
 from continuum.engine.ros_clustering import max_containers
@@ -140,7 +141,13 @@ class ImageOptionsSerializer(serializers.Serializer):
 class ClusterRequestSerializer(serializers.Serializer):
     """Cluster the graph's ROS nodes into N containers (Listing 3.20), or as many as Eq. 3.13 allows."""
 
-    containers = serializers.IntegerField(min_value=1, required=False, help_text="number of containers N")
+    containers = serializers.IntegerField(
+        min_value=1,
+        max_value=limits.get().nodes,
+        error_messages=at_most("containers"),
+        required=False,
+        help_text="number of containers N",
+    )
     memory_mib = serializers.FloatField(min_value=0, required=False, help_text="memory for containers (Eq. 3.13)")
     overhead_mib = serializers.FloatField(min_value=0, required=False, help_text="memory cost of one container")
     mode = serializers.ChoiceField(choices=MODES, default="per_topic", help_text="Eq. 3.12 reading")

@@ -16,7 +16,7 @@ from django.http import JsonResponse
 from rest_framework.exceptions import ParseError, ValidationError
 from rest_framework.fields import FileField
 from rest_framework.pagination import LimitOffsetPagination
-from rest_framework.parsers import JSONParser
+from rest_framework.parsers import FormParser, JSONParser, MultiPartParser
 
 from continuum.engine import limits
 from continuum.engine.errors import InputError
@@ -84,6 +84,32 @@ class SafeJSONParser(JSONParser):
             return loads_json(text)
         except InputError as exc:
             raise ParseError(f"JSON parse error - {exc}") from exc
+
+
+def _reject_nul_fields(data) -> None:
+    """A NUL, or its JSON escape (a form field may be parsed as JSON, e.g. a node's labels), is a 400 on
+    that field."""
+    for key, values in data.lists():
+        if "\x00" in key or any(isinstance(v, str) and ("\x00" in v or "\\u0000" in v) for v in values):
+            raise ValidationError({key.replace("\x00", "\\0"): ["must not contain a NUL character"]})
+
+
+class SafeFormParser(FormParser):
+    """Form bodies: a NUL in any field is a 400 (PostgreSQL text and jsonb hold none)."""
+
+    def parse(self, stream, media_type=None, parser_context=None):
+        data = super().parse(stream, media_type, parser_context)
+        _reject_nul_fields(data)
+        return data
+
+
+class SafeMultiPartParser(MultiPartParser):
+    """Multipart bodies: a NUL in any (non-file) field is a 400; files are checked by their readers."""
+
+    def parse(self, stream, media_type=None, parser_context=None):
+        result = super().parse(stream, media_type, parser_context)
+        _reject_nul_fields(result.data)
+        return result
 
 
 class RejectNulMiddleware:

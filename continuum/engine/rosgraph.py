@@ -342,6 +342,8 @@ def load_rosgraph(text: str, fmt: str | None = None, name: str = "", **params: A
     """
     if fmt is not None and fmt not in READERS:
         raise InputError(f"unknown ROS graph format {fmt!r} (one of {', '.join(READERS)})", "format")
+    if "\x00" in text:  # no graph format has one, and no stored text may hold one
+        raise InputError("the file contains a NUL character")
     stripped = text.lstrip()
     if fmt == "dot" or (fmt is None and not stripped.startswith(("{", "["))):
         return from_dot(text, name=name, **params)

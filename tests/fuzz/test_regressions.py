@@ -233,3 +233,66 @@ def test_cli_deep_stl(capsys):
 @pytest.fixture
 def rt_cluster_id(api, cluster):
     return cluster.pk
+
+
+# ---- found by the mutation fuzz (tests/fuzz/test_mutation_fuzz.py) -------------------------------------------
+def test_memory_beyond_a_32_bit_column_is_a_400(api):
+    doc = {"name": "big", "nodes": [{"name": "a", "memory_mib": 2**40}]}
+    response = api.post("/api/v1/clusters/import/", doc, format="json")
+    assert response.status_code == 400 and "memory_mib" in json.dumps(response.data)
+
+
+def test_cpu_cores_are_bounded(api, tmp_path, capsys):
+    doc = {"name": "big", "nodes": [{"name": "a", "cpu": 1e300}]}
+    response = api.post("/api/v1/clusters/import/", doc, format="json")
+    assert response.status_code == 400 and "cpu: at most 1024" in json.dumps(response.data)
+    cluster = json.loads((DATA / "heft4k-mini.cluster.json").read_text())
+    cluster["nodes"][0]["cpu"] = 1e300
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(cluster))
+    assert "cpu: at most 1024" in run_cli("heft4k", str(DATA / "heft4k-mini.dag.json"), "--cluster", str(path),
+                                          capsys=capsys)  # fmt: skip
+
+
+def test_nul_in_a_text_dag_file(api):
+    text = (DATA / "orb_graph.csv").read_text().replace(",", ",\x00", 1)
+    response = api.post("/api/v1/applications/import/", {"file": SimpleUploadedFile("g.csv", text.encode())})
+    assert response.status_code == 400 and "NUL" in str(response.data["file"])
+    assert not Application.objects.exists()
+
+
+def test_nul_in_a_multipart_json_field(api, cluster):
+    node = ComputeNode.objects.filter(cluster=cluster).first()
+    response = api.patch(f"/api/v1/nodes/{node.pk}/", {"labels": '{"a": "\\u0000"}'}, format="multipart")
+    assert response.status_code == 400 and "labels" in json.dumps(response.data), response.data
+
+
+def test_platform_numbers_of_the_wrong_type(api, cluster):
+    app = api.post("/api/v1/applications/generate/", {"generator": "layered", "n": 10}, format="json").data
+    platform = {"processors": [{"id": "p0", "speed": [1]}], "latency": [0.0]}
+    response = api.post(f"/api/v1/applications/{app['id']}/schedule/", {"platform": platform}, format="json")
+    assert response.status_code == 400 and "speed" in json.dumps(response.data), response.data
+
+
+def test_a_refused_what_if_leaves_no_rt_policy_behind(api, cluster):
+    from apps.realtime.models import RTPolicy
+
+    response = api.post("/api/v1/rt-plans/whatif/", {"cluster": cluster.pk, "containers": 1e300}, format="json")
+    assert response.status_code == 400
+    assert not RTPolicy.objects.exists()
+
+
+def test_autoware_topic_lists_of_lists(tmp_path, capsys):
+    doc = json.loads((DATA / "autoware_reference_system.json").read_text())
+    doc["nodes"][0]["publishes"] = [["a"]]
+    path = tmp_path / "g.json"
+    path.write_text(json.dumps(doc))
+    assert "topic names" in run_cli("cluster_ros", str(path), "--containers", "2", capsys=capsys)
+
+
+def test_monitorstats_current_node_of_the_wrong_type(tmp_path, capsys):
+    doc = json.loads((DATA / "verification" / "case_study_1.monitorstats.json").read_text())
+    doc["monitors"][0]["current"] = ["edge"]
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(doc))
+    assert "current node" in run_cli("allocate_monitors", str(path), "--time-limit", "1", capsys=capsys)

@@ -71,6 +71,8 @@ def load_dag(
             content = content.decode("utf-8")
         except UnicodeDecodeError as exc:
             raise InputError(f"the file is not UTF-8 text (byte {exc.start})") from exc
+    if "\x00" in content:  # no text format has one, and no stored text may hold one
+        raise InputError("the file contains a NUL character")
     if fmt is None:
         fmt = sniff_text(content)
     if fmt in TEXT_READERS:
