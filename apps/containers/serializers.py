@@ -161,9 +161,8 @@ class ClusterRequestSerializer(serializers.Serializer):
             raise serializers.ValidationError({"memory_mib": ["Eq. 3.13 needs both memory_mib and overhead_mib"]})
         try:
             bound = max_containers(memory, overhead) if memory is not None else None
-        except InputError as exc:  # the engine's "memory"/"overhead" are this form's *_mib fields
-            field = {"overhead": "overhead_mib"}.get(exc.field or "", "memory_mib")
-            raise serializers.ValidationError({field: [str(exc)]}) from exc
+        except InputError as exc:
+            raise input_error(exc, "memory_mib") from exc
         n = attrs.get("containers")
         if n is None and bound is None:
             raise serializers.ValidationError(

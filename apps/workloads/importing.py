@@ -25,7 +25,12 @@ def parse_options(value: Any) -> dict[str, Any]:
     if value in (None, ""):
         return {}
     if isinstance(value, (str, bytes)):
-        value = loads_json(value, "options")
+        try:
+            value = loads_json(value, "options")
+        except InputError as exc:
+            message = str(exc)
+            message = f"not JSON ({message})" if message.startswith("malformed") else message
+            raise InputError(message, "options") from exc
     if not isinstance(value, dict):
         raise InputError('reader options must be a JSON object, e.g. {"ccr": 1}', "options")
     for key, v in value.items():

@@ -33,7 +33,6 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from . import limits
 from .errors import InputError
 from .rosgraph import RosGraph, natural_key, pair
 
@@ -48,13 +47,9 @@ def max_containers(available_mib: float, overhead_mib: float) -> int:
     if not (isinstance(available_mib, (int, float)) and available_mib >= 0 and math.isfinite(available_mib)):
         raise InputError(f"available memory must be a non-negative number of MiB, got {available_mib!r}", "memory")
     ratio = available_mib / overhead_mib
-    if not math.isfinite(ratio) or ratio > limits.get().nodes:
-        # Each container holds at least one ROS node, so a bound above the node limit is no bound at all
-        # (and 1e308 / 1e-308 is infinite).
+    if not math.isfinite(ratio):  # 1e308 MiB / 1e-308 MiB: no integer bound
         raise InputError(
-            f"memory: Eq. 3.13 gives {ratio:g} containers; at most {limits.get().nodes} "
-            "(give a smaller memory or a larger overhead)",
-            "memory",
+            f"Eq. 3.13: {available_mib:g} / {overhead_mib:g} is not a finite number of containers", "memory"
         )
     bound = math.floor(ratio + 1e-9)
     if bound < 1:

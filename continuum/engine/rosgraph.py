@@ -32,6 +32,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import limits
 from .errors import InputError
 from .safeload import loads_json
 
@@ -131,6 +132,9 @@ class RosGraph:
         return graph
 
     def validate(self) -> None:
+        # Every reader ends here: the graph-size limits hold for every format.
+        limits.check("nodes", len(self.nodes))
+        limits.check("topics", len(self.topics), name="links")
         for node in self.nodes.values():
             if node.level is not None and node.level not in LEVELS:
                 raise InputError(f"ROS node {node.name!r} has unknown level {node.level!r}", "nodes")
