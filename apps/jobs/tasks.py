@@ -1,8 +1,12 @@
 """The one Celery task that runs every job kind, with late acknowledgement so none is lost."""
 
 import logging
+import signal
+import threading
 import time
 import traceback
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 from celery import shared_task, signals
 from celery.exceptions import SoftTimeLimitExceeded, TimeLimitExceeded
@@ -40,7 +44,8 @@ def run_job(self, job_id: str) -> str:
     try:
         handler = HANDLERS[job.kind]
         job.refresh_from_db()
-        result, url = handler(job, progress)
+        with soft_time_limit(settings.CELERY_TASK_SOFT_TIME_LIMIT, enabled=not self.request.is_eager):
+            result, url = handler(job, progress)
     except SoftTimeLimitExceeded:
         # Celery's soft limit (CELERY_TASK_SOFT_TIME_LIMIT): the job is over, with that reason; no
         # traceback, since nothing in the job was wrong but its size.
@@ -70,6 +75,28 @@ def run_job(self, job_id: str) -> str:
         result_url=url,
     )
     return Job.State.SUCCEEDED
+
+
+@contextmanager
+def soft_time_limit(seconds: float, enabled: bool = True) -> Iterator[None]:
+    """Raise SoftTimeLimitExceeded in the job after ``seconds``, in whatever pool runs it (Celery enforces
+    its soft limit only in prefork children; the solo pool and a worker's main thread get it here).
+    Only in a worker's main thread: never in a web process running a job eagerly."""
+    usable = enabled and seconds > 0 and hasattr(signal, "SIGALRM")
+    if not usable or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def expire(signum, frame):
+        raise SoftTimeLimitExceeded(seconds)
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def time_limit_message(seconds: float) -> str:

@@ -38,9 +38,10 @@ def database_url() -> str:
 class Worker:
     """A ``celery worker`` process on a private queue; ``kill()`` is a SIGKILL, as a crash would be."""
 
-    def __init__(self, broker: str, queue: str, visibility_timeout: int):
+    def __init__(self, broker: str, queue: str, visibility_timeout: int, pool: str = "solo", **extra_env: str):
         env = dict(
             os.environ,
+            **extra_env,
             CELERY_BROKER_URL=broker,
             CELERY_QUEUE=queue,
             DATABASE_URL=database_url(),
@@ -58,7 +59,7 @@ class Worker:
                 "continuum",
                 "worker",
                 "-P",
-                "solo",
+                pool,
                 "-c",
                 "1",
                 "-Q",
@@ -112,8 +113,9 @@ def celery_broker(redis_url, settings):
 def start_worker(celery_broker, redis_url):
     workers: list[Worker] = []
 
-    def start(visibility_timeout: int = 3600) -> Worker:
-        worker = Worker(redis_url, celery_broker, visibility_timeout)
+    def start(visibility_timeout: int = 3600, pool: str = "solo", **extra_env: str) -> Worker:
+        """A worker; ``pool="prefork"`` for what only a prefork child has (time limits, memory cap)."""
+        worker = Worker(redis_url, celery_broker, visibility_timeout, pool, **extra_env)
         workers.append(worker)
         return worker
 
