@@ -128,6 +128,7 @@ class Platform:
         """``cpus`` processors of class ``cpu`` and ``gpus`` of class ``gpu`` (the ``--cpus/--gpus`` flags)."""
         if cpus < 0 or gpus < 0 or cpus + gpus == 0:
             raise InputError("need at least one processor (--cpus/--gpus)", "processors")
+        limits.check("processors", cpus + gpus)
         procs = [Processor(f"cpu{i}", "cpu") for i in range(cpus)]
         procs += [Processor(f"gpu{i}", "gpu") for i in range(gpus)]
         return cls(procs, **kwargs)

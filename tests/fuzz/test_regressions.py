@@ -296,3 +296,15 @@ def test_monitorstats_current_node_of_the_wrong_type(tmp_path, capsys):
     path = tmp_path / "s.json"
     path.write_text(json.dumps(doc))
     assert "current node" in run_cli("allocate_monitors", str(path), "--time-limit", "1", capsys=capsys)
+
+
+def test_cli_cpus_are_bounded(capsys):
+    err = run_cli("schedule", str(DATA / "topcuoglu.dag.json"), "--cpus", "1000000000", capsys=capsys)
+    assert "processors: at most 1024" in err
+
+
+def test_limits_can_be_overridden_from_the_environment():
+    lim = limits.Limits.from_env({"CONTINUUM_MAX_FRAMES": "2000", "CONTINUUM_MAX_OUT_DEGREE": "7.5"})
+    assert (lim.frames, lim.out_degree, lim.tasks) == (2000, 7.5, limits.Limits().tasks)
+    with pytest.raises(ValueError, match="CONTINUUM_MAX_FRAMES"):
+        limits.Limits.from_env({"CONTINUUM_MAX_FRAMES": "-3"})
