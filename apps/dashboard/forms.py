@@ -34,7 +34,8 @@ def json_object(text: str | None, not_object: str) -> dict:
     try:
         value = loads_json(text)
     except InputError as exc:
-        raise forms.ValidationError(str(exc)) from exc
+        message = str(exc)
+        raise forms.ValidationError(f"not JSON ({message})" if message.startswith("malformed") else message) from exc
     if not isinstance(value, dict):
         raise forms.ValidationError(not_object)
     return value
