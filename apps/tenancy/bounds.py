@@ -83,6 +83,8 @@ class SafeJSONParser(JSONParser):
         try:
             return loads_json(text)
         except InputError as exc:
+            if exc.field:  # a refused value (NaN, 1e400, NUL): a field error naming its path
+                raise ValidationError({exc.field: [str(exc)]}) from exc
             raise ParseError(f"JSON parse error - {exc}") from exc
 
 

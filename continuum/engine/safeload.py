@@ -44,25 +44,73 @@ def too_deep(text: str, limit: int) -> bool:
     return False
 
 
-def _reject_constant(name: str) -> Any:
-    raise InputError(f"{name} is not allowed: numbers must be finite")
+class _Bad:
+    """A value JSON allows but Continuum refuses (NaN, Infinity, 1e400, a 400-digit integer): kept as a
+    marker while parsing so that the error can name where it is."""
+
+    def __init__(self, text: str, problem: str):
+        self.text, self.problem = text, problem
 
 
-def _finite_float(text: str) -> float:
+def _constant(name: str) -> _Bad:
+    return _Bad(name, f"{name} is not allowed: numbers must be finite")
+
+
+def _float(text: str) -> float | _Bad:
     value = float(text)
-    if not math.isfinite(value):
-        raise InputError(f"the number {text} is out of range: numbers must be finite")
-    return value
+    return value if math.isfinite(value) else _Bad(text, f"the number {text} is out of range: numbers must be finite")
 
 
-def _finite_int(text: str) -> int:
+def _int(text: str) -> int | _Bad:
     if len(text) > 300:  # also below Python's int-string conversion limit (4300 digits)
-        raise InputError(f"the number {text[:20]}... has {len(text)} digits: too large")
+        return _Bad(text, f"the number {text[:20]}... has {len(text)} digits: too large")
     return int(text)
 
 
+def _has_problem(doc: Any) -> bool:
+    """Whether :func:`_first_problem` will find something: the same walk without building paths (fast)."""
+    stack = [doc]
+    pop, push = stack.pop, stack.extend
+    while stack:
+        node = pop()
+        kind = type(node)
+        if kind is dict:
+            push(node.values())
+            if any("\x00" in k for k in node):
+                return True
+        elif kind is list:
+            push(node)
+        elif kind is str:
+            if "\x00" in node:
+                return True
+        elif kind is _Bad:
+            return True
+    return False
+
+
+def _first_problem(doc: Any) -> tuple[str, str] | None:
+    """(path, problem) of the first refused value: a marker, or a string (or key) holding a NUL."""
+    stack: list[tuple[str, Any]] = [("", doc)]
+    while stack:
+        path, node = stack.pop()
+        if isinstance(node, _Bad):
+            return path, node.problem
+        if isinstance(node, str) and "\x00" in node:
+            return path, "contains a NUL character, which no text may hold"
+        if isinstance(node, dict):
+            for key, value in reversed(list(node.items())):
+                if "\x00" in key:
+                    return path, "a key contains a NUL character, which no text may hold"
+                stack.append((f"{path}.{key}" if path else key, value))
+        elif isinstance(node, list):
+            stack.extend((f"{path}[{i}]", v) for i, v in reversed(list(enumerate(node))))
+    return None
+
+
 def loads_json(text: str | bytes, field: str | None = None, *, max_depth: int | None = None) -> Any:
-    """``json.loads`` for untrusted text; every problem is an InputError on ``field``."""
+    """``json.loads`` for untrusted text; every problem is an InputError on ``field`` (or, without one, on
+    the document's top-level key where the problem is), naming the path, e.g. ``meta.x: NaN is not
+    allowed``."""
     if isinstance(text, bytes):
         try:
             text = text.decode("utf-8")
@@ -71,18 +119,18 @@ def loads_json(text: str | bytes, field: str | None = None, *, max_depth: int | 
     limit = max_depth if max_depth is not None else limits.get().json_depth
     if too_deep(text, limit):
         raise InputError(f"nested too deeply: at most {limit} levels of objects and lists", field)
-    if "\x00" in text or "\\u0000" in text:
-        raise InputError("contains a NUL character, which no text field may hold", field)
     try:
-        return json.loads(
-            text, parse_constant=_reject_constant, parse_float=_finite_float, parse_int=_finite_int
-        )
-    except InputError as exc:
-        raise InputError(str(exc), field) from None
+        doc = json.loads(text, parse_constant=_constant, parse_float=_float, parse_int=_int)
     except json.JSONDecodeError as exc:
         raise InputError(f"malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}", field) from exc
     except RecursionError as exc:  # not expected after the depth scan; never a 500 all the same
         raise InputError("nested too deeply", field) from exc
+    found = _first_problem(doc) if _has_problem(doc) else None  # iterative, linear in the document
+    if found is not None:
+        path, problem = found
+        top = re.split(r"[.\[]", path, maxsplit=1)[0] if path else None
+        raise InputError(f"{path}: {problem}" if path else problem, field or top or None)
+    return doc
 
 
 def load_yaml_all(text: str, field: str | None = None, *, max_depth: int | None = None) -> list[Any]:

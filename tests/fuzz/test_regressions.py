@@ -308,3 +308,10 @@ def test_limits_can_be_overridden_from_the_environment():
     assert (lim.frames, lim.out_degree, lim.tasks) == (2000, 7.5, limits.Limits().tasks)
     with pytest.raises(ValueError, match="CONTINUUM_MAX_FRAMES"):
         limits.Limits.from_env({"CONTINUUM_MAX_FRAMES": "-3"})
+
+
+def test_a_refused_json_value_is_a_field_error_naming_its_path(api):
+    body = '{"name": "c", "nodes": [{"name": "a", "cpu": 1e400}]}'
+    response = api.generic("POST", "/api/v1/clusters/import/", body, content_type="application/json")
+    assert response.status_code == 400
+    assert "nodes[0].cpu: the number 1e400 is out of range" in str(response.data["nodes"])
