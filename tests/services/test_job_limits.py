@@ -25,3 +25,13 @@ def test_a_job_past_the_soft_time_limit_fails_with_that_reason(fleet, start_work
     assert job.error == "time limit of 1 s exceeded"
     assert job.result is None and job.finished is not None
     assert worker.proc.poll() is None
+
+
+def test_a_job_past_the_hard_time_limit_is_recorded_as_failed(fleet, start_worker):
+    # Prefork: only a pool with child processes can kill a job; the worker's main process records it.
+    # No soft limit (0): Celery never kills before the soft limit has passed.
+    worker = start_worker(pool="prefork", CONTINUUM_JOB_SOFT_TIME_LIMIT="0", CONTINUUM_JOB_TIME_LIMIT="2")
+    job = wait_for(long_job(fleet).pk, lambda j: j.done, timeout=120)
+    assert job.state == Job.State.FAILED
+    assert job.error == "time limit of 2 s exceeded (the job was stopped)"
+    assert worker.proc.poll() is None
