@@ -83,7 +83,9 @@ def post_and_check(client, path: str, data, fmt: str = "json"):
         from apps.jobs.models import Job
 
         job = Job.objects.get(pk=response.data["id"])
-        assert not (job.result or {}).get("traceback"), f"job {job.kind} crashed: {job.error}"
+        # A failure must be an input error's message, never a crash (a traceback, or main's "internal error").
+        crashed = (job.result or {}).get("traceback") or job.error.startswith("internal error")
+        assert not crashed, f"job {job.kind} crashed: {job.error}"
     return response
 
 
