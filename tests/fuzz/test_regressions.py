@@ -315,3 +315,18 @@ def test_a_refused_json_value_is_a_field_error_naming_its_path(api):
     response = api.generic("POST", "/api/v1/clusters/import/", body, content_type="application/json")
     assert response.status_code == 400
     assert "nodes[0].cpu: the number 1e400 is out of range" in str(response.data["nodes"])
+
+
+BAD_QUERIES = [
+    "limit=99999999999999999999", "offset=-1", "cluster=99999999999999999999", "application=1e400",
+    "fleet__slug=%00", "ordering=-nonexistent", "search=" + "x" * 5000, "state=%3Cscript%3E", "id=NaN",
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("query", BAD_QUERIES)
+def test_every_list_answers_hostile_query_parameters_without_a_500(api, cluster, query):
+    from continuum.urls import router
+
+    for prefix, _viewset, _basename in router.registry:
+        response = api.get(f"/api/v1/{prefix}/?{query}")
+        assert response.status_code in (200, 400, 404, 405), (prefix, query, response.status_code)
