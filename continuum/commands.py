@@ -10,6 +10,7 @@ from typing import Any
 from django.core.management.base import BaseCommand, CommandError
 
 from continuum.engine.errors import InputError
+from continuum.engine.safeload import loads_json
 
 
 class EngineCommand(BaseCommand):
@@ -49,9 +50,9 @@ class EngineCommand(BaseCommand):
 
     def read_json(self, path: str) -> Any:
         try:
-            return json.loads(self.read_text(path))
-        except json.JSONDecodeError as exc:
-            raise InputError(f"{path}: malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}") from exc
+            return loads_json(self.read_text(path))
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}", exc.field) from exc
 
     def progress_printer(self, label: str, force: bool = False):
         """A progress callback on stderr: one redrawn line on a terminal; with ``force`` and no terminal

@@ -80,6 +80,7 @@ MIDDLEWARE = [
     "whitenoise.middleware.WhiteNoiseMiddleware",
     "django.contrib.sessions.middleware.SessionMiddleware",
     "django.middleware.common.CommonMiddleware",
+    "apps.tenancy.bounds.RejectNulMiddleware",
     "django.middleware.csrf.CsrfViewMiddleware",
     "django.contrib.auth.middleware.AuthenticationMiddleware",
     "auditlog.middleware.AuditlogMiddleware",
@@ -180,7 +181,12 @@ REST_FRAMEWORK = {
         "rest_framework.filters.OrderingFilter",
         "rest_framework.filters.SearchFilter",
     ],
-    "DEFAULT_PAGINATION_CLASS": "rest_framework.pagination.LimitOffsetPagination",
+    "DEFAULT_PAGINATION_CLASS": "apps.tenancy.bounds.BoundedLimitOffsetPagination",
+    "DEFAULT_PARSER_CLASSES": [
+        "apps.tenancy.bounds.SafeJSONParser",
+        "apps.tenancy.bounds.SafeFormParser",
+        "apps.tenancy.bounds.SafeMultiPartParser",
+    ],
     "PAGE_SIZE": 50,
     "DEFAULT_SCHEMA_CLASS": "drf_spectacular.openapi.AutoSchema",
     "EXCEPTION_HANDLER": "apps.tenancy.api.exception_handler",
@@ -257,8 +263,22 @@ CONTINUUM_POD_COMMAND = shlex.split(os.environ.get("CONTINUUM_POD_COMMAND", "/pa
 CONTINUUM_NICE_BINARY = os.environ.get("CONTINUUM_NICE_BINARY", "nice")
 # HEFT4K remapping (Algorithm 2): total remap when the lost HEFT-rank share exceeds this fraction.
 CONTINUUM_REMAP_THRESHOLD = float(os.environ.get("CONTINUUM_REMAP_THRESHOLD", "0.2"))
-# Largest upload the import endpoints accept.
-DATA_UPLOAD_MAX_MEMORY_SIZE = 32 * 1024 * 1024
+# ---- Limits (continuum/engine/limits.py; README "Limits"; CONTINUUM_MAX_<NAME> overrides) -----------
+from continuum.engine import limits as _limits  # noqa: E402
+
+CONTINUUM_LIMITS = _limits.get()
+# Largest request body (JSON documents) and largest uploaded file (the import endpoints check each file's
+# size against the same number, since Django's limit leaves file parts out).
+DATA_UPLOAD_MAX_MEMORY_SIZE = CONTINUUM_LIMITS.upload_bytes
+# Files above this are spooled to a temporary file instead of memory while they are read.
+FILE_UPLOAD_MAX_MEMORY_SIZE = 2_621_440
+# Celery: a job past the soft limit fails with "time limit of N s exceeded"; the hard limit kills the
+# worker child; a child above the memory limit (KiB, resident) is replaced after its current job.
+CELERY_TASK_SOFT_TIME_LIMIT = int(os.environ.get("CONTINUUM_JOB_SOFT_TIME_LIMIT", 600))
+CELERY_TASK_TIME_LIMIT = int(os.environ.get("CONTINUUM_JOB_TIME_LIMIT", CELERY_TASK_SOFT_TIME_LIMIT + 60))
+CELERY_WORKER_MAX_MEMORY_PER_CHILD = int(os.environ.get("CONTINUUM_WORKER_MAX_MEMORY_KIB", 2 * 1024 * 1024))
+# Address-space cap of each prefork worker child (MiB, 0: none): a job past it fails with that reason.
+CONTINUUM_JOB_MEMORY_LIMIT_MIB = int(os.environ.get("CONTINUUM_JOB_MEMORY_LIMIT_MIB", 4096))
 
 LOGGING = {
     "version": 1,

@@ -12,10 +12,14 @@ from apps.tenancy.api import (
     ScopedSerializer,
     VisibleRelatedField,
 )
+from apps.tenancy.bounds import at_most, at_most_items
 from apps.tenancy.models import FleetToken
+from continuum.engine import limits
 
 from .models import Cluster, ComputeNode, Link
 
+LIMITS = limits.get()
+INT32_MAX = 2**31 - 1
 CREDENTIALS_PERMISSION = "clusters.change_cluster_credentials"
 CREDENTIAL_FIELDS = ("kubeconfig", "kube_context")
 
@@ -103,6 +107,10 @@ class VisibleClusterField(VisibleRelatedField):
 
 class ComputeNodeSerializer(ScopedModelSerializer):
     cluster = VisibleClusterField()
+    # A list of names, never null (the column is NOT NULL; "null" used to reach the database).
+    accelerators = serializers.ListField(
+        child=serializers.CharField(max_length=64), required=False, max_length=64, help_text='e.g. ["igpu"]'
+    )
 
     class Meta:
         model = ComputeNode
@@ -124,6 +132,7 @@ class ComputeNodeSerializer(ScopedModelSerializer):
             "taints",
             "status",
         ]
+        extra_kwargs = {"cpu": {"max_value": LIMITS.cores, "error_messages": at_most("cpu")}}
 
     def validate_taints(self, value):
         if not isinstance(value, list) or not all(
@@ -162,9 +171,10 @@ class ClusterDocumentNodeSerializer(ScopedSerializer):
 
     name = serializers.CharField(max_length=253)
     arch = serializers.ChoiceField(ComputeNode.Arch.choices, default=ComputeNode.Arch.AMD64)
-    cpu = serializers.FloatField(min_value=0, default=1.0)
-    memory_mib = serializers.IntegerField(min_value=0, default=1024)
-    storage_mib = serializers.IntegerField(min_value=0, default=0)
+    cpu = serializers.FloatField(min_value=0, max_value=LIMITS.cores, default=1.0, error_messages=at_most("cpu"))
+    # The columns are 32-bit integers; a larger number is a 400 here, not a database error.
+    memory_mib = serializers.IntegerField(min_value=0, max_value=INT32_MAX, default=1024)
+    storage_mib = serializers.IntegerField(min_value=0, max_value=INT32_MAX, default=0)
     accelerators = serializers.ListField(child=serializers.CharField(), default=list)
     processor_class = serializers.CharField(default="cpu", help_text="class that DAG task costs name")
     speed = serializers.FloatField(min_value=0.001, default=1.0)
@@ -191,8 +201,22 @@ class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
     kubeconfig = serializers.CharField(required=False, allow_blank=True, default="")
     kube_context = serializers.CharField(required=False, allow_blank=True, default="")
     namespace = serializers.CharField(required=False, max_length=63, default="continuum")
-    nodes = ClusterDocumentNodeSerializer(many=True, allow_empty=False)
-    links = ClusterDocumentLinkSerializer(many=True, default=list)
+    # The list lengths are checked before any node is validated (a 400,000-node document took minutes).
+    nodes = ClusterDocumentNodeSerializer(
+        many=True, allow_empty=False, max_length=LIMITS.nodes, error_messages=at_most_items("nodes")
+    )
+    links = ClusterDocumentLinkSerializer(
+        many=True, default=list, max_length=LIMITS.links, error_messages=at_most_items("links")
+    )
+
+    def to_internal_value(self, data):
+        # The limits in force now (an override may be lower than the one the fields were built with).
+        lim = limits.get()
+        for key, maximum in (("nodes", lim.nodes), ("links", lim.links)):
+            items = data.get(key) if hasattr(data, "get") else None
+            if isinstance(items, list) and len(items) > maximum:
+                raise serializers.ValidationError({key: [f"{key}: at most {maximum:,} (got {len(items):,})"]})
+        return super().to_internal_value(data)
 
     def validate(self, attrs):
         attrs = super().validate(attrs)
@@ -200,10 +224,19 @@ class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
         dup = sorted({n for n in names if names.count(n) > 1})
         if dup:
             raise serializers.ValidationError({"nodes": [f"duplicate node name {dup[0]!r}"]})
+        seen: dict[tuple[str, str], int] = {}
         for i, link in enumerate(attrs["links"]):
             for end in ("src", "dst"):
                 if link[end] not in names:
                     raise serializers.ValidationError({"links": [f"links[{i}] refers to unknown node {link[end]!r}"]})
+            if link["src"] == link["dst"]:
+                raise serializers.ValidationError({"links": [f"links[{i}] joins node {link['src']!r} to itself"]})
+            pair = (link["src"], link["dst"])
+            if pair in seen:
+                raise serializers.ValidationError(
+                    {"links": [f"links[{i}] repeats links[{seen[pair]}] ({pair[0]} -> {pair[1]})"]}
+                )
+            seen[pair] = i
         check_credentials(self.context.get("request"), attrs, None)
         if Cluster.objects.filter(fleet=attrs["fleet"], name=attrs["name"]).exists():
             raise serializers.ValidationError(

@@ -4,7 +4,7 @@
 from django.http import HttpResponse
 from drf_spectacular.types import OpenApiTypes
 from drf_spectacular.utils import OpenApiParameter, extend_schema
-from rest_framework import mixins, parsers, status, viewsets
+from rest_framework import mixins, status, viewsets
 from rest_framework.decorators import action
 from rest_framework.exceptions import NotFound
 from rest_framework.response import Response
@@ -12,6 +12,7 @@ from rest_framework.response import Response
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
 from continuum.engine.errors import InputError
 
 from . import services
@@ -53,7 +54,7 @@ class RosGraphViewSet(
 
     @extend_schema(request={"multipart/form-data": RosGraphImportSerializer}, responses={201: RosGraphSerializer})
     @action(
-        detail=False, methods=["post"], url_path="import", parser_classes=[parsers.MultiPartParser, parsers.FormParser]
+        detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser]
     )
     def import_file(self, request):
         """Create a ROS graph from an uploaded file (contract JSON, Autoware JSON, iRobot topology, .dot)."""

@@ -6,8 +6,9 @@ from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import DefaultFleetMixin, FleetField, ScopedModelSerializer, ScopedSerializer
+from apps.tenancy.bounds import BoundedFileField, at_most
 from apps.tenancy.scoping import scope
-from continuum.engine import artifact_names
+from continuum.engine import artifact_names, limits
 from continuum.engine.cluster import normalize_arch
 from continuum.engine.errors import InputError
 from continuum.engine.ros_clustering import max_containers
@@ -89,7 +90,7 @@ class RosGraphImportSerializer(DefaultFleetMixin, ScopedSerializer):
     topology JSON or an rqt_graph ``.dot``. A bad file is refused whole with the line or element at fault."""
 
     fleet = FleetField(required=False)
-    file = serializers.FileField()
+    file = BoundedFileField()
     format = serializers.ChoiceField(choices=READERS, required=False, help_text="default: guessed from the file")
     name = serializers.CharField(max_length=200, required=False, help_text="default: the name in the file")
     description = serializers.CharField(required=False, allow_blank=True, default="")
@@ -159,7 +160,13 @@ class ImageOptionsSerializer(ScopedSerializer):
 class ClusterRequestSerializer(ScopedSerializer):
     """Cluster the graph's ROS nodes into N containers (Listing 3.20), or as many as Eq. 3.13 allows."""
 
-    containers = serializers.IntegerField(min_value=1, required=False, help_text="number of containers N")
+    containers = serializers.IntegerField(
+        min_value=1,
+        max_value=limits.get().nodes,
+        error_messages=at_most("containers"),
+        required=False,
+        help_text="number of containers N",
+    )
     memory_mib = serializers.FloatField(min_value=0, required=False, help_text="memory for containers (Eq. 3.13)")
     overhead_mib = serializers.FloatField(min_value=0, required=False, help_text="memory cost of one container")
     mode = serializers.ChoiceField(choices=MODES, default="per_topic", help_text="Eq. 3.12 reading")

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import copy
 import gzip
-import json
 from collections.abc import Mapping
 from typing import Any
 
@@ -27,6 +26,7 @@ from continuum.engine.rosgraph import (
     natural_key,
     pair,
 )
+from continuum.engine.safeload import loads_json
 from continuum.engine.superclustering import CONTAINERS_FORMAT, SCORERS, Workload, load_workload
 
 from .models import Clustering, Placement
@@ -69,7 +69,7 @@ def read_graph(content: bytes | str, fmt: str | None = None, name: str = "") -> 
         return graph, fmt
     if not content.lstrip().startswith(("{", "[")):
         return graph, "dot"
-    return graph, guess_json_format(json.loads(content))
+    return graph, guess_json_format(loads_json(content))
 
 
 # ---- edits --------------------------------------------------------------------------------------------

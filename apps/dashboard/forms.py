@@ -3,25 +3,28 @@ the engine (and the API's serializers), so errors name the culprit."""
 
 from __future__ import annotations
 
-import json
-
 from django import forms
 
 from apps.clusters.models import Cluster
+from apps.tenancy.bounds import BoundedFormFileField
 from apps.workloads.importing import FORMATS, generate_dag, read_dag_file
 from apps.workloads.models import Application
-from continuum.engine import algorithms
+from continuum.engine import algorithms, limits
 from continuum.engine.board import board
 from continuum.engine.compare import DEFAULT_ALGORITHMS
 from continuum.engine.errors import InputError
 from continuum.engine.generators import SHAPES
 from continuum.engine.heft import RANK_MODES
 from continuum.engine.platform import Platform
+from continuum.engine.safeload import loads_json
 
 FORMAT_HELP = "continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX (.dax/.xml), Kasahara STG (.stg), thesis CSV (.csv)"
 #: STG reader options (``continuum.engine.formats.stg``) offered as form fields.
 STG_OPTIONS = ("ccr", "processors", "heterogeneity", "seed")
 
+
+#: The maxima of README "Limits" (continuum/engine/limits.py), the same as the API's.
+LIMITS = limits.get()
 
 def json_object(text: str | None, not_object: str) -> dict:
     """A form's optional JSON-object text field: {} when empty, a message naming line and column when broken."""
@@ -29,9 +32,10 @@ def json_object(text: str | None, not_object: str) -> dict:
     if not text:
         return {}
     try:
-        value = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise forms.ValidationError(f"not JSON (line {exc.lineno} column {exc.colno}: {exc.msg})") from exc
+        value = loads_json(text)
+    except InputError as exc:
+        message = str(exc)
+        raise forms.ValidationError(f"not JSON ({message})" if message.startswith("malformed") else message) from exc
     if not isinstance(value, dict):
         raise forms.ValidationError(not_object)
     return value
@@ -67,14 +71,17 @@ def _store(fleet, graph, source_format: str, user) -> Application:
 class UploadForm(FleetChoiceMixin, forms.Form):
     """A DAG file in any supported format; the fleet is asked for only when the user has several."""
 
-    file = forms.FileField(help_text=FORMAT_HELP)
+    file = BoundedFormFileField(help_text=FORMAT_HELP)
     format = forms.ChoiceField(
         choices=[("", "from the file name or content"), *((f, f) for f in FORMATS)], required=False, label="Format"
     )
     name = forms.CharField(max_length=200, required=False, help_text="default: the name in the file")
     ccr = forms.FloatField(min_value=0, required=False, label="CCR", help_text="communication-to-computation ratio")
     processors = forms.IntegerField(
-        min_value=1, max_value=1024, required=False, help_text="cost per processor p0.. (unrelated machines)"
+        min_value=1,
+        max_value=LIMITS.processors,
+        required=False,
+        help_text="cost per processor p0.. (unrelated machines)",
     )
     heterogeneity = forms.FloatField(min_value=0, max_value=2, required=False, help_text="beta, 0 to 2")
     seed = forms.IntegerField(min_value=0, required=False, help_text="for the drawn data and costs")
@@ -114,14 +121,20 @@ class GenerateForm(FleetChoiceMixin, forms.Form):
         ("layered", "layered: random DAG of the HEFT literature"),
     ]
     generator = forms.ChoiceField(choices=GENERATORS, initial="thesis", widget=forms.RadioSelect)
-    n = forms.IntegerField(min_value=2, max_value=20_000, required=False, label="Tasks", help_text="default: drawn")
+    n = forms.IntegerField(
+        min_value=2, max_value=LIMITS.tasks, required=False, label="Tasks", help_text="default: drawn"
+    )
     seed = forms.IntegerField(min_value=0, initial=0)
     dag_class = forms.ChoiceField(
         choices=[("", "drawn from the seed"), *((s, s) for s in SHAPES)], required=False, label="Class (thesis)"
     )
     ccr = forms.FloatField(min_value=0, required=False, label="CCR (layered)")
     processors = forms.IntegerField(
-        min_value=1, max_value=1024, required=False, label="Processors (layered)", help_text="unrelated costs p0.."
+        min_value=1,
+        max_value=LIMITS.processors,
+        required=False,
+        label="Processors (layered)",
+        help_text="unrelated costs p0..",
     )
     heterogeneity = forms.FloatField(min_value=0, max_value=2, required=False, label="Heterogeneity (layered)")
     fleet = forms.ModelChoiceField(queryset=None, required=True, empty_label=None)
@@ -166,17 +179,19 @@ class TargetForm(forms.Form):
 
     target = forms.ChoiceField(choices=TARGETS, widget=forms.RadioSelect, initial="platform")
     cluster = forms.ModelChoiceField(queryset=None, required=False, empty_label="— choose a cluster —")
-    cpus = forms.IntegerField(min_value=0, max_value=4096, initial=4, required=False, label="CPUs")
-    gpus = forms.IntegerField(min_value=0, max_value=4096, initial=0, required=False, label="GPUs")
+    cpus = forms.IntegerField(min_value=0, max_value=LIMITS.processors, initial=4, required=False, label="CPUs")
+    gpus = forms.IntegerField(min_value=0, max_value=LIMITS.processors, initial=0, required=False, label="GPUs")
     shared_memory = forms.BooleanField(
         required=False,
         label="one board (shared memory)",
         help_text="only CPU-GPU transfers cost, as on the thesis' CPU+iGPU boards",
     )
-    frames = forms.IntegerField(min_value=1, max_value=1000, required=False, help_text="pipelined frames")
+    frames = forms.IntegerField(min_value=1, max_value=LIMITS.frames, required=False, help_text="pipelined frames")
     fps = forms.FloatField(min_value=1e-9, required=False, label="FPS", help_text="camera rate (frame f at f/fps)")
     period = forms.FloatField(min_value=0, required=False, help_text="or a frame period, in the DAG's time unit")
-    batch = forms.IntegerField(min_value=1, max_value=1000, required=False, help_text="frames released together")
+    batch = forms.IntegerField(
+        min_value=1, max_value=LIMITS.frames, required=False, help_text="frames released together"
+    )
 
     FRAME_FIELDS = ("frames", "fps", "period", "batch")
 

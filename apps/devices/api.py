@@ -1,10 +1,11 @@
 """Device profiles (global, read by every authenticated caller, written by staff) and the UMA advisor."""
 
 from drf_spectacular.utils import extend_schema
-from rest_framework import parsers, permissions, viewsets
+from rest_framework import permissions, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
+from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
 from apps.tenancy.models import FleetToken
 from continuum.engine.errors import InputError
 from continuum.engine.ros_transport import ros_transport_advice
@@ -62,7 +63,7 @@ class DeviceProfileViewSet(viewsets.ModelViewSet):
         return Response(advice(device, serializer))
 
     @extend_schema(request={"multipart/form-data": ThresholdsRequestSerializer}, responses={200: dict})
-    @action(detail=True, methods=["post"], parser_classes=[parsers.MultiPartParser, parsers.FormParser])
+    @action(detail=True, methods=["post"], parser_classes=[SafeMultiPartParser, SafeFormParser])
     def thresholds(self, request, slug=None):
         """GPU cache thresholds extracted from a micro-benchmark CSV (spec 01 section 9.6); the profile is not
         changed (administrators apply them in the admin)."""

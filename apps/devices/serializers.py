@@ -2,6 +2,7 @@ from django.core.exceptions import ValidationError as DjangoValidationError
 from rest_framework import serializers
 
 from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
+from apps.tenancy.bounds import BoundedFileField
 
 from .models import DeviceProfile
 
@@ -117,7 +118,7 @@ class AdviceRequestSerializer(ScopedSerializer):
 
 
 class ThresholdsRequestSerializer(ScopedSerializer):
-    file = serializers.FileField(help_text="micro-benchmark 2 CSV: fraction, sc_throughput, zc_throughput (GB/s)")
+    file = BoundedFileField(help_text="micro-benchmark 2 CSV: fraction, sc_throughput, zc_throughput (GB/s)")
     peak_gbps = serializers.FloatField(
         required=False, min_value=1e-9, help_text="default: the device's SC peak, else the CSV's largest SC value"
     )

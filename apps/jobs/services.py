@@ -23,5 +23,9 @@ def start_job(kind: str, fleet: Fleet, arguments: dict, user=None) -> Job:
         job.refresh_from_db()
     else:
         # A worker may only see the job once its record is committed.
-        transaction.on_commit(lambda: run_job.delay(str(job.pk)))
+        # No time limits in the message: the worker's own CONTINUUM_JOB_*_TIME_LIMIT apply (Celery would
+        # otherwise send this process's settings along, and the worker would obey them).
+        transaction.on_commit(
+            lambda: run_job.apply_async(args=(str(job.pk),), time_limit=None, soft_time_limit=None)
+        )
     return job

@@ -8,11 +8,15 @@ the job twice.
 """
 
 import logging
+import signal
+import threading
 import time
 import uuid
-from contextlib import nullcontext
+from collections.abc import Iterator
+from contextlib import contextmanager, nullcontext
 
-from celery import shared_task
+from celery import shared_task, signals
+from celery.exceptions import SoftTimeLimitExceeded, TimeLimitExceeded
 from django.conf import settings
 from django.utils import timezone
 
@@ -95,8 +99,20 @@ def run_job(self, job_id: str) -> str:
         with beating:
             handler = HANDLERS[job.kind]
             # What the job changes is in the audit trail under whoever started it.
-            with acting_for(job.created_by, job=str(job.pk), kind=job.kind):
+            with (
+                acting_for(job.created_by, job=str(job.pk), kind=job.kind),
+                soft_time_limit(settings.CELERY_TASK_SOFT_TIME_LIMIT, enabled=not eager),
+            ):
                 result, url = handler(job, progress)
+    except SoftTimeLimitExceeded:
+        # Celery's soft limit (CELERY_TASK_SOFT_TIME_LIMIT): the job is over, with that reason; no
+        # traceback, since nothing in the job was wrong but its size.
+        _fail(job.pk, time_limit_message(settings.CELERY_TASK_SOFT_TIME_LIMIT))
+        return Job.State.FAILED
+    except MemoryError:
+        # The worker child's address-space limit (CONTINUUM_JOB_MEMORY_LIMIT_MIB).
+        _fail(job.pk, f"memory limit of {settings.CONTINUUM_JOB_MEMORY_LIMIT_MIB} MiB exceeded")
+        return Job.State.FAILED
     except Exception as exc:
         detail, result = failure(job, exc)
         mine.update(
@@ -119,3 +135,60 @@ def run_job(self, job_id: str) -> str:
 def recover_lost_jobs_task() -> int:
     """Celery beat: queue again (or fail) running jobs whose worker is gone (see apps.jobs.liveness)."""
     return len(recover_lost_jobs())
+
+
+@contextmanager
+def soft_time_limit(seconds: float, enabled: bool = True) -> Iterator[None]:
+    """Raise SoftTimeLimitExceeded in the job after ``seconds``, in whatever pool runs it (Celery enforces
+    its soft limit only in prefork children; the solo pool and a worker's main thread get it here).
+    Only in a worker's main thread: never in a web process running a job eagerly."""
+    usable = enabled and seconds > 0 and hasattr(signal, "SIGALRM")
+    if not usable or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def expire(signum, frame):
+        raise SoftTimeLimitExceeded(seconds)
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def time_limit_message(seconds: float) -> str:
+    return f"time limit of {seconds:g} s exceeded"
+
+
+def _fail(job_id, error: str) -> None:
+    Job.objects.filter(pk=job_id).exclude(state__in=[Job.State.SUCCEEDED, Job.State.FAILED]).update(
+        state=Job.State.FAILED, finished=timezone.now(), error=error, message="failed", result=None
+    )
+
+
+@signals.task_failure.connect
+def _on_hard_time_limit(sender=None, task_id=None, exception=None, args=None, **_: object) -> None:
+    """The hard limit kills the worker child; the worker's main process then records the job as failed
+    (otherwise it would stay "running" for ever)."""
+    if getattr(sender, "name", None) != run_job.name or not isinstance(exception, TimeLimitExceeded):
+        return
+    if args:
+        limit = exception.args[0] if exception.args else settings.CELERY_TASK_TIME_LIMIT
+        _fail(args[0], time_limit_message(float(limit)) + " (the job was stopped)")
+
+
+@signals.worker_process_init.connect
+def _limit_child_memory(**_: object) -> None:
+    """Cap each prefork child's address space, so a job that grows past it fails with MemoryError (recorded
+    as "memory limit of N MiB exceeded") instead of taking the machine; ``worker_max_memory_per_child``
+    then replaces children that stay large."""
+    mib = settings.CONTINUUM_JOB_MEMORY_LIMIT_MIB
+    if mib > 0:
+        import resource
+
+        _, hard = resource.getrlimit(resource.RLIMIT_AS)
+        soft = mib * 1024 * 1024 if hard == resource.RLIM_INFINITY else min(mib * 1024 * 1024, hard)
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))

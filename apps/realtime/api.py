@@ -3,7 +3,6 @@ scheduler and the monitor did. Every queryset is limited to the caller's fleets 
 
 from __future__ import annotations
 
-import yaml
 from django.core.exceptions import ValidationError as DjangoValidationError
 from django.db import transaction
 from django.http import HttpResponse
@@ -21,6 +20,7 @@ from apps.tenancy.api import FleetScopedMixin
 from apps.tenancy.scoping import visible_fleets
 from continuum.engine.errors import InputError
 from continuum.engine.rt_model import REALTIME_KIND, realtime_from_yaml, realtime_to_yaml, rtset_from_dict
+from continuum.engine.safeload import load_yaml_all
 
 from . import monitoring, planning
 from .kube import has_api
@@ -166,7 +166,7 @@ def import_realtimes(cluster: Cluster, text: str, namespace: str | None = None) 
     nodes = {n.name: n for n in cluster.nodes.all()}
     containers = realtime_from_yaml(text, nodes)
     # The engine validated the stream; read the namespaces it does not model.
-    docs = [d for d in yaml.safe_load_all(text) if isinstance(d, dict) and d.get("kind") == REALTIME_KIND]
+    docs = [d for d in load_yaml_all(text, "yaml") if isinstance(d, dict) and d.get("kind") == REALTIME_KIND]
     rows = []
     with transaction.atomic():
         for c, doc in zip(containers, docs, strict=True):
@@ -310,10 +310,12 @@ class RTPlanViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
         s.is_valid(raise_exception=True)
         data = s.validated_data
         cluster = data["cluster"]
-        # Bad parameters or containers are the caller's error (400), not a failed job.
-        planning.params_for(cluster, data.get("params"))
-        if data.get("containers") is not None:
-            rtset_from_dict(data["containers"], list(cluster.nodes.values_list("name", flat=True)))
+        # Bad parameters or containers are the caller's error (400), not a failed job. params_for may create
+        # the cluster's default RT policy: inside one transaction, a 400 leaves nothing behind.
+        with transaction.atomic():
+            planning.params_for(cluster, data.get("params"))
+            if data.get("containers") is not None:
+                rtset_from_dict(data["containers"], list(cluster.nodes.values_list("name", flat=True)))
         args = {"cluster": cluster.pk, "with_bound": data["with_bound"]}
         for key in ("realtimes", "containers", "params"):
             if key in data:

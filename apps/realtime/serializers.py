@@ -185,6 +185,15 @@ class RTPolicySerializer(ScopedModelSerializer):
             "sort_tiebreak",
         ]
 
+    def validate_cluster(self, cluster):
+        # One policy per cluster (a OneToOneField): say so instead of failing on the unique index.
+        taken = RTPolicy.objects.filter(cluster=cluster)
+        if self.instance is not None:
+            taken = taken.exclude(pk=self.instance.pk)
+        if taken.exists():
+            raise serializers.ValidationError(f"cluster {cluster.name!r} already has an RT policy; update that one")
+        return cluster
+
     def validate(self, attrs):
         attrs = super().validate(attrs)
         probe = RTPolicy(**{**({f: getattr(self.instance, f) for f in self.Meta.fields[2:]} if self.instance else {}),

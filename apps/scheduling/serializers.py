@@ -2,6 +2,8 @@ from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
+from apps.tenancy.bounds import at_most
+from continuum.engine import limits
 from continuum.engine.algorithms import SCHEDULERS
 from continuum.engine.compare import DEFAULT_ALGORITHMS
 from continuum.engine.errors import InputError
@@ -10,8 +12,8 @@ from continuum.engine.platform import Platform
 
 from .models import Assignment, Comparison, Schedule
 
-#: Most frames one request may schedule (10 frames of a 1000-task DAG take well under a second).
-MAX_FRAMES = 1000
+#: Most frames one request may schedule (README, "Limits").
+MAX_FRAMES = limits.get().frames
 FRAME_OPTIONS = ("frames", "fps", "period", "batch")
 
 
@@ -25,14 +27,22 @@ class TargetSerializer(ScopedSerializer):
     cluster = VisibleClusterField(required=False)
     platform = serializers.JSONField(required=False, help_text="a continuum.platform/v1 document")
     frames = serializers.IntegerField(
-        required=False, min_value=1, max_value=MAX_FRAMES, help_text="schedule this many frames (pipelined)"
+        required=False,
+        min_value=1,
+        max_value=MAX_FRAMES,
+        error_messages=at_most("frames"),
+        help_text="schedule this many frames (pipelined)",
     )
     fps = serializers.FloatField(required=False, min_value=1e-9, help_text="camera rate: frame f released at f/fps")
     period = serializers.FloatField(
         required=False, min_value=0, help_text="frame period in the DAG's time unit (instead of fps)"
     )
     batch = serializers.IntegerField(
-        required=False, min_value=1, max_value=MAX_FRAMES, help_text="frames buffered and released together"
+        required=False,
+        min_value=1,
+        max_value=MAX_FRAMES,
+        error_messages=at_most("batch"),
+        help_text="frames buffered and released together",
     )
 
     def validate_platform(self, value):
@@ -66,6 +76,13 @@ class ScheduleRequestSerializer(TargetSerializer):
         clash = sorted(k for k in FRAME_OPTIONS if k in attrs and k in attrs["params"])
         if clash:
             raise serializers.ValidationError({clash[0]: ["given both as a field and in params; give it once"]})
+        # Frame options given in params are checked exactly like the fields (the same bounds).
+        for key in FRAME_OPTIONS:
+            if key in attrs["params"]:
+                try:
+                    attrs[key] = self.fields[key].run_validation(attrs["params"].pop(key))
+                except serializers.ValidationError as exc:
+                    raise serializers.ValidationError({"params": {key: exc.detail}}) from exc
         attrs["params"] = {**attrs["params"], **{k: attrs[k] for k in FRAME_OPTIONS if k in attrs}}
         return attrs
 

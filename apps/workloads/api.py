@@ -1,5 +1,5 @@
 from drf_spectacular.utils import extend_schema
-from rest_framework import parsers, status, viewsets
+from rest_framework import status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
@@ -7,6 +7,7 @@ from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.scheduling.serializers import CompareRequestSerializer, ScheduleRequestSerializer
 from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
 
 from .models import Application
 from .serializers import (
@@ -28,7 +29,7 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
 
     @extend_schema(request={"multipart/form-data": ApplicationImportSerializer}, responses={201: ApplicationSerializer})
     @action(
-        detail=False, methods=["post"], url_path="import", parser_classes=[parsers.MultiPartParser, parsers.FormParser]
+        detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser]
     )
     def import_file(self, request):
         """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX,

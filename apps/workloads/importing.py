@@ -8,13 +8,13 @@ option is an :class:`InputError` on the field ``options``, a bad file one on ``f
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 from continuum.engine import generators
 from continuum.engine.dag import TaskGraph
 from continuum.engine.errors import InputError
 from continuum.engine.formats import JSON_READERS, TEXT_READERS, format_for_path, load_dag
+from continuum.engine.safeload import loads_json
 
 FORMATS = sorted({*JSON_READERS, *TEXT_READERS})
 GENERATORS = ("thesis", "layered")
@@ -26,9 +26,11 @@ def parse_options(value: Any) -> dict[str, Any]:
         return {}
     if isinstance(value, (str, bytes)):
         try:
-            value = json.loads(value)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"not JSON (line {exc.lineno} column {exc.colno}: {exc.msg})", "options") from exc
+            value = loads_json(value, "options")
+        except InputError as exc:
+            message = str(exc)
+            message = f"not JSON ({message})" if message.startswith("malformed") else message
+            raise InputError(message, "options") from exc
     if not isinstance(value, dict):
         raise InputError('reader options must be a JSON object, e.g. {"ccr": 1}', "options")
     for key, v in value.items():

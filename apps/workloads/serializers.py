@@ -1,15 +1,15 @@
 from rest_framework import serializers
 
 from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
-from continuum.engine import generators
+from apps.tenancy.bounds import BoundedFileField, at_most
+from continuum.engine import generators, limits
 from continuum.engine.dag import TaskGraph
 from continuum.engine.errors import InputError
 
 from .importing import FORMATS, GENERATORS, generate_dag, parse_options, read_dag_file
 from .models import Application
 
-#: Largest synthetic DAG the generate endpoint makes (the engine schedules 10,000 tasks in seconds).
-MAX_GENERATED_TASKS = 20_000
+LIMITS = limits.get()
 
 
 class ApplicationSerializer(FleetOwnedSerializer):
@@ -71,7 +71,7 @@ class ApplicationImportSerializer(DefaultFleetMixin, ScopedSerializer):
     """
 
     fleet = FleetField(required=False)
-    file = serializers.FileField()
+    file = BoundedFileField()
     format = serializers.ChoiceField(
         choices=FORMATS, required=False, help_text="default: from the file name, else guessed from the content"
     )
@@ -112,16 +112,28 @@ class ApplicationGenerateSerializer(DefaultFleetMixin, ScopedSerializer):
     fleet = FleetField(required=False)
     generator = serializers.ChoiceField(choices=GENERATORS)
     seed = serializers.IntegerField(default=0, min_value=0)
-    n = serializers.IntegerField(required=False, min_value=1, max_value=MAX_GENERATED_TASKS, help_text="tasks")
+    n = serializers.IntegerField(
+        required=False, min_value=1, max_value=LIMITS.tasks, error_messages=at_most("n"), help_text="tasks"
+    )
     dag_class = serializers.ChoiceField(
         choices=generators.SHAPES, required=False, help_text="thesis: tree or linear (default: drawn from the seed)"
     )
     shape = serializers.FloatField(required=False, min_value=0.01, help_text="layered: height/width shape (alpha)")
-    out_degree = serializers.FloatField(required=False, min_value=1, help_text="layered: mean out-degree")
+    out_degree = serializers.FloatField(
+        required=False,
+        min_value=1,
+        max_value=LIMITS.out_degree,
+        error_messages=at_most("out_degree"),
+        help_text="layered: mean out-degree",
+    )
     ccr = serializers.FloatField(required=False, min_value=0, help_text="layered: communication-to-computation ratio")
     mean_cost = serializers.FloatField(required=False, min_value=0.001, help_text="layered: mean task cost")
     processors = serializers.IntegerField(
-        required=False, min_value=1, max_value=1024, help_text="layered: per-processor costs p0.. (unrelated)"
+        required=False,
+        min_value=1,
+        max_value=LIMITS.processors,
+        error_messages=at_most("processors"),
+        help_text="layered: per-processor costs p0.. (unrelated)",
     )
     heterogeneity = serializers.FloatField(required=False, min_value=0, max_value=2, help_text="layered: beta")
     name = serializers.CharField(max_length=200, required=False)

@@ -23,6 +23,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import limits
 from .errors import InputError
 from .platform import Link, Platform, Processor
 from .taints import Taint
@@ -148,6 +149,7 @@ class Cluster:
         raw_nodes = data.get("nodes")
         if not isinstance(raw_nodes, list) or not raw_nodes:
             raise InputError("'nodes' must be a non-empty list", "nodes")
+        limits.check("nodes", len(raw_nodes))
         nodes: dict[str, ClusterNode] = {}
         for i, raw in enumerate(raw_nodes):
             node = _parse_node(i, raw)
@@ -157,6 +159,7 @@ class Cluster:
         raw_links = data.get("links", [])
         if not isinstance(raw_links, list):
             raise InputError("'links' must be a list", "links")
+        limits.check("links", len(raw_links))
         links = [_parse_link(i, raw) for i, raw in enumerate(raw_links)]
         default_bw = _limit("the cluster", data, "default_bandwidth_mbps")
         if default_bw is not None and default_bw <= 0:
@@ -271,6 +274,8 @@ def _parse_node(index: int, raw: Any) -> ClusterNode:
         raise InputError(f"{where} has an invalid class {cls!r}", "nodes")
     if raw.get("cpu") is not None and _limit(where, raw, "cpu") == 0:
         raise InputError(f"{where} cpu must be a positive number, not 0", "nodes")
+    if raw.get("cpu") is not None and _limit(where, raw, "cpu") > limits.get().cores:
+        raise InputError(f"{where}: cpu: at most {limits.get().cores}", "nodes")
     speed = _limit(where, raw, "speed")
     if speed is not None and speed <= 0:
         raise InputError(f"{where} speed must be a positive number, not {speed!r}", "nodes")

@@ -12,6 +12,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import limits
 from .errors import InputError
 
 FORMAT = "continuum.dag/v1"
@@ -66,10 +67,12 @@ class TaskGraph:
         raw_tasks = data.get("tasks")
         if not isinstance(raw_tasks, list) or not raw_tasks:
             raise InputError("'tasks' must be a non-empty list", "tasks")
+        limits.check("tasks", len(raw_tasks))
         tasks = [_parse_task(i, raw) for i, raw in enumerate(raw_tasks)]
         raw_edges = data.get("edges", [])
         if not isinstance(raw_edges, list):
             raise InputError("'edges' must be a list", "edges")
+        limits.check("edges", len(raw_edges))
         edges = [_parse_edge(i, raw) for i, raw in enumerate(raw_edges)]
         return cls.build(
             str(data.get("name") or "dag"),
@@ -96,6 +99,12 @@ class TaskGraph:
 
     # ---- structure ----------------------------------------------------------------------------
     def validate(self) -> None:
+        # Every reader ends here (build() and from_dict()): the DAG-size limits hold for every format.
+        limits.check("tasks", len(self.tasks))
+        limits.check("edges", len(self.edges))
+        entries, most = sum(len(t.cost) for t in self.tasks.values()), limits.get().cost_entries
+        if entries > most:
+            raise InputError(f"tasks: at most {most:,} cost entries in all (got {entries:,})", "tasks")
         seen: set[tuple[str, str]] = set()
         for e in self.edges:
             for end in (e.src, e.dst):

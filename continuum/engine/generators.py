@@ -35,6 +35,7 @@ import math
 import random
 import statistics
 
+from . import limits
 from .dag import Edge, Task, TaskGraph
 from .errors import InputError
 from .platform import Platform, Processor
@@ -93,6 +94,7 @@ def thesis_dag(
     n = n if n is not None else rng.randint(20, 250)
     if n < 2:
         raise InputError(f"a thesis DAG needs at least 2 nodes, not {n}", "n")
+    limits.check("n", n, name="tasks")
     shape = shape or rng.choice(SHAPES)
     if shape not in SHAPES:
         raise InputError(f"unknown shape {shape!r} (choose from {', '.join(SHAPES)})", "shape")
@@ -155,6 +157,7 @@ def layered_dag(
         raise InputError(f"a DAG needs at least one task, not {n}", "n")
     if shape <= 0 or out_degree < 1 or ccr < 0 or mean_cost <= 0 or not 0 <= heterogeneity <= 2:
         raise InputError("need shape > 0, out_degree >= 1, ccr >= 0, mean_cost > 0, 0 <= heterogeneity <= 2")
+    _check_layered(n, shape, out_degree, ccr, mean_cost, processors)
     rng = random.Random(seed)
     height = max(1, min(n, round(math.sqrt(n) / shape)))
     sizes = _composition(rng, n, height)
@@ -191,6 +194,30 @@ def layered_dag(
     edge_list = [Edge(str(u), str(v), rng.uniform(0, 2 * mean_data)) for u, v in sorted(edges)]
     meta = {"generator": "layered", "seed": seed, "shape": shape, "out_degree": out_degree, "ccr": ccr}
     return TaskGraph.build(f"layered-{n}-{seed}", tasks, edge_list, meta=meta)
+
+
+def _check_layered(n: int, shape: float, out_degree: float, ccr: float, mean_cost: float, processors: int | None):
+    """The cost of a layered DAG is about n x out_degree edges and n x processors cost entries: bound both
+    before drawing anything (an out_degree of 1e300 used to loop for ever)."""
+    for name, value in (("shape", shape), ("out_degree", out_degree), ("ccr", ccr), ("mean_cost", mean_cost)):
+        if not math.isfinite(value):
+            raise InputError(f"{name} must be a finite number, not {value!r}", name)
+    lim = limits.get()
+    limits.check("n", n, name="tasks")
+    limits.check("out_degree", out_degree)
+    if n * out_degree > lim.edges:
+        raise InputError(
+            f"out_degree: at most {lim.edges / n:g} for {n} tasks (n x out_degree edges: at most {lim.edges:,})",
+            "out_degree",
+        )
+    if processors:
+        limits.check("processors", processors)
+        if n * processors > lim.cost_entries:
+            raise InputError(
+                f"processors: at most {lim.cost_entries // n} for {n} tasks "
+                f"(n x processors cost entries: at most {lim.cost_entries:,})",
+                "processors",
+            )
 
 
 def related_platform(

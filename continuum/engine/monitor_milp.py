@@ -201,7 +201,7 @@ def _monitors(items: Any, stats: MonitorStats) -> None:
             if missing:
                 raise InputError(f"topic {t!r} (read by monitor {name!r}): no delay for node {missing[0]!r}")
         current = item.get("current")
-        if current is not None and current not in stats.available:
+        if current is not None and (not isinstance(current, str) or current not in stats.available):
             raise InputError(f"monitor {name!r}: current node {current!r} is not a listed node")
         cpu = _per_node(item.get("cpu"), f"monitor {name!r}: cpu", stats.nodes)
         if not cpu:

@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
+from . import limits
 from . import overlap as ov
 from .dag import TaskGraph
 from .errors import InputError
@@ -61,8 +62,11 @@ def releases(
     """Release time of each frame (see the module docstring)."""
     if isinstance(frames, bool) or not isinstance(frames, int) or frames < 1:
         raise InputError(f"frames must be a positive integer, not {frames!r}", "frames")
+    limits.check("frames", frames)
     if batch is not None and (isinstance(batch, bool) or not isinstance(batch, int) or batch < 1):
         raise InputError(f"batch must be a positive integer, not {batch!r}", "batch")
+    if batch is not None:
+        limits.check("batch", batch, name="frames")
     if fps is not None and period is not None:
         raise InputError("give either fps or period, not both", "fps")
     if fps is not None:
@@ -193,6 +197,13 @@ def pipeline(
     from .algorithms import SCHEDULERS, call
 
     release = releases(frames, fps=fps, period=period, batch=batch, time_unit=dag.time_unit)
+    most = limits.get().frame_tasks
+    if len(release) * len(dag) > most:
+        raise InputError(
+            f"frames: at most {max(1, most // len(dag)):,} for a DAG of {len(dag):,} tasks "
+            f"(frames x tasks: at most {most:,})",
+            "frames",
+        )
     if algorithm in NATIVE:
         schedule = call(
             algorithm, NATIVE[algorithm], dag, platform, release, in_order=in_order, progress=progress, **params

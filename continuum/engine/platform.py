@@ -25,6 +25,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import limits
 from .dag import Task, TaskGraph
 from .errors import InputError
 
@@ -73,6 +74,8 @@ class Platform:
                 raise InputError(f"processor {p.id!r} has invalid speed {p.speed!r}", "processors")
             if isinstance(p.cores, bool) or not isinstance(p.cores, int) or p.cores < 1:
                 raise InputError(f"processor {p.id!r} has invalid cores {p.cores!r} (a positive integer)", "processors")
+            if p.cores > limits.get().cores:
+                raise InputError(f"processor {p.id!r}: cores: at most {limits.get().cores}", "processors")
         if self.routing not in ROUTINGS:
             raise InputError(f"unknown routing {self.routing!r} (choose from {', '.join(ROUTINGS)})", "routing")
         _check_bandwidth(self.bandwidth, "platform")
@@ -94,22 +97,27 @@ class Platform:
         if fmt != FORMAT:
             raise InputError(f"unsupported format {fmt!r}, expected {FORMAT!r}", "format")
         procs = []
+        if not isinstance(data.get("processors") or [], list) or not isinstance(data.get("links") or [], list):
+            raise InputError("'processors' and 'links' must be lists", "processors")
+        limits.check("processors", len(data.get("processors") or []))
         for i, raw in enumerate(data.get("processors") or []):
             if not isinstance(raw, Mapping) or not raw.get("id"):
                 raise InputError(f"processors[{i}] needs an 'id'", "processors")
             cores = raw.get("cores", 1)
-            if isinstance(cores, float) and cores.is_integer():
+            if isinstance(cores, float) and cores.is_integer() and abs(cores) < 2**31:
                 cores = int(cores)
-            procs.append(Processor(str(raw["id"]), str(raw.get("class", "cpu")), float(raw.get("speed", 1.0)), cores))
+            speed = _number(raw.get("speed", 1.0), f"processors[{i}].speed", "processors")
+            procs.append(Processor(str(raw["id"]), str(raw.get("class", "cpu")), speed, cores))
         links = []
         for i, raw in enumerate(data.get("links") or []):
             if not isinstance(raw, Mapping) or "src" not in raw or "dst" not in raw:
                 raise InputError(f"links[{i}] needs 'src' and 'dst'", "links")
-            links.append(Link(str(raw["src"]), str(raw["dst"]), raw.get("bandwidth"), float(raw.get("latency", 0.0))))
+            latency = _number(raw.get("latency", 0.0), f"links[{i}].latency", "links")
+            links.append(Link(str(raw["src"]), str(raw["dst"]), raw.get("bandwidth"), latency))
         return cls(
             procs,
             bandwidth=data.get("bandwidth", 1.0),
-            latency=float(data.get("latency", 0.0)),
+            latency=_number(data.get("latency", 0.0), "latency", "latency"),
             links=links,
             route=bool(data.get("route", False)),
             routing=str(data.get("routing", "latency")),
@@ -120,6 +128,7 @@ class Platform:
         """``cpus`` processors of class ``cpu`` and ``gpus`` of class ``gpu`` (the ``--cpus/--gpus`` flags)."""
         if cpus < 0 or gpus < 0 or cpus + gpus == 0:
             raise InputError("need at least one processor (--cpus/--gpus)", "processors")
+        limits.check("processors", cpus + gpus)
         procs = [Processor(f"cpu{i}", "cpu") for i in range(cpus)]
         procs += [Processor(f"gpu{i}", "gpu") for i in range(gpus)]
         return cls(procs, **kwargs)
@@ -283,3 +292,10 @@ def _check_bandwidth(bw: Any, where: str) -> None:
         return
     if isinstance(bw, bool) or not isinstance(bw, (int, float)) or not (bw > 0 and math.isfinite(bw)):
         raise InputError(f"{where} has invalid bandwidth {bw!r} (a positive number or null)", "bandwidth")
+
+
+def _number(value: Any, what: str, field: str) -> float:
+    """A finite number from a document, or an InputError naming it (never a TypeError)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{what} must be a finite number, not {value!r:.60}", field)
+    return float(value)

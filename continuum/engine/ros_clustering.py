@@ -46,7 +46,12 @@ def max_containers(available_mib: float, overhead_mib: float) -> int:
         raise InputError(f"container overhead must be a positive number of MiB, got {overhead_mib!r}", "overhead")
     if not (isinstance(available_mib, (int, float)) and available_mib >= 0 and math.isfinite(available_mib)):
         raise InputError(f"available memory must be a non-negative number of MiB, got {available_mib!r}", "memory")
-    bound = math.floor(available_mib / overhead_mib + 1e-9)
+    ratio = available_mib / overhead_mib
+    if not math.isfinite(ratio):  # 1e308 MiB / 1e-308 MiB: no integer bound
+        raise InputError(
+            f"Eq. 3.13: {available_mib:g} / {overhead_mib:g} is not a finite number of containers", "memory"
+        )
+    bound = math.floor(ratio + 1e-9)
     if bound < 1:
         raise InputError(
             f"Eq. 3.13: {available_mib:g} MiB of memory cannot hold one container of {overhead_mib:g} MiB overhead",

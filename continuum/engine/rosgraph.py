@@ -26,15 +26,16 @@ system JSON (``ros-realtime/reference-system``), iRobot's ``ros2-performance`` t
 from __future__ import annotations
 
 import itertools
-import json
 import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import limits
 from .artifact_names import check_package
 from .errors import InputError
+from .safeload import loads_json
 
 FORMAT = "continuum.rosgraph/v1"
 LEVELS = ("mission", "macro", "functionality", "driver")
@@ -132,6 +133,9 @@ class RosGraph:
         return graph
 
     def validate(self) -> None:
+        # Every reader ends here: the graph-size limits hold for every format.
+        limits.check("nodes", len(self.nodes))
+        limits.check("topics", len(self.topics), name="links")
         for node in self.nodes.values():
             if node.level is not None and node.level not in LEVELS:
                 raise InputError(f"ROS node {node.name!r} has unknown level {node.level!r}", "nodes")
@@ -176,7 +180,7 @@ class RosGraph:
             nodes,
             topics,
             packages={str(k): _parse_package(str(k), v) for k, v in packages.items()},
-            meta=dict(data.get("meta") or {}),
+            meta=_mapping(data.get("meta"), "meta", "meta"),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -343,13 +347,12 @@ def load_rosgraph(text: str, fmt: str | None = None, name: str = "", **params: A
     """
     if fmt is not None and fmt not in READERS:
         raise InputError(f"unknown ROS graph format {fmt!r} (one of {', '.join(READERS)})", "format")
+    if "\x00" in text:  # no graph format has one, and no stored text may hold one
+        raise InputError("the file contains a NUL character")
     stripped = text.lstrip()
     if fmt == "dot" or (fmt is None and not stripped.startswith(("{", "["))):
         return from_dot(text, name=name, **params)
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}") from exc
+    doc = loads_json(text)
     fmt = fmt or guess_json_format(doc)
     if fmt == "autoware":
         return from_autoware(doc, **params)
@@ -398,13 +401,12 @@ def from_autoware(doc: Mapping[str, Any]) -> RosGraph:
         if not isinstance(raw, Mapping) or not isinstance(raw.get("name"), str) or not raw["name"]:
             raise InputError(f"nodes[{i}] needs a string 'name'", "nodes")
         for key in ("publishes", "subscribes"):
-            if not isinstance(raw.get(key, []), list):
-                raise InputError(f"node {raw['name']!r}: '{key}' must be a list of topic names", "nodes")
+            _topic_names(raw.get(key), f"node {raw['name']!r}: '{key}'")
         if raw["name"] in specs:
             raise InputError(f"duplicate ROS node name {raw['name']!r}", "nodes")
         specs[raw["name"]] = raw
     sizes: dict[str, float] = {}
-    for i, e in enumerate(doc.get("edges") or []):
+    for i, e in enumerate(_list(doc.get("edges"), "edges", "edges")):
         if not isinstance(e, Mapping) or not isinstance(e.get("topic"), str):
             raise InputError(f"edges[{i}] needs a 'topic'", "edges")
         size = e.get("msg_bytes", 0)
@@ -416,9 +418,9 @@ def from_autoware(doc: Mapping[str, Any]) -> RosGraph:
     publishers: dict[str, list[str]] = {}
     subscribers: dict[str, list[str]] = {}
     for n, spec in specs.items():
-        for t in spec.get("publishes", []):
+        for t in spec.get("publishes") or []:
             publishers.setdefault(t, []).append(n)
-        for t in spec.get("subscribes", []):
+        for t in spec.get("subscribes") or []:
             subscribers.setdefault(t, []).append(n)
     topics = []
     for t in sorted(set(publishers) | set(subscribers), key=natural_key):
@@ -431,6 +433,8 @@ def from_autoware(doc: Mapping[str, Any]) -> RosGraph:
         cpu = 0.0
         for cb in callbacks[n]:
             rt = cb.get("runtime_ms", spec.get("runtime_ms", 0.0)) or 0.0
+            if not _finite_nonneg(rt):
+                raise InputError(f"node {n!r} has invalid runtime_ms {rt!r:.40}", "nodes")
             cpu += float(rt) * _trigger_rate(cb, rates) / 1000.0
         nodes.append(RosNode(n, cpu=cpu))
     meta = {
@@ -451,16 +455,19 @@ def _autoware_callbacks(name: str, spec: Mapping[str, Any]) -> list[dict[str, An
                 raise InputError(f"node {name!r} callbacks[{i}] needs kind 'timer' or 'subscription'", "nodes")
             if cb["kind"] == "timer" and not _positive(cb.get("period_ms")):
                 raise InputError(f"node {name!r} callbacks[{i}] has no positive 'period_ms'", "nodes")
+            _topic_names(cb.get("publishes"), f"node {name!r} callbacks[{i}].publishes")
+            if cb["kind"] == "subscription" and not isinstance(cb.get("topic", ""), str):
+                raise InputError(f"node {name!r} callbacks[{i}].topic must be a topic name", "nodes")
             out.append(dict(cb))
         return out
     # No callback detail: a node with a period is a timer, otherwise it republishes per input message
     # (a node with several inputs waits for all of them, like the reference system's fusion nodes).
-    pubs = list(spec.get("publishes", []))
+    pubs = _topic_names(spec.get("publishes"), f"node {name!r} publishes")
     if spec.get("period_ms") is not None:
         if not _positive(spec.get("period_ms")):
             raise InputError(f"node {name!r} has invalid period_ms {spec.get('period_ms')!r}", "nodes")
         return [{"kind": "timer", "period_ms": spec["period_ms"], "publishes": pubs}]
-    subs = list(spec.get("subscribes", []))
+    subs = _topic_names(spec.get("subscribes"), f"node {name!r} subscribes")
     note = "publishes only when both inputs present" if len(subs) > 1 else ""
     return [{"kind": "subscription", "topic": t, "publishes": pubs, "note": note} for t in subs]
 
@@ -551,7 +558,7 @@ def from_irobot(doc: Mapping[str, Any], name: str = "") -> RosGraph:
             raise InputError(f"nodes[{i}] needs a string 'node_name'", "nodes")
         node = raw["node_name"]
         nodes.append(RosNode(node))
-        for j, p in enumerate(raw.get("publishers") or []):
+        for j, p in enumerate(_list(raw.get("publishers"), f"node {node!r} publishers", "nodes")):
             where = f"node {node!r} publishers[{j}]"
             topic = _irobot_topic(p, where)
             hz = _irobot_rate(p, where)
@@ -566,7 +573,7 @@ def from_irobot(doc: Mapping[str, Any], name: str = "") -> RosGraph:
             pubs.setdefault(topic, []).append(node)
             rates.setdefault(topic, {})[node] = rates.get(topic, {}).get(node, 0.0) + hz
             sizes[topic], types[topic] = size, str(p.get("msg_type", ""))
-        for j, s in enumerate(raw.get("subscribers") or []):
+        for j, s in enumerate(_list(raw.get("subscribers"), f"node {node!r} subscribers", "nodes")):
             topic = _irobot_topic(s, f"node {node!r} subscribers[{j}]")
             subs.setdefault(topic, []).append(node)
             if topic not in sizes and s.get("msg_type"):
@@ -1032,3 +1039,29 @@ def _parse_package(name: str, raw: Any) -> dict[str, Any]:
             raise InputError(f"package {name!r}: 'archs' must be a list of architectures", "packages")
         out["archs"] = list(archs)
     return out
+
+
+def _list(value: Any, where: str, field: str) -> list:
+    """A document's list (absent/null: empty), or an InputError naming it."""
+    if value is None:
+        return []
+    if not isinstance(value, list):
+        raise InputError(f"{where} must be a list, not {type(value).__name__}", field)
+    return value
+
+
+def _mapping(value: Any, where: str, field: str) -> dict:
+    """A document's object (absent/null: empty), or an InputError naming it."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise InputError(f"{where} must be an object, not {type(value).__name__}", field)
+    return dict(value)
+
+
+def _topic_names(value: Any, where: str) -> list[str]:
+    """A list of topic names (absent/null: empty), or an InputError naming it."""
+    names = _list(value, where, "nodes")
+    if not all(isinstance(t, str) for t in names):
+        raise InputError(f"{where} must be a list of topic names (strings)", "nodes")
+    return list(names)

@@ -32,6 +32,7 @@ from typing import Any
 import yaml
 
 from .errors import InputError
+from .safeload import load_yaml_all
 from .taints import TAINT_EFFECTS, Taint, Toleration, untolerated  # noqa: F401 - re-exported
 
 RTSET_FORMAT = "continuum.rtset/v1"
@@ -359,12 +360,7 @@ def realtime_from_dict(doc: Any, index: int = 0, known_nodes: Iterable[str] | No
 
 def realtime_from_yaml(text: str, known_nodes: Iterable[str] | None = None) -> list[RTContainer]:
     """Every ``RealTime`` document of a YAML stream; other kinds (the Deployment of Listing 3.33) are skipped."""
-    try:
-        docs = list(yaml.safe_load_all(text))
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        at = f" at line {mark.line + 1} column {mark.column + 1}" if mark else ""
-        raise InputError(f"malformed YAML{at}: {getattr(exc, 'problem', None) or exc}", "yaml") from exc
+    docs = load_yaml_all(text, "yaml")
     known = None if known_nodes is None else list(known_nodes)
     out = [
         realtime_from_dict(d, i, known)

@@ -45,8 +45,9 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
+from . import limits
 from .errors import InputError
 
 # ---------------------------------------------------------------------------------------------------
@@ -325,12 +326,23 @@ _NEXT = {"X", "next"}
 _ALWAYS = {"G", "always"}
 
 
+class _TooDeep(Exception):
+    """Nesting past ``limits.stl_depth``."""
+
+
 class _Parser:
     def __init__(self, text: str, constants: Mapping[str, float]):
         self.text = text
         self.toks = tokenize(text)
         self.i = 0
         self.constants = dict(constants)
+        self.depth = 0  # recursion depth of the descent, bounded by limits.stl_depth
+
+    def enter(self) -> None:
+        """Count one level of nesting; past the limit the assertion is refused (no RecursionError)."""
+        self.depth += 1
+        if self.depth > limits.get().stl_depth:
+            raise _TooDeep()
 
     # -- token helpers ---------------------------------------------------------------------------
     @property
@@ -438,6 +450,13 @@ class _Parser:
         return left
 
     def unary(self) -> Formula:
+        self.enter()
+        try:
+            return self._unary()
+        finally:
+            self.depth -= 1
+
+    def _unary(self) -> Formula:
         t = self.tok
         if self.at("!"):
             self.i += 1
@@ -517,6 +536,13 @@ class _Parser:
         return left
 
     def host_not(self) -> Expr:
+        self.enter()
+        try:
+            return self._host_not()
+        finally:
+            self.depth -= 1
+
+    def _host_not(self) -> Expr:
         if self.at("!"):
             self.i += 1
             return HostNot(self.host_not())
@@ -544,6 +570,13 @@ class _Parser:
         return left
 
     def factor(self, braced: bool) -> Expr:
+        self.enter()
+        try:
+            return self._factor(braced)
+        finally:
+            self.depth -= 1
+
+    def _factor(self, braced: bool) -> Expr:
         t = self.tok
         if self.at("-"):
             self.i += 1
@@ -577,23 +610,56 @@ def parse_assertion(text: str, constants: Mapping[str, float] | None = None) -> 
     """Parse one assertion of the Fig. 3.40 grammar; raise InputError with the column on a syntax error."""
     if not text or not text.strip():
         raise InputError("empty assertion", field="assertion")
+    _check_length(text)
     parser = _Parser(text, constants or {})
     try:
-        return parser.assertion()
+        return _check_depth(parser.assertion())
     except _Fail as exc:
         raise InputError(str(exc), field="assertion") from None
+    except _TooDeep:
+        raise _too_deep() from None
 
 
 def parse_formula(text: str, constants: Mapping[str, float] | None = None) -> Formula:
     """Parse a bare temporal formula (no ``G``); handy for tests and for consequents built by tools."""
+    _check_length(text)
     parser = _Parser(text, constants or {})
     try:
         f = parser.tformula()
         if parser.tok.kind != "end":
             raise parser.fail("end of input")
-        return f
+        return _check_depth(f)
     except _Fail as exc:
         raise InputError(str(exc), field="assertion") from None
+    except _TooDeep:
+        raise _too_deep() from None
+
+
+def _check_length(text: str) -> None:
+    limit = limits.get().stl_length
+    if len(text) > limit:
+        raise InputError(f"assertion: at most {limit} characters (got {len(text)})", field="assertion")
+
+
+def _too_deep() -> InputError:
+    return InputError(f"assertion: at most {limits.get().stl_depth} levels of nesting", field="assertion")
+
+
+def _check_depth(node):
+    """Refuse an AST deeper than ``limits.stl_depth`` (long operator chains nest too: ``a && b && c`` is
+    two levels), so that printing, compiling and monitoring it, all recursive, stay far from Python's
+    recursion limit. Iterative."""
+    limit = limits.get().stl_depth
+    stack = [(node, 0)]
+    while stack:
+        n, depth = stack.pop()
+        if depth > limit:
+            raise _too_deep()
+        for f in fields(n) if hasattr(n, "__dataclass_fields__") else ():
+            child = getattr(n, f.name)
+            if hasattr(child, "__dataclass_fields__"):
+                stack.append((child, depth + 1))
+    return node
 
 
 # ---------------------------------------------------------------------------------------------------

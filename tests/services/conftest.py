@@ -38,7 +38,7 @@ def database_url() -> str:
 class Worker:
     """A ``celery worker`` process on a private queue; ``kill()`` is a SIGKILL, as a crash would be."""
 
-    def __init__(self, broker: str, queue: str, visibility_timeout: int, env: dict | None = None):
+    def __init__(self, broker: str, queue: str, visibility_timeout: int, pool: str = "solo", env: dict | None = None):
         extra = env or {}
         env = dict(
             os.environ,
@@ -60,7 +60,7 @@ class Worker:
                 "continuum",
                 "worker",
                 "-P",
-                "solo",
+                pool,
                 "-c",
                 "1",
                 "-Q",
@@ -114,8 +114,9 @@ def celery_broker(redis_url, settings):
 def start_worker(celery_broker, redis_url):
     workers: list[Worker] = []
 
-    def start(visibility_timeout: int = 3600, env: dict | None = None) -> Worker:
-        worker = Worker(redis_url, celery_broker, visibility_timeout, env=env)
+    def start(visibility_timeout: int = 3600, pool: str = "solo", env: dict | None = None) -> Worker:
+        """A worker; ``pool="prefork"`` for what only a prefork child has (time limits, memory cap)."""
+        worker = Worker(redis_url, celery_broker, visibility_timeout, pool, env=env)
         workers.append(worker)
         return worker
 

@@ -7,13 +7,13 @@ Each reader turns a file into a validated :class:`~continuum.engine.dag.TaskGrap
 from __future__ import annotations
 
 import inspect
-import json
 from collections.abc import Callable
 from pathlib import PurePath
 from typing import Any
 
 from ..dag import TaskGraph
 from ..errors import InputError
+from ..safeload import loads_json
 from . import dax, stg, thesis_csv, wfformat
 
 Reader = Callable[[Any], TaskGraph]
@@ -71,6 +71,8 @@ def load_dag(
             content = content.decode("utf-8")
         except UnicodeDecodeError as exc:
             raise InputError(f"the file is not UTF-8 text (byte {exc.start})") from exc
+    if "\x00" in content:  # no text format has one, and no stored text may hold one
+        raise InputError("the file contains a NUL character")
     if fmt is None:
         fmt = sniff_text(content)
     if fmt in TEXT_READERS:
@@ -87,10 +89,7 @@ def load_dag(
         if fmt is not None and fmt not in JSON_READERS:
             known = ", ".join(sorted({*JSON_READERS, *TEXT_READERS}))
             raise InputError(f"unknown DAG format {fmt!r} (known: {known})", "format")
-        try:
-            doc = json.loads(content)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}") from exc
+        doc = loads_json(content)
         graph = JSON_READERS[fmt or sniff_json(doc)](doc)
     if name:
         graph.name = name
