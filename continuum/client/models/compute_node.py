@@ -29,7 +29,7 @@ class ComputeNode:
         cpu (float | Unset): CPU cores
         memory_mib (int | Unset):
         storage_mib (int | Unset):
-        accelerators (Any | Unset): e.g. ["igpu"]
+        accelerators (list[str] | Unset): e.g. ["igpu"]
         processor_class (str | Unset): class that DAG task costs name (cpu, gpu, ...)
         speed (float | Unset): class cost / speed
         rt (bool | Unset): real-time capable
@@ -49,7 +49,7 @@ class ComputeNode:
     cpu: float | Unset = UNSET
     memory_mib: int | Unset = UNSET
     storage_mib: int | Unset = UNSET
-    accelerators: Any | Unset = UNSET
+    accelerators: list[str] | Unset = UNSET
     processor_class: str | Unset = UNSET
     speed: float | Unset = UNSET
     rt: bool | Unset = UNSET
@@ -77,7 +77,9 @@ class ComputeNode:
 
         storage_mib = self.storage_mib
 
-        accelerators = self.accelerators
+        accelerators: list[str] | Unset = UNSET
+        if not isinstance(self.accelerators, Unset):
+            accelerators = self.accelerators
 
         processor_class = self.processor_class
 
@@ -161,7 +163,7 @@ class ComputeNode:
 
         storage_mib = d.pop("storage_mib", UNSET)
 
-        accelerators = d.pop("accelerators", UNSET)
+        accelerators = cast(list[str], d.pop("accelerators", UNSET))
 
         processor_class = d.pop("processor_class", UNSET)
 

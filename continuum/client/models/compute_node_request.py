@@ -28,7 +28,7 @@ class ComputeNodeRequest:
         cpu (float | Unset): CPU cores
         memory_mib (int | Unset):
         storage_mib (int | Unset):
-        accelerators (Any | Unset): e.g. ["igpu"]
+        accelerators (list[str] | Unset): e.g. ["igpu"]
         processor_class (str | Unset): class that DAG task costs name (cpu, gpu, ...)
         speed (float | Unset): class cost / speed
         rt (bool | Unset): real-time capable
@@ -47,7 +47,7 @@ class ComputeNodeRequest:
     cpu: float | Unset = UNSET
     memory_mib: int | Unset = UNSET
     storage_mib: int | Unset = UNSET
-    accelerators: Any | Unset = UNSET
+    accelerators: list[str] | Unset = UNSET
     processor_class: str | Unset = UNSET
     speed: float | Unset = UNSET
     rt: bool | Unset = UNSET
@@ -73,7 +73,9 @@ class ComputeNodeRequest:
 
         storage_mib = self.storage_mib
 
-        accelerators = self.accelerators
+        accelerators: list[str] | Unset = UNSET
+        if not isinstance(self.accelerators, Unset):
+            accelerators = self.accelerators
 
         processor_class = self.processor_class
 
@@ -154,7 +156,7 @@ class ComputeNodeRequest:
 
         storage_mib = d.pop("storage_mib", UNSET)
 
-        accelerators = d.pop("accelerators", UNSET)
+        accelerators = cast(list[str], d.pop("accelerators", UNSET))
 
         processor_class = d.pop("processor_class", UNSET)
 
