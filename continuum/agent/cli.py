@@ -40,6 +40,52 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         raise UsageError(message)
 
+    def parse_known_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> tuple[argparse.Namespace, list[str]]:
+        # The subcommand's parser is called with its own arguments: each level joins its own options' values.
+        return super().parse_known_args(attach_values(self, sys.argv[1:] if args is None else list(args)), namespace)
+
+
+def _option(ap: argparse.ArgumentParser, text: str) -> argparse.Action | None:
+    """The option ``text`` names in ``ap`` (exactly, or as argparse's unambiguous ``--`` abbreviation)."""
+    actions = {s: a for a in ap._actions for s in a.option_strings}
+    if text in actions:
+        return actions[text]
+    if text.startswith("--") and len(text) > 2:
+        hits = {a for s, a in actions.items() if s.startswith(text)}
+        return hits.pop() if len(hits) == 1 else None
+    return None
+
+
+def attach_values(ap: argparse.ArgumentParser, argv: list[str]) -> list[str]:
+    """``--token -Xy...`` as ``--token=-Xy...``: argparse takes any word that starts with '-' for an option, so
+    ``--token T`` failed with "expected one argument" (exit 2) for the 1 key in 64 that ``secrets.token_urlsafe``
+    starts with '-'. A word after an option that takes one value is that value unless it is an option of ``ap``
+    itself (then the value is missing, and argparse says so). Stops at COMMAND (the first positional) or ``--``."""
+    out: list[str] = []
+    words = iter(argv)
+    for word in words:
+        out.append(word)
+        if word == "--" or not word.startswith("-") or word == "-":
+            out.extend(words)  # COMMAND ARGS... (or the subcommand and its arguments): never rewritten
+            break
+        action = None if "=" in word else _option(ap, word)
+        if action is None or action.nargs is not None:  # a flag, a --name=value, or unknown (argparse says)
+            continue
+        value = next(words, None)
+        if value is None:
+            break
+        if value.startswith("-") and value != "-" and not _is_option(ap, value):
+            out[-1] = f"{word}={value}"
+        else:
+            out.append(value)
+    return out
+
+
+def _is_option(ap: argparse.ArgumentParser, word: str) -> bool:
+    return word == "--" or _option(ap, word.split("=", 1)[0] if word.startswith("--") else word) is not None
+
 
 def _positive(text: str) -> float:
     try:
