@@ -30,13 +30,15 @@ class Fleet(models.Model):
 
 
 #: Characters of a key kept in clear (``FleetToken.prefix``): enough to tell tokens apart, far too few to guess
-#: the rest (the key has 240 bits of entropy).
+#: the rest (the key has 160 bits of entropy).
 PREFIX_LENGTH = 8
 
 
 def new_token_key() -> str:
-    """A new random key (40 URL-safe characters, 240 bits); it is stored only as its SHA-256."""
-    return secrets.token_urlsafe(30)
+    """A new random key (40 hex digits, 160 bits, the length the key column of migration 0001 holds); it is
+    stored only as its SHA-256. Hex rather than URL-safe base64: a key that starts with "-" reads as an option
+    on a command line (``--token KEY``)."""
+    return secrets.token_hex(20)
 
 
 def hash_token_key(key: str) -> str:
