@@ -17,8 +17,14 @@ steered around those inputs so the fuzzer can look for other failures. Run with
 ``CONTINUUM_SCHEMATHESIS_STRICT=1`` (or empty the list once those branches are merged) to check them too.
 
 scripts/test runs this file a second time on SQLite (``DATABASE_URL=sqlite:///...``), so both databases
-the project supports are exercised. ``CONTINUUM_SCHEMATHESIS_EXAMPLES`` and ``CONTINUUM_SCHEMATHESIS_STEPS``
-bound the work (the defaults keep one run to a few minutes on two cores).
+the project supports are exercised. Environment variables (the defaults keep one run to a few minutes on
+two cores):
+
+- ``CONTINUUM_SCHEMATHESIS_EXAMPLES`` (15): generated cases per operation in the fuzzing phase;
+- ``CONTINUUM_SCHEMATHESIS_SCENARIOS`` (50) and ``CONTINUUM_SCHEMATHESIS_STEPS`` (6): stateful sequences;
+- ``CONTINUUM_SCHEMATHESIS_COVERAGE=1``: also the coverage phase (boundary values, ~13,000 more cases);
+- ``CONTINUUM_SCHEMATHESIS_CHECKS=response_schema_conformance,...``: more checks;
+- ``CONTINUUM_SCHEMATHESIS_STRICT=1``: no steering around KNOWN_ELSEWHERE.
 """
 
 from __future__ import annotations
@@ -41,6 +47,8 @@ MAX_SCENARIOS = int(os.environ.get("CONTINUUM_SCHEMATHESIS_SCENARIOS", "50"))  #
 STRICT = os.environ.get("CONTINUUM_SCHEMATHESIS_STRICT", "") not in ("", "0")
 # the coverage phase (boundary values of every parameter) adds many cases: off by default for CI time
 COVERAGE = os.environ.get("CONTINUUM_SCHEMATHESIS_COVERAGE", "") not in ("", "0")
+# more schemathesis checks to run besides not_a_server_error, e.g. "response_schema_conformance"
+EXTRA_CHECKS = [c for c in os.environ.get("CONTINUUM_SCHEMATHESIS_CHECKS", "").split(",") if c]
 
 #: Server errors found by schemathesis whose fix belongs to another branch (owner: what triggers them).
 #: Each is steered around by :func:`_steer` unless STRICT; remove an entry once its fix is merged.
@@ -48,6 +56,8 @@ KNOWN_ELSEWHERE = {
     "huge-limit": "sec-bounds: ?limit=<more digits than an int64> on every list endpoint",
     "nul-in-strings": "sec-bounds: a NUL character in a string field (PostgreSQL rejects it)",
 }
+
+ALLOW_NUL = STRICT or "nul-in-strings" not in KNOWN_ELSEWHERE
 
 STATS: Counter = Counter()  # what the hooks saw, for the run's report
 _LOCK = threading.Lock()
@@ -143,8 +153,9 @@ def test_no_generated_request_makes_the_server_fail(api, fleet_token, cluster, l
             "workers": 1,
             "cache": {"enabled": False},  # no state carried between runs (nor a .schemathesis/ directory)
             "seed": 1,
-            "checks": {"enabled": False, "not_a_server_error": {"enabled": True}},
-            "generation": {"max-examples": MAX_EXAMPLES, "database": "none", "allow-x00": STRICT},
+            "continue-on-failure": True,  # every distinct failure, not the first of each operation
+            "checks": {"enabled": False, **{name: {"enabled": True} for name in ["not_a_server_error", *EXTRA_CHECKS]}},
+            "generation": {"max-examples": MAX_EXAMPLES, "database": "none", "allow-x00": ALLOW_NUL},
             "phases": {
                 "examples": {"enabled": True, "fill-missing": True},
                 "coverage": {"enabled": COVERAGE},
@@ -152,7 +163,7 @@ def test_no_generated_request_makes_the_server_fail(api, fleet_token, cluster, l
                 "stateful": {
                     "enabled": True,
                     "max-steps": MAX_STEPS,
-                    "generation": {"max-examples": MAX_SCENARIOS, "database": "none", "allow-x00": STRICT},
+                    "generation": {"max-examples": MAX_SCENARIOS, "database": "none", "allow-x00": ALLOW_NUL},
                 },
             },
         }
