@@ -130,7 +130,9 @@ class ApplicationGenerateSerializer(DefaultFleetMixin, serializers.Serializer):
         choices=generators.SHAPES, required=False, help_text="thesis: tree or linear (default: drawn from the seed)"
     )
     shape = serializers.FloatField(required=False, min_value=0.01, help_text="layered: height/width shape (alpha)")
-    out_degree = serializers.FloatField(required=False, min_value=1, help_text="layered: mean out-degree")
+    out_degree = serializers.FloatField(
+        required=False, min_value=1, max_value=MAX_GENERATED_TASKS, help_text="layered: mean out-degree"
+    )
     ccr = serializers.FloatField(required=False, min_value=0, help_text="layered: communication-to-computation ratio")
     mean_cost = serializers.FloatField(required=False, min_value=0.001, help_text="layered: mean task cost")
     processors = serializers.IntegerField(

@@ -18,10 +18,14 @@ cost and every edge carries no data, unless options say otherwise:
 
 from __future__ import annotations
 
+import math
 import random
 
 from ..dag import Edge, Task, TaskGraph
 from ..errors import InputError
+
+#: Most processors the ``processors`` option may cost tasks on (one cost per processor and task).
+MAX_PROCESSORS = 1024
 
 
 def read(
@@ -96,8 +100,10 @@ def read(
     keep = set(costs) if dummies else set(costs) - {0, total - 1}
     rng = random.Random(seed)
     mean_cost = sum(costs[t] for t in keep) / len(keep) if keep else 0.0
-    if processors is not None and (processors < 1 or int(processors) != processors):
-        raise InputError(f"STG: processors must be a positive integer, not {processors!r}", "processors")
+    if processors is not None and (processors < 1 or int(processors) != processors or processors > MAX_PROCESSORS):
+        raise InputError(f"STG: processors must be an integer in 1..{MAX_PROCESSORS}, not {processors!r}", "processors")
+    if ccr is not None and (not math.isfinite(ccr) or ccr < 0 or not math.isfinite(2 * ccr * mean_cost)):
+        raise InputError(f"STG: ccr must be a finite number >= 0 that keeps data sizes finite, not {ccr!r}", "ccr")
     beta = heterogeneity or 0.0
     if not 0 <= beta <= 2:
         raise InputError(f"STG: heterogeneity must lie in [0, 2], not {heterogeneity!r}", "heterogeneity")
