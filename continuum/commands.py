@@ -39,6 +39,16 @@ class EngineCommand(BaseCommand):
 
     # ---- helpers ------------------------------------------------------------------------------
     @staticmethod
+    def warn(message: str) -> None:
+        """Something the input was accepted despite: one line on stderr (stdout stays the result)."""
+        sys.stderr.write(f"warning: {_one_line(message)}\n")
+
+    def warn_about(self, graph: Any) -> None:
+        """The reader's warnings for a DAG it accepted (``graph.meta["warnings"]``)."""
+        for message in graph.meta.get("warnings", []):
+            self.warn(message)
+
+    @staticmethod
     def read_text(path: str) -> str:
         p = Path(path)
         if not p.is_file():

@@ -102,6 +102,7 @@ class UploadForm(FleetChoiceMixin, forms.Form):
             data["graph"], data["source_format"] = read_dag_file(
                 upload.read(), upload.name, data.get("format") or None, options, data.get("name") or None
             )
+            data["warnings"] = data["graph"].meta.pop("warnings", [])  # shown once, not stored
         except InputError as exc:
             if exc.field == "options":
                 self.add_error(None, f"STG options: {exc}")

@@ -128,6 +128,8 @@ def application_list(request: HttpRequest) -> HttpResponse:
         if form.is_valid():
             app = form.save(request.user)
             messages.success(request, f"Imported {app.name!r}: {app.task_count} tasks, {app.edge_count} edges.")
+            for warning in form.cleaned_data.get("warnings", []):
+                messages.warning(request, warning)
             return redirect("dashboard:application", pk=app.pk)
         return _application_list_page(request, fleets, form, GenerateForm(fleets=fleets), status=400)
     return _application_list_page(request, fleets, form, GenerateForm(fleets=fleets))

@@ -12,6 +12,7 @@ from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
 from .models import Application
 from .serializers import (
     ApplicationGenerateSerializer,
+    ApplicationImportResultSerializer,
     ApplicationImportSerializer,
     ApplicationListSerializer,
     ApplicationSerializer,
@@ -27,7 +28,9 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
     def get_serializer_class(self):
         return ApplicationListSerializer if self.action == "list" else ApplicationSerializer
 
-    @extend_schema(request={"multipart/form-data": ApplicationImportSerializer}, responses={201: ApplicationSerializer})
+    @extend_schema(
+        request={"multipart/form-data": ApplicationImportSerializer}, responses={201: ApplicationImportResultSerializer}
+    )
     @action(
         detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser]
     )
@@ -38,8 +41,10 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
         serializer = ApplicationImportSerializer(data=request.data, context=self.get_serializer_context())
         serializer.is_valid(raise_exception=True)
         app = serializer.save()
+        app.warnings = serializer.validated_data["warnings"]
         return Response(
-            ApplicationSerializer(app, context=self.get_serializer_context()).data, status=status.HTTP_201_CREATED
+            ApplicationImportResultSerializer(app, context=self.get_serializer_context()).data,
+            status=status.HTTP_201_CREATED,
         )
 
     @extend_schema(request=ApplicationGenerateSerializer, responses={201: ApplicationSerializer})

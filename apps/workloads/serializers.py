@@ -62,6 +62,16 @@ class ApplicationListSerializer(ApplicationSerializer):
         fields = [f for f in ApplicationSerializer.Meta.fields if f != "dag"]
 
 
+class ApplicationImportResultSerializer(ApplicationSerializer):
+    """The stored application plus what the reader flagged while accepting the file."""
+
+    warnings = serializers.ListField(child=serializers.CharField(), read_only=True)
+
+    class Meta(ApplicationSerializer.Meta):
+        fields = [*ApplicationSerializer.Meta.fields, "warnings"]
+        read_only_fields = [*ApplicationSerializer.Meta.read_only_fields, "warnings"]
+
+
 class ApplicationImportSerializer(DefaultFleetMixin, ScopedSerializer):
     """Upload a DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX, Kasahara STG or the thesis CSV.
 
@@ -98,6 +108,9 @@ class ApplicationImportSerializer(DefaultFleetMixin, ScopedSerializer):
             )
         except InputError as exc:
             raise serializers.ValidationError({exc.field: [str(exc)]}) from exc
+        # what the reader accepted but flagged (e.g. an STG count that includes the dummies): reported in
+        # the response, not stored with the DAG
+        attrs["warnings"] = attrs["graph"].meta.pop("warnings", [])
         return attrs
 
     def create(self, validated):

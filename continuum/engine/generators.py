@@ -158,6 +158,10 @@ def layered_dag(
     if shape <= 0 or out_degree < 1 or ccr < 0 or mean_cost <= 0 or not 0 <= heterogeneity <= 2:
         raise InputError("need shape > 0, out_degree >= 1, ccr >= 0, mean_cost > 0, 0 <= heterogeneity <= 2")
     _check_layered(n, shape, out_degree, ccr, mean_cost, processors)
+    if not math.isfinite(2 * mean_cost * max(1.0, ccr)):  # costs ~ U(0, 2 mean_cost), data ~ U(0, 2 ccr mean_cost)
+        raise InputError(f"mean_cost {mean_cost:g} with ccr {ccr:g}: task costs and data would overflow", "mean_cost")
+    # a task cannot have more distinct successors than there are tasks: cap the draws (and the work) at n
+    max_degree = max(1, round(min(float(n), 2 * out_degree - 1)))
     rng = random.Random(seed)
     height = max(1, min(n, round(math.sqrt(n) / shape)))
     sizes = _composition(rng, n, height)
@@ -171,7 +175,7 @@ def layered_dag(
     for li, level in enumerate(levels[:-1]):
         nxt = levels[li + 1]
         for u in level:
-            degree = rng.randint(1, max(1, round(2 * out_degree - 1)))
+            degree = rng.randint(1, max_degree)
             for _ in range(degree):
                 # mostly the next level, sometimes one further down
                 target_level = levels[min(len(levels) - 1, li + 1 + (rng.random() < 0.2))]

@@ -23,14 +23,18 @@ Semantics (spec 03 §8.2), times in milliseconds:
     our reading; with the thesis's distinct PTP timestamps it is exactly one instant per event, and it is
     what a CSV trace row means). ``instant_mode="event"`` makes every event its own instant.
   * Sample and hold: the placeholder bits at an instant use the latest value of every signal; a signal
-    never seen makes its comparisons false (Fig. 3.41 compresses ``speed > 10`` to 0 before any speed).
+    never seen makes its comparisons false (Fig. 3.41 compresses ``speed > 10`` to 0 before any speed),
+    so ``{!(b > 5)}`` is true until b's first event, and a proposition reading no signal (``{true}``,
+    ``1 < 2``, or one the constants fixed) keeps its value from the first instant on. Every path (online,
+    compression for migration, restore, reset) computes the bits from the held values by this one rule.
   * ``F[a,b] φ`` at t: φ at some instant with ts in [ts(t)+a, ts(t)+b]; it fails when an instant with
     ts > ts(t)+b arrives (or, with :meth:`Monitor.tick`, when the clock passes it).
   * ``φ U[a,b] ψ``: ψ at some t' in the window and φ at every instant in [t, t') (``until_inclusive=False``,
     rtamt's discrete convention; True also demands φ at t'). ``φ R[a,b] ψ = !(!φ U[a,b] !ψ)``.
   * ``X φ``: φ at the next instant. ``G[a,b]``: instances start at instants with ts - ts(first) in [a,b].
   * Verdicts: ``fail`` if some instance failed, else ``inconclusive`` if instances are still pending at the
-    end of the trace, else ``pass`` (the ``stl_check`` contract).
+    end of the trace, else ``pass`` (the ``stl_check`` contract). Offline (:func:`check_trace`) the trace
+    ends at its last instant, so a window closing at or before it is decided (:meth:`Monitor.end_trace`).
 
 Migration (Fig. 3.43, spec 03 §11.1) is implemented by :func:`migrate_begin`, :func:`migrate_t0`,
 :func:`migrate_handover` and :func:`migrate_complete`; the monitor's complete state is JSON
@@ -334,22 +338,23 @@ class _Stepper:
             return _or(self.step(x) for x in r[1:])
         return _xor(self.step(r[1]), self.step(r[2]))
 
-    def expire(self, r: Any, now: float) -> Any:
-        """Decide the windows that closed before ``now`` (no instant with ts <= now can still come)."""
+    def expire(self, r: Any, now: float, inclusive: bool = False) -> Any:
+        """Decide the windows that closed before ``now`` (no instant with ts <= now can still come), or with
+        ``inclusive`` also those closing at ``now`` (the trace ended with the instant ``now``)."""
         if r is True or r is False:
             return r
         tag = r[0]
         if tag in ("F", "U"):
-            return False if r[2] < now else r
+            return False if r[2] < now or (inclusive and r[2] <= now) else r
         if tag == "n":
             return r
         if tag == "!":
-            return _not(self.expire(r[1], now))
+            return _not(self.expire(r[1], now, inclusive))
         if tag == "&":
-            return _and(self.expire(x, now) for x in r[1:])
+            return _and(self.expire(x, now, inclusive) for x in r[1:])
         if tag == "|":
-            return _or(self.expire(x, now) for x in r[1:])
-        return _xor(self.expire(r[1], now), self.expire(r[2], now))
+            return _or(self.expire(x, now, inclusive) for x in r[1:])
+        return _xor(self.expire(r[1], now, inclusive), self.expire(r[2], now, inclusive))
 
 
 def _to_json(r: Any) -> Any:
@@ -373,7 +378,8 @@ class Violation:
 
     time: float
     instance_start: float
-    event: Event | None  # the last event of the deciding instant; None when a clock tick decided it
+    # the last event of the deciding instant; None when a clock tick or the end of the trace decided it
+    event: Event | None
 
     def to_dict(self) -> dict:
         event = None if self.event is None else list(self.event)
@@ -449,7 +455,10 @@ class Monitor:
         self.detached = False  # migrated away: no longer receives events
         self._reset_state()
         self.held: dict[str, Any] = {}
-        self.bits: Bits = [False] * len(program.placeholders)
+        # the placeholder bits of the empty held state: a proposition reading no signal (``5 > 0``, one that
+        # constants fixed) or true while its signal is unseen (``{!(b > 5)}``) is true from the first instant,
+        # exactly as compression, restore and reset compute them (sample and hold, never-seen = missing)
+        self.bits: Bits = _bits_of(program, self.held)
         self.raw: list[Event] = []  # event buffer (unsorted)
         self.ready: deque[Event] = deque()  # sorted buffer, not yet evaluated
         self.pre: deque[tuple[float, int, Event | None]] = deque()  # compressed instants received by migration
@@ -662,6 +671,32 @@ class Monitor:
         if self.closed_ts is None or now > self.closed_ts:
             self.closed_ts = now
         return out
+
+    def end_trace(self) -> list[Violation]:
+        """The trace is complete: no instant follows the last evaluated one (offline checking).
+
+        A window that closes at or before that instant has seen every instant it covers, so it is decided
+        (an ``F`` or ``U`` still pending there failed); windows reaching past it, and ``X`` at the last
+        instant, stay pending (inconclusive). Returns the violations this decides, timed at the last instant.
+        """
+        end = self.closed_ts
+        if end is None or self.suspended or self.detached:
+            return []
+        found: list[Violation] = []
+        while self.pool and self.pool[0][1] <= end:
+            found.append(Violation(end, self.pool.popleft()[2], None))
+        if self.pending:
+            st, keep = self._stepper, []
+            for inst in self.pending:
+                ant = inst[1] if inst[1] is True else st.expire(inst[1], end, inclusive=True)
+                cons = st.expire(inst[2], end, inclusive=True)
+                if not self._settle(inst[0], ant, cons, end, None, found):
+                    inst[1], inst[2] = ant, cons
+                    keep.append(inst)
+            self.pending = keep
+        found.sort(key=_start)
+        self.counters["failed"] += len(found)
+        return found
 
     def finish(self) -> Result:
         """Flush and return the verdict of the whole trace (pending instances make it inconclusive)."""
@@ -913,10 +948,13 @@ def check_trace(
     constants: Mapping[str, float] | None = None,
     **options: Any,
 ) -> Result:
-    """Evaluate a whole trace offline: all events are sorted first, pending instances are inconclusive."""
+    """Evaluate a whole trace offline: all events are sorted first; the trace ends at its last instant, so
+    windows closing by then are decided and only instances needing later instants are inconclusive."""
     monitor = Monitor(assertion, constants=constants, **options)
     monitor.ready.extend(sorted(events, key=_ts))
     violations = monitor.evaluate(final=True)
+    violations += monitor.end_trace()
+    violations.sort(key=lambda v: (v.time, v.instance_start))
     return monitor.result(violations)
 
 

@@ -45,8 +45,10 @@ def _not(a):
     return None if a is None else not a
 
 
-def make_sat(inst, inclusive=False):
+def make_sat(inst, inclusive=False, complete=False):
+    """``complete``: the trace ends at its last instant (offline), so a window closing by then is decided."""
     n = len(inst)
+    end = inst[-1][0] if inst else None
     compiled = {}
 
     @cache
@@ -77,6 +79,7 @@ def make_sat(inst, inclusive=False):
                     break
                 if inst[j][0] >= lo:
                     value = _or(value, sat(f.operand, j))
+            closed = closed or (complete and hi <= end)
             return value if (closed or value is True) else _or(value, None)
         if isinstance(f, P.Until):
             if f.op == "R":
@@ -95,16 +98,17 @@ def make_sat(inst, inclusive=False):
                 if prefix is False:
                     closed = True
                     break
+            closed = closed or (complete and hi <= end)
             return value if (closed or value is True) else _or(value, None)
         raise TypeError(f)
 
     return sat
 
 
-def instance_verdicts(assertion: P.Assertion, events, mode="timestamp", inclusive=False):
-    """{start ts: True/False/None} for every instant in the G window."""
+def instance_verdicts(assertion: P.Assertion, events, mode="timestamp", inclusive=False, complete=False):
+    """{start ts: True/False/None} for every instant in the G window (``complete``: see make_sat)."""
     inst = instants(events, mode)
-    sat = make_sat(inst, inclusive)
+    sat = make_sat(inst, inclusive, complete)
     out = {}
     if not inst:
         return out

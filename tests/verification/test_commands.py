@@ -49,6 +49,25 @@ def test_stl_check_pass_and_inconclusive():
     assert result["verdict"] == "fail" and result["pending"] == 1  # the last row has no next instant
 
 
+def test_stl_check_decides_a_window_closing_at_the_last_timestamp(tmp_path):
+    """Every instant of F[0,3] from t=0 is in the trace (t = 0..3): the window is decided, not pending."""
+    path = tmp_path / "x.csv"
+    path.write_text("time,x\n0,1\n1,2\n2,3\n3,4\n")
+    result = _json(stl_check.Command(), str(path), "--assertion", "G[0,0](F[0,3](x > 5))")
+    assert result["verdict"] == "fail" and result["pending"] == 0
+    assert result["violations"] == [{"time": 3, "instance_start": 0, "event": None}]
+    assert _json(stl_check.Command(), str(path), "--assertion", "G[0,0](F[0,3](x > 3))")["verdict"] == "pass"
+    assert _json(stl_check.Command(), str(path), "--assertion", "G[0,0](F[0,4](x > 5))")["verdict"] == "inconclusive"
+
+
+def test_stl_check_signal_free_propositions(tmp_path):
+    path = tmp_path / "b.csv"
+    path.write_text("time,x,b\n0,1,\n1,2,\n2,3,4\n")
+    assert _json(stl_check.Command(), str(path), "--assertion", "G({!(b > 5)})")["verdict"] == "pass"
+    assert _json(stl_check.Command(), str(path), "--assertion", "G(1 < 2)")["verdict"] == "pass"
+    assert _json(stl_check.Command(), str(path), "--assertion", "G(L > 2)", "--const", "L=3")["verdict"] == "pass"
+
+
 def test_stl_check_human_summary():
     out = StringIO()
     call_command(stl_check.Command(), TRACE, "--assertion", SPEED, stdout=out)

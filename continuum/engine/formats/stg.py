@@ -2,7 +2,9 @@
 
 Layout: the first line holds the number of tasks n, excluding the two dummy tasks; then one line per task
 ``id cost n_pred pred...`` for ids 0 .. n+1 (0 is the dummy entry and n+1 the dummy exit, both of cost 0);
-lines starting with ``#`` are a statistics trailer. Ids need not be in increasing order. STG graphs are
+lines starting with ``#`` are a statistics trailer. A first line that counts the dummies too (as several
+published copies do) is accepted when exactly that many task lines follow, with a warning in
+``meta["warnings"]``. Ids need not be in increasing order. STG graphs are
 homogeneous and have no communication costs, so every task gets a ``cpu`` class cost equal to its STG
 cost and every edge carries no data, unless options say otherwise:
 
@@ -16,10 +18,14 @@ cost and every edge carries no data, unless options say otherwise:
 
 from __future__ import annotations
 
+import math
 import random
 
 from ..dag import Edge, Task, TaskGraph
 from ..errors import InputError
+
+#: Most processors the ``processors`` option may cost tasks on (one cost per processor and task).
+MAX_PROCESSORS = 1024
 
 
 def read(
@@ -46,8 +52,15 @@ def read(
         raise InputError(f"STG line {first_line}: expected the number of tasks, got {' '.join(first)!r}", "tasks")
     n = int(first[0])
     total = n + 2
-    if len(rows) - 1 != total:
-        raise InputError(f"STG: line {first_line} announces {n} tasks (+2 dummies) but {len(rows) - 1} follow", "tasks")
+    mismatch = f"STG: line {first_line} announces {n} tasks (+2 dummies) but {len(rows) - 1} follow"
+    dummies_counted = len(rows) - 1 == n and n >= 3
+    if dummies_counted:
+        # Several published copies count the two dummies in the first line. Exactly n task lines follow (not
+        # n + 2); below, their ids must be 0 .. n-1 and tasks 0 and n-1 zero-cost dummies: then the reading
+        # is unambiguous, and accepted with a warning.
+        total = n
+    elif len(rows) - 1 != total:
+        raise InputError(mismatch, "tasks")
     costs: dict[int, int] = {}
     preds: dict[int, list[int]] = {}
     where: dict[int, int] = {}
@@ -60,7 +73,8 @@ def read(
             raise InputError(f"STG line {lineno}: expected 'id cost n_pred pred...'", "tasks")
         tid, cost, npred, *plist = values
         if not 0 <= tid < total:
-            raise InputError(f"STG line {lineno}: task id {tid} outside 0..{total - 1}", "tasks")
+            reading = f" ({n} task lines after a count of {n}: read as counting the dummies)" if dummies_counted else ""
+            raise InputError(f"STG line {lineno}: task id {tid} outside 0..{total - 1}{reading}", "tasks")
         if tid in costs:
             raise InputError(f"STG line {lineno}: task {tid} already defined on line {where[tid]}", "tasks")
         if cost < 0:
@@ -73,11 +87,23 @@ def read(
             if not 0 <= p < total:
                 raise InputError(f"STG line {lineno}: task {tid} has unknown predecessor {p}", "edges")
         costs[tid], preds[tid], where[tid] = cost, plist, lineno
+    warnings: list[str] = []
+    if dummies_counted:
+        if costs[0] != 0 or costs[total - 1] != 0:
+            raise InputError(
+                f"{mismatch}; nor does it count the dummies: tasks 0 and {total - 1} are not of cost 0", "tasks"
+            )
+        warnings.append(
+            f"STG line {first_line}: {n} counts the two dummy tasks (the format excludes them); "
+            f"read as {n - 2} tasks plus the dummies 0 and {n - 1}"
+        )
     keep = set(costs) if dummies else set(costs) - {0, total - 1}
     rng = random.Random(seed)
     mean_cost = sum(costs[t] for t in keep) / len(keep) if keep else 0.0
-    if processors is not None and (processors < 1 or int(processors) != processors):
-        raise InputError(f"STG: processors must be a positive integer, not {processors!r}", "processors")
+    if processors is not None and (processors < 1 or int(processors) != processors or processors > MAX_PROCESSORS):
+        raise InputError(f"STG: processors must be an integer in 1..{MAX_PROCESSORS}, not {processors!r}", "processors")
+    if ccr is not None and (not math.isfinite(ccr) or ccr < 0 or not math.isfinite(2 * ccr * mean_cost)):
+        raise InputError(f"STG: ccr must be a finite number >= 0 that keeps data sizes finite, not {ccr!r}", "ccr")
     beta = heterogeneity or 0.0
     if not 0 <= beta <= 2:
         raise InputError(f"STG: heterogeneity must lie in [0, 2], not {heterogeneity!r}", "heterogeneity")
@@ -95,7 +121,9 @@ def read(
             if p in keep:
                 data = ccr * mean_cost * rng.uniform(0, 2) if ccr else 0.0
                 edges.append(Edge(str(p), str(tid), data))
-    meta = {"source_format": "stg"}
+    meta: dict = {"source_format": "stg"}
+    if warnings:
+        meta["warnings"] = warnings  # the callers show them: CLI on stderr, API as ``warnings``
     if ccr:
         meta["ccr"] = ccr
     if processors:

@@ -43,6 +43,7 @@ class Command(EngineCommand):
         if not 0.0 <= options["threshold"] <= 1.0:
             raise InputError(f"--threshold must be a fraction in [0, 1], not {options['threshold']!r}", "threshold")
         dag = load_dag(self.read_text(options["dag"]), options["dag_format"])
+        self.warn_about(dag)
         platform = cluster_platform(self.read_json(options["cluster"]), routing=options["routing"])
         nice = {"nice_high": options["nice_high"], "nice_low": options["nice_low"]}
         plan = heft4k(dag, platform, lookahead=not options["plain"], **nice)

@@ -75,6 +75,7 @@ class Command(EngineCommand):
         fmt = options["dag_format"] or format_for_path(path)
         reader_options = _key_values(options["reader_option"], "--reader-option")
         dag = load_dag(self.read_text(path), fmt, options=reader_options or None)
+        self.warn_about(dag)
         platform = self._platform(options)
         params = {
             k: options[k]
