@@ -12,10 +12,6 @@ sake and not to hide anything: ``kubeconfig`` is removed (a cluster with a Kuber
 ``sync``/``push`` connect to whatever address the generator wrote) and the thesis case-study simulation is
 kept short (jobs run inside the request here, with no broker, and its bounds allow minutes of work).
 
-``KNOWN_ELSEWHERE`` lists server errors another branch fixes; while it is not empty, generated requests are
-steered around those inputs so the fuzzer can look for other failures. Run with
-``CONTINUUM_SCHEMATHESIS_STRICT=1`` (or empty the list once those branches are merged) to check them too.
-
 scripts/test runs this file a second time on SQLite (``DATABASE_URL=sqlite:///...``), so both databases
 the project supports are exercised. Environment variables (the defaults keep one run to a few minutes on
 two cores):
@@ -23,8 +19,7 @@ two cores):
 - ``CONTINUUM_SCHEMATHESIS_EXAMPLES`` (15): generated cases per operation in the fuzzing phase;
 - ``CONTINUUM_SCHEMATHESIS_SCENARIOS`` (50) and ``CONTINUUM_SCHEMATHESIS_STEPS`` (6): stateful sequences;
 - ``CONTINUUM_SCHEMATHESIS_COVERAGE=1``: also the coverage phase (boundary values, ~13,000 more cases);
-- ``CONTINUUM_SCHEMATHESIS_CHECKS=response_schema_conformance,...``: more checks;
-- ``CONTINUUM_SCHEMATHESIS_STRICT=1``: no steering around KNOWN_ELSEWHERE.
+- ``CONTINUUM_SCHEMATHESIS_CHECKS=response_schema_conformance,...``: more checks.
 """
 
 from __future__ import annotations
@@ -44,35 +39,13 @@ pytestmark = pytest.mark.django_db(transaction=True)
 MAX_EXAMPLES = int(os.environ.get("CONTINUUM_SCHEMATHESIS_EXAMPLES", "15"))
 MAX_STEPS = int(os.environ.get("CONTINUUM_SCHEMATHESIS_STEPS", "6"))
 MAX_SCENARIOS = int(os.environ.get("CONTINUUM_SCHEMATHESIS_SCENARIOS", "50"))  # stateful call sequences
-STRICT = os.environ.get("CONTINUUM_SCHEMATHESIS_STRICT", "") not in ("", "0")
 # the coverage phase (boundary values of every parameter) adds many cases: off by default for CI time
 COVERAGE = os.environ.get("CONTINUUM_SCHEMATHESIS_COVERAGE", "") not in ("", "0")
 # more schemathesis checks to run besides not_a_server_error, e.g. "response_schema_conformance"
 EXTRA_CHECKS = [c for c in os.environ.get("CONTINUUM_SCHEMATHESIS_CHECKS", "").split(",") if c]
 
-#: Server errors found by schemathesis whose fix belongs to another branch (owner: what triggers them).
-#: Each is steered around by :func:`_steer` unless STRICT; remove an entry once its fix is merged.
-KNOWN_ELSEWHERE = {
-    "huge-limit": "sec-bounds: ?limit=<more digits than an int64> on every list endpoint",
-    "nul-in-strings": "sec-bounds: a NUL character in a string field (PostgreSQL rejects it)",
-}
-
-ALLOW_NUL = STRICT or "nul-in-strings" not in KNOWN_ELSEWHERE
-
 STATS: Counter = Counter()  # what the hooks saw, for the run's report
 _LOCK = threading.Lock()
-
-
-def _steer(case) -> None:
-    """Keep generated requests off the inputs of KNOWN_ELSEWHERE (see the module docstring)."""
-    if STRICT:
-        return
-    if "huge-limit" in KNOWN_ELSEWHERE and isinstance(case.query, dict):
-        for name in ("limit", "offset"):
-            value = case.query.get(name)
-            if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 2**62:
-                case.query = {**case.query, name: 2**62 if value > 0 else -(2**62)}
-                STATS["steered: huge-limit"] += 1
 
 
 @schemathesis.hook
@@ -85,14 +58,13 @@ def before_call(context, case, kwargs):
         if not isinstance(case.body, (dict, list, str, bytes, int, float)):
             case.body = {}
         if not isinstance(case.body, dict):
-            return _steer(case)
+            return
         body = dict(case.body)
         for name, most in (("duration_s", 1), ("time_limit", 0.05)):
             value = body.get(name, most)  # absent: the case study's own length, minutes of solving
             if isinstance(value, (int, float)) and not isinstance(value, bool):
                 body[name] = min(value, most)
         case.body = body
-    _steer(case)
 
 
 @schemathesis.hook
@@ -155,7 +127,7 @@ def test_no_generated_request_makes_the_server_fail(api, fleet_token, cluster, l
             "seed": 1,
             "continue-on-failure": True,  # every distinct failure, not the first of each operation
             "checks": {"enabled": False, **{name: {"enabled": True} for name in ["not_a_server_error", *EXTRA_CHECKS]}},
-            "generation": {"max-examples": MAX_EXAMPLES, "database": "none", "allow-x00": ALLOW_NUL},
+            "generation": {"max-examples": MAX_EXAMPLES, "database": "none", "allow-x00": True},
             "phases": {
                 "examples": {"enabled": True, "fill-missing": True},
                 "coverage": {"enabled": COVERAGE},
@@ -163,7 +135,7 @@ def test_no_generated_request_makes_the_server_fail(api, fleet_token, cluster, l
                 "stateful": {
                     "enabled": True,
                     "max-steps": MAX_STEPS,
-                    "generation": {"max-examples": MAX_SCENARIOS, "database": "none", "allow-x00": ALLOW_NUL},
+                    "generation": {"max-examples": MAX_SCENARIOS, "database": "none", "allow-x00": True},
                 },
             },
         }

@@ -10,6 +10,7 @@ from .application import Application
 from .application_generate_request import ApplicationGenerateRequest
 from .application_import_format_enum import ApplicationImportFormatEnum
 from .application_import_request import ApplicationImportRequest
+from .application_import_result import ApplicationImportResult
 from .application_list import ApplicationList
 from .application_request import ApplicationRequest
 from .arch_enum import ArchEnum
@@ -207,6 +208,7 @@ __all__ = (
     "ApplicationGenerateRequest",
     "ApplicationImportFormatEnum",
     "ApplicationImportRequest",
+    "ApplicationImportResult",
     "ApplicationList",
     "ApplicationRequest",
     "ArchEnum",

@@ -5,8 +5,8 @@ import httpx
 
 from ... import errors
 from ...client import AuthenticatedClient, Client
-from ...models.application import Application
 from ...models.application_import_request import ApplicationImportRequest
+from ...models.application_import_result import ApplicationImportResult
 from ...types import Response
 
 
@@ -29,9 +29,11 @@ def _get_kwargs(
     return _kwargs
 
 
-def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> Application | None:
+def _parse_response(
+    *, client: AuthenticatedClient | Client, response: httpx.Response
+) -> ApplicationImportResult | None:
     if response.status_code == 201:
-        response_201 = Application.from_dict(response.json())
+        response_201 = ApplicationImportResult.from_dict(response.json())
 
         return response_201
 
@@ -41,7 +43,9 @@ def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Res
         return None
 
 
-def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> Response[Application]:
+def _build_response(
+    *, client: AuthenticatedClient | Client, response: httpx.Response
+) -> Response[ApplicationImportResult]:
     return Response(
         status_code=HTTPStatus(response.status_code),
         content=response.content,
@@ -54,7 +58,7 @@ def sync_detailed(
     *,
     client: AuthenticatedClient,
     body: ApplicationImportRequest,
-) -> Response[Application]:
+) -> Response[ApplicationImportResult]:
     """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus
     DAX,
     Kasahara STG (reader ``options`` such as ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5}``) or
@@ -75,7 +79,7 @@ def sync_detailed(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Response[Application]
+        Response[ApplicationImportResult]
     """
 
     kwargs = _get_kwargs(
@@ -93,7 +97,7 @@ def sync(
     *,
     client: AuthenticatedClient,
     body: ApplicationImportRequest,
-) -> Application | None:
+) -> ApplicationImportResult | None:
     """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus
     DAX,
     Kasahara STG (reader ``options`` such as ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5}``) or
@@ -114,7 +118,7 @@ def sync(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Application
+        ApplicationImportResult
     """
 
     return sync_detailed(
@@ -127,7 +131,7 @@ async def asyncio_detailed(
     *,
     client: AuthenticatedClient,
     body: ApplicationImportRequest,
-) -> Response[Application]:
+) -> Response[ApplicationImportResult]:
     """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus
     DAX,
     Kasahara STG (reader ``options`` such as ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5}``) or
@@ -148,7 +152,7 @@ async def asyncio_detailed(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Response[Application]
+        Response[ApplicationImportResult]
     """
 
     kwargs = _get_kwargs(
@@ -164,7 +168,7 @@ async def asyncio(
     *,
     client: AuthenticatedClient,
     body: ApplicationImportRequest,
-) -> Application | None:
+) -> ApplicationImportResult | None:
     """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus
     DAX,
     Kasahara STG (reader ``options`` such as ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5}``) or
@@ -185,7 +189,7 @@ async def asyncio(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Application
+        ApplicationImportResult
     """
 
     return (
