@@ -6,8 +6,9 @@ fixture, so both run the same cluster. No Django: it only reads the cluster file
 
 A hollow node (``kubemark --morph=kubelet``) is Kubernetes' own simulated node: a real kubelet with a fake
 container runtime. It registers a real Node, renews its lease, runs pods' lifecycles (they reach Running
-without any container) and, when its process dies, the node lifecycle controller marks it NotReady, taints
-it ``node.kubernetes.io/unreachable`` and evicts its pods. What it cannot do (see ``LIMITS``): its capacity is
+without any container) and, when its process dies, the node lifecycle controller marks it NotReady and taints
+it ``node.kubernetes.io/unreachable`` (NoSchedule; the NoExecute taint that evicts pods did not come in our
+runs: open). What it cannot do (see ``LIMITS``): its capacity is
 fixed (1 CPU, 3840 Mi memory, 110 pods) whatever the file says, and nothing really runs.
 
 State (pids, ports, credentials, logs, the kubeconfig) lives in one private directory, so ``status`` and
@@ -68,6 +69,10 @@ _DNS_LABEL = re.compile(r"^[a-z0-9]([-a-z0-9]{0,61}[a-z0-9])?$")
 _NAME = r"[A-Za-z0-9]([-A-Za-z0-9_.]{0,61}[A-Za-z0-9])?"
 _QUALIFIED = re.compile(rf"^([a-z0-9]([-a-z0-9]*[a-z0-9])?(\.[a-z0-9]([-a-z0-9]*[a-z0-9])?)*/)?{_NAME}$")
 _LABEL_VALUE = re.compile(rf"^({_NAME})?$")
+
+
+_KUBELET_DIR = re.compile(r"Using (/tmp/hollow-kubelet\.\d+) as root dir for hollow-kubelet")
+_KUBELET_DIR_PATH = re.compile(r"^/tmp/hollow-kubelet\.\d+$")
 
 
 class DevClusterError(RuntimeError):
@@ -226,6 +231,8 @@ class DevCluster:
         self.dir = Path(state_dir).resolve()
         self.etcd = etcd or shutil.which("etcd") or "/usr/bin/etcd"
         self.state: dict[str, Any] = {}
+        #: The processes this object started (the others are known by pid only).
+        self._procs: dict[str, subprocess.Popen] = {}
         self._load()
 
     # -- state --------------------------------------------------------------------------------------------
@@ -260,7 +267,16 @@ class DevCluster:
         return dict(self.state.get("pids", {}))
 
     def running(self) -> dict[str, bool]:
-        return {name: _alive(pid, str(self.dir)) for name, pid in self.processes().items()}
+        return {name: self._alive(name) for name in self.processes()}
+
+    def _alive(self, name: str) -> bool:
+        """Whether component ``name`` still runs. Processes started by this object are asked directly (which
+        also reaps them); others through /proc, checking that the pid was not recycled."""
+        proc = self._procs.get(name)
+        if proc is not None:
+            return proc.poll() is None
+        pid = self.state.get("pids", {}).get(name)
+        return pid is not None and _alive(pid, str(self.dir))
 
     def is_up(self) -> bool:
         alive = self.running()
@@ -298,6 +314,7 @@ class DevCluster:
             self.down()
             raise
         self.state["startup_seconds"] = round(time.monotonic() - began, 1)
+        self.state["kubelet_dirs"] = self._kubelet_dirs()
         self._save()
         progress(f"cluster up in {self.state['startup_seconds']} s; kubeconfig: {self.kubeconfig_path}")
         return self.kubeconfig_path
@@ -305,6 +322,17 @@ class DevCluster:
     def _ours(self) -> bool:
         """Whether the state directory may be deleted: it is empty or was made by this module."""
         return not self.dir.exists() or self.state_file.exists() or not any(self.dir.iterdir())
+
+    def _kubelet_dirs(self) -> list[str]:
+        """The hollow kubelets' root directories, to remove at ``down``: kubemark v1.20 makes them under a
+        fixed /tmp (not $TMPDIR) and logs where."""
+        found = []
+        for name in self.processes():
+            if name.startswith("node/"):
+                match = _KUBELET_DIR.search(self.log_tail(name, 10**7))
+                if match:
+                    found.append(match.group(1))
+        return found
 
     def _reset(self) -> None:
         if not self._ours():
@@ -337,6 +365,7 @@ class DevCluster:
             except OSError as exc:
                 raise DevClusterError(f"cannot run {argv[0]}: {exc}") from exc
         self.state["pids"][name] = proc.pid
+        self._procs[name] = proc
         self._save()
         return proc.pid
 
@@ -348,7 +377,7 @@ class DevCluster:
         watch = list(watch)
         while time.monotonic() < deadline:
             for name in watch:
-                if not _alive(self.state["pids"][name], str(self.dir)):
+                if not self._alive(name):
                     raise DevClusterError(f"{name} exited:\n{self.log_tail(name)}")
             if check():
                 return
@@ -488,22 +517,20 @@ class DevCluster:
     def stop_process(self, name: str, sig: int = signal.SIGTERM, wait: float = 15) -> None:
         """Signal one component (its process group) and wait for it to end; SIGKILL after ``wait`` s."""
         pid = self.state.get("pids", {}).get(name)
-        if pid is None or not _alive(pid, str(self.dir)):
+        if pid is None or not self._alive(name):
             return
         try:
             os.killpg(pid, sig)
         except ProcessLookupError:
             return
         end = time.monotonic() + wait
-        while time.monotonic() < end and _alive(pid, str(self.dir)):
-            _reap(pid)
+        while time.monotonic() < end and self._alive(name):
             time.sleep(0.1)
-        if _alive(pid, str(self.dir)):
+        if self._alive(name):
             with contextlib.suppress(ProcessLookupError):
                 os.killpg(pid, signal.SIGKILL)
             for _ in range(50):
-                _reap(pid)
-                if not _alive(pid, str(self.dir)):
+                if not self._alive(name):
                     break
                 time.sleep(0.1)
 
@@ -517,16 +544,14 @@ class DevCluster:
         was = any(self.running().values())
         for name in order:
             self.stop_process(name)
+        for path in set(self.state.get("kubelet_dirs", [])) | set(self._kubelet_dirs()):
+            if _KUBELET_DIR_PATH.match(path):
+                shutil.rmtree(path, ignore_errors=True)
         if self.dir.exists() and self._ours():
             shutil.rmtree(self.dir, ignore_errors=True)
         self.state = {}
+        self._procs = {}
         return was
-
-
-def _reap(pid: int) -> None:
-    """Collect a child that ended (when this process started it), so it is not left a zombie."""
-    with contextlib.suppress(ChildProcessError):
-        os.waitpid(pid, os.WNOHANG)
 
 
 def _port_open(port: int) -> bool:
