@@ -7,9 +7,8 @@ fixture, so both run the same cluster. No Django: it only reads the cluster file
 A hollow node (``kubemark --morph=kubelet``) is Kubernetes' own simulated node: a real kubelet with a fake
 container runtime. It registers a real Node, renews its lease, runs pods' lifecycles (they reach Running
 without any container) and, when its process dies, the node lifecycle controller marks it NotReady and taints
-it ``node.kubernetes.io/unreachable`` (NoSchedule; the NoExecute taint that evicts pods did not come in our
-runs: open). What it cannot do (see ``LIMITS``): its capacity is
-fixed (1 CPU, 3840 Mi memory, 110 pods) whatever the file says, and nothing really runs.
+it ``node.kubernetes.io/unreachable`` (NoSchedule, then NoExecute, which evicts its pods). What it cannot do
+(see ``LIMITS``): its capacity is fixed (1 CPU, 3840 Mi memory, 110 pods) whatever the file says, and nothing really runs.
 
 State (pids, ports, credentials, logs, the kubeconfig) lives in one private directory, so ``status`` and
 ``down`` work from another process than ``up``.
@@ -304,12 +303,17 @@ class DevCluster:
             self.kubeconfig_path.write_text(
                 kubeconfig_text(self.server, self.state["token"], (self.dir / "certs" / "apiserver.crt").read_bytes())
             )
-            self._start_controllers(bin_dir, deadline, progress)
+            # The nodes first, the controllers once every kubelet reports Ready: a node lifecycle controller that
+            # starts while all nodes are NotReady enters "master disruption mode" and (v1.20) was seen never to
+            # taint a dead node NoExecute afterwards, so its pods were never evicted.
             for node in nodes:
                 self._start_node(bin_dir, node)
             self._save()
-            progress(f"{len(nodes)} hollow nodes started, waiting until they are Ready")
-            self.wait_nodes_ready([n.name for n in nodes], deadline, progress)
+            names = [n.name for n in nodes]
+            progress(f"{len(nodes)} hollow nodes started, waiting until their kubelets report Ready")
+            self.wait_nodes_ready(names, deadline, progress, untainted=False)
+            self._start_controllers(bin_dir, deadline, progress)
+            self.wait_nodes_ready(names, deadline, progress)
         except BaseException:
             self.down()
             raise
@@ -478,8 +482,11 @@ class DevCluster:
             }
         return out
 
-    def wait_nodes_ready(self, names: list[str], deadline: float, progress: Progress = _stderr) -> None:
-        """Until each node is Ready and its not-ready taint is lifted (pods can be scheduled on it)."""
+    def wait_nodes_ready(
+        self, names: list[str], deadline: float, progress: Progress = _stderr, *, untainted: bool = True
+    ) -> None:
+        """Until each node is Ready and (``untainted``) the controller lifted its not-ready taint, so pods can be
+        scheduled on it."""
         last = -1
 
         def ready() -> bool:
@@ -487,10 +494,11 @@ class DevCluster:
             seen = self.nodes()
             done = sum(
                 1 for n in names
-                if seen.get(n, {}).get("ready") == "True" and "node.kubernetes.io/not-ready" not in seen[n]["taints"]
+                if seen.get(n, {}).get("ready") == "True"
+                and not (untainted and "node.kubernetes.io/not-ready" in seen[n]["taints"])
             )  # fmt: skip
             if done != last:
-                progress(f"{done}/{len(names)} nodes Ready")
+                progress(f"{done}/{len(names)} nodes Ready{' and schedulable' if untainted else ''}")
                 last = done
             return done == len(names)
 
