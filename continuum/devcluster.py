@@ -8,7 +8,8 @@ A hollow node (``kubemark --morph=kubelet``) is Kubernetes' own simulated node: 
 container runtime. It registers a real Node, renews its lease, runs pods' lifecycles (they reach Running
 without any container) and, when its process dies, the node lifecycle controller marks it NotReady and taints
 it ``node.kubernetes.io/unreachable`` (NoSchedule, then NoExecute, which evicts its pods). What it cannot do
-(see ``LIMITS``): its capacity is fixed (1 CPU, 3840 Mi memory, 110 pods) whatever the file says, and nothing really runs.
+(see ``LIMITS``): its capacity is fixed (1 CPU, 3840 Mi memory, 110 pods) whatever the file says, and nothing
+really runs.
 
 State (pids, ports, credentials, logs, the kubeconfig) lives in one private directory, so ``status`` and
 ``down`` work from another process than ``up``.
