@@ -87,7 +87,7 @@ ensure_kube_apiserver() {  # builds (or takes from the cache) kube-apiserver and
 }
 
 ensure_kube_binaries() {  # builds (or takes from the cache) kube-apiserver, -controller-manager, -scheduler, kubemark
-  say "Kubernetes binaries (the first build takes about 20 minutes on 2 cores; cached in ~/.cache/continuum)"
+  say "Kubernetes binaries (the first build takes about 22 minutes on 2 busy cores; cached in ~/.cache/continuum)"
   KUBE_BIN_DIR=$(bash "$ROOT/scripts/build-kube.sh" | tail -n1)
   export KUBE_BIN_DIR
 }
