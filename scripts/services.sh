@@ -86,3 +86,9 @@ ensure_kube_apiserver() {  # builds (or takes from the cache) kube-apiserver and
   KUBE_APISERVER=$(bash "$ROOT/scripts/build-kube-apiserver.sh")
   export KUBE_APISERVER
 }
+
+ensure_kube_binaries() {  # builds (or takes from the cache) kube-apiserver, -controller-manager, -scheduler, kubemark
+  say "Kubernetes binaries (the first build takes about 22 minutes on 2 busy cores; cached in ~/.cache/continuum)"
+  KUBE_BIN_DIR=$(bash "$ROOT/scripts/build-kube.sh" | tail -n1)
+  export KUBE_BIN_DIR
+}

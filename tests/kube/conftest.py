@@ -130,3 +130,51 @@ def kube_cluster(api, kube_admin, cluster_doc, kubeconfig, kube_namespace, make_
     for node in cluster_doc["nodes"]:
         make_node(node["name"], cpu=str(node["cpu"]), memory=f"{node['memory_mib']}Mi")
     return Cluster.objects.get(pk=pk)
+
+
+# ---- a real multi-node cluster (kube-controller-manager, kube-scheduler, kubemark hollow nodes) -------------
+# The same implementation as ./scripts/cluster (continuum/devcluster.py), started once per session in a private
+# directory. Tests that kill a node use MULTINODE_VICTIM only, so the others stay Ready for every test.
+MULTINODE_VICTIM = "hollow-victim"
+MULTINODE_CLUSTER = {
+    "format": "continuum.cluster/v1",
+    "nodes": [
+        {"name": "hollow-a", "arch": "amd64", "cpu": 4, "memory_mib": 8192, "labels": {"zone": "edge"}},
+        {"name": "hollow-b", "arch": "arm64", "cpu": 4, "memory_mib": 8192, "labels": {"zone": "edge"}},
+        {"name": "hollow-rt", "arch": "arm64", "cpu": 8, "rt": True, "criticality": "C", "rt_threshold": 7.6},
+        {"name": MULTINODE_VICTIM, "arch": "amd64", "cpu": 2, "labels": {"zone": "doomed"}},
+    ],
+}
+
+
+@pytest.fixture(scope="session")
+def kube_multinode(tmp_path_factory):
+    """A running :class:`continuum.devcluster.DevCluster` shaped by MULTINODE_CLUSTER, every node Ready.
+
+    Builds the binaries on a cold cache (about 20 minutes on 2 cores). Fails, never skips, when it cannot."""
+    import atexit
+    import sys
+
+    from continuum.devcluster import DevCluster, DevClusterError, build_binaries, hollow_nodes
+
+    def progress(line: str) -> None:
+        print(f"[kube_multinode] {line}", file=sys.stderr, flush=True)
+
+    cluster = DevCluster(tmp_path_factory.mktemp("kube-cluster"))
+    atexit.register(cluster.down)  # a safety net if the session ends without the tear-down (down() is idempotent)
+    try:
+        bin_dir = build_binaries(progress=progress)
+        cluster.up(hollow_nodes(MULTINODE_CLUSTER), bin_dir, timeout=900, progress=progress)
+    except DevClusterError as exc:
+        cluster.down()
+        pytest.fail(f"the local multi-node Kubernetes is required and could not be started: {exc}", pytrace=False)
+    yield cluster
+    cluster.down()
+
+
+@pytest.fixture
+def multinode_api(kube_multinode):
+    """A kubernetes ApiClient of the multi-node cluster."""
+    api_client = config.new_client_from_config_dict(yaml.safe_load(kube_multinode.kubeconfig()), persist_config=False)
+    with api_client:
+        yield api_client
