@@ -118,7 +118,7 @@ def test_no_generated_request_makes_the_server_fail(api, fleet_token, cluster, l
 
     app = api.post("/api/v1/applications/", {"name": "seed", "dag": load_json("topcuoglu.dag.json")}, format="json")
     assert app.status_code == 201, app.data
-    auth = {"Authorization": f"Token {fleet_token.key}"}
+    auth = {"Authorization": f"Token {fleet_token.plaintext}"}
     config = schemathesis.Config.from_dict(
         {
             "headers": auth,

@@ -47,7 +47,7 @@ def robot_bag(request, tmp_path) -> Path:
 @pytest.fixture
 def token(fleet_token) -> str:
     # Tokens are stored hashed: the fixture keeps the one-time plaintext key.
-    return getattr(fleet_token, "plaintext", None) or fleet_token.key
+    return fleet_token.plaintext
 
 
 @pytest.fixture
