@@ -24,10 +24,12 @@ def test_layered_generator_rejects_non_finite_parameters(kwargs, field, needle):
     assert info.value.field == field
 
 
-def test_a_huge_out_degree_is_capped_at_the_number_of_tasks():
-    huge = layered_dag(40, seed=3, out_degree=1.1e308)
-    dense = layered_dag(40, seed=3, out_degree=40)
-    assert huge.to_dict() | {"meta": None} == dense.to_dict() | {"meta": None}  # same draws: degree capped at n
+def test_a_huge_out_degree_is_refused_and_one_above_the_task_count_is_capped_at_it():
+    with pytest.raises(InputError, match="out_degree: at most 100"):
+        layered_dag(40, seed=3, out_degree=1.1e308)
+    above = layered_dag(20, seed=3, out_degree=90)
+    dense = layered_dag(20, seed=3, out_degree=20)
+    assert above.to_dict() | {"meta": None} == dense.to_dict() | {"meta": None}  # same draws: degree capped at n
     assert layered_dag(40, seed=3).to_dict() == layered_dag(40, seed=3, out_degree=3.0).to_dict()
 
 
