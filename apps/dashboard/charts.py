@@ -424,6 +424,19 @@ def _gantt_trace(
         marker=marker,
         # The hover text is written here, not by a hovertemplate: with ``base=start`` Plotly's ``%{x}`` is the
         # bar's end in some cases, so a template's "duration" showed the finish time (issue 13).
+        # customdata keeps each bar's facts for scripts (and tests) reading the figure.
+        customdata=[
+            [
+                esc(a.task),
+                a.frame,
+                esc(a.processor),
+                a.start,
+                a.finish,
+                "—" if a.niceness is None else a.niceness,
+                f"<br>{esc(notes[(a.task, a.frame)])}" if (a.task, a.frame) in notes else "",
+            ]
+            for a in assignments
+        ],
         hovertext=[_gantt_hover(a, suffix, has_nice, notes.get((a.task, a.frame))) for a in assignments],
         hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
         showlegend=True,
