@@ -78,6 +78,15 @@ MIDDLEWARE = [
     "apps.tenancy.audit.RequestIdMiddleware",
     "django.middleware.security.SecurityMiddleware",
     "whitenoise.middleware.WhiteNoiseMiddleware",
+    # ---- Response compression (issue 13: a 1000 x 10 schedule page was 5.5 MB of HTML) -------------------
+    # Near the top, so that it compresses last, after every middleware below that reads or changes the body;
+    # WhiteNoise above answers static files itself (see STORAGES for its compressed copies) before reaching it.
+    # BREACH: compressing pages that carry a secret and reflect user input can leak the secret by length.
+    # Django masks the CSRF token with a fresh random mask on every response (since 1.10), and since 4.2 this
+    # middleware also pads each gzip response with up to 100 random bytes ("Heal The Breach"), so it is safe
+    # for the dashboard's HTML and the API's JSON. Already-compressed bodies (a tar.gz) are left alone:
+    # the middleware keeps the original whenever gzip does not make it smaller.
+    "django.middleware.gzip.GZipMiddleware",
     "django.contrib.sessions.middleware.SessionMiddleware",
     "django.middleware.common.CommonMiddleware",
     "apps.tenancy.bounds.RejectNulMiddleware",

@@ -396,7 +396,8 @@ def _gantt_trace(
     marker_extra: dict | None = None,
 ) -> go.Bar:
     label = (lambda a: f"{esc(a.task)} [{a.frame}]") if show_frame else (lambda a: esc(a.task))
-    suffix = f" {esc(unit)}" if unit else ""
+    # A time without a unit is ambiguous: say so rather than print a bare number.
+    suffix = f" {esc(unit)}" if unit else " time units"
     row_of = row_of or {}
     notes = notes or {}
     has_nice = any(a.niceness is not None for a in assignments)
@@ -421,6 +422,9 @@ def _gantt_trace(
         insidetextanchor="middle",
         textfont={"color": text_colour},
         marker=marker,
+        # The hover text is written here, not by a hovertemplate: with ``base=start`` Plotly's ``%{x}`` is the
+        # bar's end in some cases, so a template's "duration" showed the finish time (issue 13).
+        # customdata keeps each bar's facts for scripts (and tests) reading the figure.
         customdata=[
             [
                 esc(a.task),
@@ -433,18 +437,27 @@ def _gantt_trace(
             ]
             for a in assignments
         ],
-        hovertemplate=(
-            "<b>%{customdata[0]}</b> (frame %{customdata[1]})<br>"
-            "processor: %{customdata[2]}<br>"
-            f"start: %{{customdata[3]:.6~g}}{suffix}<br>"
-            f"finish: %{{customdata[4]:.6~g}}{suffix}<br>"
-            f"duration: %{{x:.6~g}}{suffix}"
-            + ("<br>niceness: %{customdata[5]}" if has_nice else "")
-            + "%{customdata[6]}"
-            f"<extra>{name}</extra>"
-        ),
+        hovertext=[_gantt_hover(a, suffix, has_nice, notes.get((a.task, a.frame))) for a in assignments],
+        hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
         showlegend=True,
     )
+
+
+def _gantt_hover(a: Assignment, suffix: str, has_nice: bool, note: str | None) -> str:
+    """One bar's hover text: task, frame, processor, start, finish and duration (``finish - start``), each
+    time with its unit (``suffix``); names escaped."""
+    lines = [
+        f"<b>{esc(a.task)}</b> (frame {a.frame})",
+        f"processor: {esc(a.processor)}",
+        f"start: {_fmt(a.start)}{suffix}",
+        f"finish: {_fmt(a.finish)}{suffix}",
+        f"duration: {_fmt(a.finish - a.start)}{suffix}",
+    ]
+    if has_nice:
+        lines.append(f"niceness: {'—' if a.niceness is None else a.niceness}")
+    if note:
+        lines.append(esc(note))
+    return "<br>".join(lines)
 
 
 # ---- Comparison ---------------------------------------------------------------------------------------

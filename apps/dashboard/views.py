@@ -222,11 +222,7 @@ def application_compare(request: HttpRequest, pk: int) -> HttpResponse:
 # ---- schedules ----------------------------------------------------------------------------------------
 @login_required
 def schedule_list(request: HttpRequest) -> HttpResponse:
-    schedules = (
-        scoped(request, Schedule.objects.select_related("fleet", "application", "cluster"))
-        .annotate(task_count=Count("assignments"))
-        .order_by("-created", "-pk")
-    )
+    schedules = scoped(request, Schedule.objects.for_list()).order_by("-created", "-pk")
     return render(request, "dashboard/schedule_list.html", {"page": paginate(request, schedules), "nav": "schedules"})
 
 

@@ -1,11 +1,69 @@
 """Stored schedules: one row per assignment, with its Kubernetes placement status."""
 
 from django.db import models
+from django.db.models import Count, F, Func, IntegerField, OuterRef, Subquery, Value
+from django.db.models.functions import Coalesce
 
 from apps.tenancy.models import FleetOwned
 from continuum.engine.platform import Platform
 from continuum.engine.schedule import Assignment as EngineAssignment
 from continuum.engine.schedule import Schedule as EngineSchedule
+
+
+class JSONArrayLength(Func):
+    """The length of the JSON array at ``path`` (one key) inside a JSON column, computed by the database so
+    that the column itself is never sent to Python; NULL when the key is missing or not an array."""
+
+    output_field = IntegerField()
+
+    def __init__(self, expression, path: str, **extra):
+        super().__init__(expression, Value(path), **extra)
+
+    def as_sql(self, compiler, connection, **extra):  # SQLite (and MySQL): json_array_length(col, '$.key')
+        column, _ = compiler.compile(self.source_expressions[0])
+        path = self.source_expressions[1].value
+        return f"json_array_length({column}, %s)", ["$." + path]
+
+    def as_postgresql(self, compiler, connection, **extra):
+        column, _ = compiler.compile(self.source_expressions[0])
+        path = self.source_expressions[1].value
+        # jsonb_array_length raises on a non-array: only call it on one.
+        sql = f"CASE WHEN jsonb_typeof({column} -> %s) = 'array' THEN jsonb_array_length({column} -> %s) END"
+        return sql, [path, path]
+
+
+class ScheduleQuerySet(models.QuerySet):
+    def for_list(self) -> "ScheduleQuerySet":
+        """Schedules for a list page: only the small columns of the schedule and its application, fleet and
+        cluster (never a DAG, platform, ranks, metrics or kubeconfig), ``task_count`` from a correlated
+        subquery (no GROUP BY over the joined rows, which SQLite does with every column, DAG JSON included:
+        issue 13) and ``processor_count`` read inside the database from the platform JSON."""
+        tasks = (
+            Assignment.objects.filter(schedule=OuterRef("pk"))
+            .order_by()
+            .values("schedule")
+            .annotate(n=Count("pk"))
+            .values("n")
+        )
+        return (
+            self.select_related("fleet", "application", "cluster")
+            .only(
+                "id",
+                "algorithm",
+                "makespan",
+                "created",
+                "fleet__id",
+                "fleet__name",
+                "application__id",
+                "application__name",
+                "cluster__id",
+                "cluster__name",
+            )
+            .annotate(
+                task_count=Coalesce(Subquery(tasks, output_field=IntegerField()), 0),
+                processor_count=JSONArrayLength(F("platform"), "processors"),
+            )
+        )
 
 
 class Schedule(FleetOwned):
@@ -29,6 +87,8 @@ class Schedule(FleetOwned):
     ranks = models.JSONField(default=dict, blank=True)
     metrics = models.JSONField(default=dict, blank=True)
     created = models.DateTimeField(auto_now_add=True)
+
+    objects = ScheduleQuerySet.as_manager()
 
     class Meta:
         ordering = ["-created"]
