@@ -136,8 +136,12 @@ def configuration_for(target: KubeTarget) -> client.Configuration:
     if target.client_cert_pem and target.client_key_pem:
         configuration.cert_file = _private_file(target.client_cert_pem, ".crt")
         configuration.key_file = _private_file(target.client_key_pem, ".key")
-    # Retry refused/reset connections briefly; never re-send a request the server may have acted on.
-    configuration.retries = urllib3.Retry(total=2, connect=2, read=0, status=0, other=0, backoff_factor=0.2)
+    # Retry refused/reset connections briefly; never re-send a request the server may have acted on. HTTP
+    # answers (429/503 with Retry-After included) are left to :func:`call`, which knows what is idempotent:
+    # urllib3 would otherwise turn a 429 into an exhausted-retries error without waiting.
+    configuration.retries = urllib3.Retry(
+        total=2, connect=2, read=0, status=0, other=0, backoff_factor=0.2, respect_retry_after_header=False
+    )
     return configuration
 
 
