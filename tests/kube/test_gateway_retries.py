@@ -246,3 +246,30 @@ def test_a_binding_answered_409_for_the_same_node_counts_as_done(api, kube, kube
         moved = pusher.bind(a.pod_name, other)
         assert not moved.ok and "binding refused: Kubernetes API answered 409" in moved.message
     assert pods_by_name(kube, kube_namespace)[a.pod_name].spec.node_name == a.processor
+
+
+def test_a_pod_create_answered_409_is_done_only_if_the_pod_is_the_assignments(
+    api, kube, kube_cluster, kube_namespace
+):
+    from apps.kube import gateway
+
+    schedule = heft_schedule(api, kube_cluster)
+    ours, theirs = list(schedule.assignments.all())[:2]
+    kube.create_namespace(client.V1Namespace(metadata=client.V1ObjectMeta(name=kube_namespace)))
+    # As when a create reached the server but its answer was lost: the pod exists, the push did not list it.
+    ours_name = gateway.pod_name(schedule, ours.task, ours.frame)
+    kube.create_namespaced_pod(kube_namespace, gateway.pod_manifest(schedule, ours, ours_name))
+    # A pod of another task squatting the name: never adopted.
+    theirs_name = gateway.pod_name(schedule, theirs.task, theirs.frame)
+    kube.create_namespaced_pod(kube_namespace, gateway.pod_manifest(schedule, ours, theirs_name))
+    with gateway.api_client_for(kube_cluster) as api_client:
+        pusher = gateway.Pusher(schedule, api_client)
+        problems = pusher.node_problems()
+        done = pusher.place(ours, ours_name, None, problems)
+        refused = pusher.place(theirs, theirs_name, None, problems)
+    assert done.ok and done.message == f"bound to {ours.processor}"
+    assert not refused.ok
+    assert refused.message == f"pod {theirs_name} already exists and is not the pod of task {theirs.task!r}"
+    pods = pods_by_name(kube, kube_namespace)
+    assert pods[ours_name].spec.node_name == ours.processor
+    assert not pods[theirs_name].spec.node_name  # left alone, not bound
