@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 import random
+import ssl
 import time
 from collections.abc import Callable
 from typing import TypeVar
@@ -64,8 +65,26 @@ def _never_sent(exc: BaseException) -> bool:
                             ConnectionRefusedError))
 
 
+def _untrusted(exc: BaseException) -> bool:
+    """The server's certificate was refused (wrong CA or name): repeating cannot help."""
+    seen: set[int] = set()
+    stack = [exc]
+    while stack:
+        current = stack.pop()
+        if not isinstance(current, BaseException) or id(current) in seen:  # ApiException.reason is a str
+            continue
+        seen.add(id(current))
+        if isinstance(current, ssl.SSLCertVerificationError):
+            return True
+        stack.extend([getattr(current, "reason", None), current.__cause__, current.__context__])
+        stack.extend(a for a in getattr(current, "args", ()) if isinstance(a, BaseException))
+    return False
+
+
 def transient(exc: BaseException, idempotent: bool = True) -> bool:
     """Whether repeating the call may succeed (and is safe)."""
+    if _untrusted(exc):
+        return False
     if isinstance(exc, ApiException):
         if exc.status == 429:
             return True

@@ -12,6 +12,7 @@ import struct
 import threading
 import time
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
 
 import pytest
 from kubernetes import client
@@ -273,3 +274,23 @@ def test_a_pod_create_answered_409_is_done_only_if_the_pod_is_the_assignments(
     pods = pods_by_name(kube, kube_namespace)
     assert pods[ours_name].spec.node_name == ours.processor
     assert not pods[theirs_name].spec.node_name  # left alone, not bound
+
+
+def test_a_certificate_from_another_ca_fails_at_once(kube_admin, cluster, kube_server, settings):
+    """Certificate refusals are permanent: no waiting out the deadline before saying so."""
+    import certifi
+
+    from apps.kube import gateway
+
+    settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 600
+    bundle = Path(certifi.where()).read_text()  # a public root CA: not the one that signed the test server
+    begin = bundle.index("-----BEGIN CERTIFICATE-----")
+    other_ca = bundle[begin : bundle.index("-----END CERTIFICATE-----", begin) + 25].encode() + b"\n"
+    text = kubeconfig_text(kube_server.server, kube_server.token, other_ca)
+    assert kube_admin.patch(f"/api/v1/clusters/{cluster.pk}/", {"kubeconfig": text}, format="json").status_code == 200
+    cluster.refresh_from_db()
+    began = time.monotonic()
+    with pytest.raises(gateway.KubeError, match="CERTIFICATE_VERIFY_FAILED") as failed:
+        gateway.sync_nodes(cluster)
+    assert "gave up" not in str(failed.value)
+    assert time.monotonic() - began < 300  # far below the 600 s deadline: not retried
