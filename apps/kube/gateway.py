@@ -38,7 +38,7 @@ from apps.clusters.models import Cluster, ComputeNode
 from apps.scheduling.models import Assignment, Schedule
 from continuum.engine.heft4k import nice_container
 
-from . import kubeconfig
+from . import kubeconfig, retry
 from .credentials import Undecryptable
 from .kubeconfig import KubeconfigError, KubeTarget, ServerPolicy
 
@@ -57,6 +57,22 @@ Progress = Callable[[float, str], None]
 
 class KubeError(ValueError):
     """The Kubernetes API cannot be used (no/bad kubeconfig, unreachable, refused): the job fails cleanly."""
+
+
+#: What an API call may raise when the server is unreachable, refuses us, or stayed failing past the deadline.
+API_ERRORS = (ApiException, urllib3.exceptions.HTTPError, OSError, retry.GaveUp)
+
+
+def call(fn, *args, what: str, server: str = "", idempotent: bool = True, **kwargs):
+    """``fn(*args, **kwargs)`` through :func:`apps.kube.retry.call` (transient failures retried with backoff
+    until ``CONTINUUM_KUBE_RETRY_DEADLINE_S``), every attempt with :data:`REQUEST_TIMEOUT`."""
+    kwargs.setdefault("_request_timeout", REQUEST_TIMEOUT)
+    if not server:  # a bound method of a CoreV1Api: name its server in the error
+        api_client = getattr(getattr(fn, "__self__", None), "api_client", None)
+        server = getattr(getattr(api_client, "configuration", None), "host", "") or ""
+    return retry.call(
+        fn, *args, what=what, idempotent=idempotent, describe=lambda exc: describe(exc, server), **kwargs
+    )
 
 
 # -- connecting ---------------------------------------------------------------------------------------------
@@ -120,8 +136,12 @@ def configuration_for(target: KubeTarget) -> client.Configuration:
     if target.client_cert_pem and target.client_key_pem:
         configuration.cert_file = _private_file(target.client_cert_pem, ".crt")
         configuration.key_file = _private_file(target.client_key_pem, ".key")
-    # Retry refused/reset connections briefly; never re-send a request the server may have acted on.
-    configuration.retries = urllib3.Retry(total=2, connect=2, read=0, status=0, other=0, backoff_factor=0.2)
+    # Retry refused/reset connections briefly; never re-send a request the server may have acted on. HTTP
+    # answers (429/503 with Retry-After included) are left to :func:`call`, which knows what is idempotent:
+    # urllib3 would otherwise turn a 429 into an exhausted-retries error without waiting.
+    configuration.retries = urllib3.Retry(
+        total=2, connect=2, read=0, status=0, other=0, backoff_factor=0.2, respect_retry_after_header=False
+    )
     return configuration
 
 
@@ -133,6 +153,8 @@ def api_client_for(cluster: Cluster) -> client.ApiClient:
 
 def describe(exc: BaseException, server: str = "") -> str:
     """One line saying why a call failed: the API's own message, or why the server could not be reached."""
+    if isinstance(exc, retry.GaveUp):
+        return str(exc)  # already names the call and describes its last cause
     if isinstance(exc, ApiException):
         message = exc.reason or ""
         with contextlib.suppress(ValueError, AttributeError):  # not a Status document: keep the reason
@@ -213,8 +235,8 @@ def sync_nodes(cluster: Cluster, progress: Progress | None = None) -> dict:
     server = api_client.configuration.host
     try:
         with api_client:
-            items = client.CoreV1Api(api_client).list_node(_request_timeout=REQUEST_TIMEOUT).items
-    except (ApiException, urllib3.exceptions.HTTPError, OSError) as exc:
+            items = call(client.CoreV1Api(api_client).list_node, what="list nodes", server=server).items
+    except API_ERRORS as exc:
         raise KubeError(f"cluster {cluster.name!r}: {describe(exc, server)}") from exc
     if progress:
         progress(50, f"read {len(items)} nodes")
@@ -310,23 +332,24 @@ def pod_manifest(schedule: Schedule, assignment: Assignment, name: str, *, host_
 def ensure_namespace(api: client.CoreV1Api, namespace: str) -> None:
     """Create ``namespace`` (labelled as Continuum's) unless it exists."""
     try:
-        api.read_namespace(namespace, _request_timeout=REQUEST_TIMEOUT)
+        call(api.read_namespace, namespace, what=f"read namespace {namespace}")
         return
     except ApiException as exc:
         if exc.status != 404:
             raise
     body = client.V1Namespace(metadata=client.V1ObjectMeta(name=namespace, labels=dict(MANAGED_BY)))
     try:
-        api.create_namespace(body, _request_timeout=REQUEST_TIMEOUT)
+        # Idempotent: a retried create that the server had already done answers 409, which is "done".
+        call(api.create_namespace, body, what=f"create namespace {namespace}")
     except ApiException as exc:
-        if exc.status != 409:  # created meanwhile by someone else: fine
+        if exc.status != 409:  # created meanwhile by someone else (or by our own earlier attempt): fine
             raise
 
 
 def node_problems(api: client.CoreV1Api) -> dict[str, str | None]:
     """Every node of the API mapped to why a pod may not go there (``None``: it may)."""
     problems: dict[str, str | None] = {}
-    for node in api.list_node(_request_timeout=REQUEST_TIMEOUT).items:
+    for node in call(api.list_node, what="list nodes").items:
         problem = None
         if node_status(node) == ComputeNode.Status.NOT_READY:
             problem = f"node {node.metadata.name!r} is NotReady"
@@ -377,8 +400,12 @@ class Pusher:
     def existing_pods(self) -> dict[str, object]:
         """The application's pods by name: a remapped schedule keeps pods created for the schedule it came from."""
         selector = f"{PREFIX}/application={self.schedule.application_id}"
-        pods = self.api.list_namespaced_pod(
-            self.namespace, label_selector=selector, _request_timeout=REQUEST_TIMEOUT
+        pods = call(
+            self.api.list_namespaced_pod,
+            self.namespace,
+            label_selector=selector,
+            what=f"list pods in namespace {self.namespace}",
+            server=self.server,
         ).items
         return {p.metadata.name: p for p in pods}
 
@@ -394,14 +421,35 @@ class Pusher:
             return Outcome(False, problems[node])
         if pod is None:
             try:
-                self.api.create_namespaced_pod(
-                    self.namespace, pod_manifest(self.schedule, assignment, name), _request_timeout=REQUEST_TIMEOUT
+                call(
+                    self.api.create_namespaced_pod,
+                    self.namespace,
+                    pod_manifest(self.schedule, assignment, name),
+                    what=f"create pod {name}",
+                    server=self.server,
                 )
             except ApiException as exc:
                 if exc.status != 409:
                     return Outcome(False, f"pod {name} refused: {describe(exc)}")
-                # Created meanwhile (a re-delivered job running twice): bind it below or find it bound.
+                # Created meanwhile (a re-delivered job running twice, or our own attempt whose answer was
+                # lost and retried): done if that pod is this assignment's, then bind it or find it bound.
+                mismatch = self._not_ours(name, assignment)
+                if mismatch:
+                    return Outcome(False, mismatch)
         return self.bind(name, node)
+
+    def _not_ours(self, name: str, assignment: Assignment) -> str | None:
+        """Why the existing pod ``name`` is not the pod of ``assignment`` (``None``: it is)."""
+        pod = call(self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server)
+        annotations = pod.metadata.annotations or {}
+        labels = pod.metadata.labels or {}
+        if (
+            annotations.get(f"{PREFIX}/task") != assignment.task
+            or labels.get(f"{PREFIX}/frame") != str(assignment.frame)
+            or labels.get(f"{PREFIX}/application") != str(self.schedule.application_id)
+        ):
+            return f"pod {name} already exists and is not the pod of task {assignment.task!r}"
+        return None
 
     def bind(self, name: str, node: str) -> Outcome:
         body = client.V1Binding(
@@ -412,12 +460,21 @@ class Pusher:
         )
         try:
             # The client cannot parse the Status a binding answers with: read the raw response.
-            response = self.api.create_namespaced_pod_binding(
-                name, self.namespace, body, _preload_content=False, _request_timeout=REQUEST_TIMEOUT
+            # Idempotent: a retried binding the server had already done answers 409, checked below.
+            response = call(
+                self.api.create_namespaced_pod_binding,
+                name,
+                self.namespace,
+                body,
+                _preload_content=False,
+                what=f"bind pod {name} to node {node}",
+                server=self.server,
             )
         except ApiException as exc:
             if exc.status == 409:
-                bound = self.api.read_namespaced_pod(name, self.namespace, _request_timeout=REQUEST_TIMEOUT)
+                bound = call(
+                    self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server
+                )
                 if bound.spec.node_name == node:
                     return Outcome(True, f"bound to {node}")
                 return Outcome(False, f"binding refused: {describe(exc)}")
@@ -463,7 +520,7 @@ def push_schedule(schedule: Schedule, progress: Progress | None = None) -> dict:
                 name = names[assignment.pk]
                 outcomes[assignment.pk] = pusher.place(assignment, name, pods.get(name), problems)
                 progress(5 + 90 * i / len(assignments), f"placed {i}/{len(assignments)} pods")
-        except (ApiException, urllib3.exceptions.HTTPError, OSError) as exc:
+        except API_ERRORS as exc:
             # The API went away (or refuses us wholesale): every placement not done yet fails with the reason.
             reason = describe(exc, pusher.server)
             for assignment in assignments:

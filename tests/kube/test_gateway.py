@@ -116,7 +116,8 @@ def test_sync_reads_capacity_arch_ready_taints_and_keeps_vanished_nodes(kube_adm
     assert api.get(f"/api/v1/clusters/{cluster_id}/").data["last_synced"] is not None
 
 
-def test_sync_of_an_unreachable_api_fails_the_job_cleanly(kube_admin, api, cluster, kube_server):
+def test_sync_of_an_unreachable_api_fails_the_job_cleanly(kube_admin, api, cluster, kube_server, settings):
+    settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 2  # refused connections are retried until this deadline
     closed = kubeconfig_text(f"https://127.0.0.1:{free_port()}", "token", kube_server.ca_path.read_bytes())
     assert kube_admin.patch(f"/api/v1/clusters/{cluster.pk}/", {"kubeconfig": closed}, format="json").status_code == 200
 
@@ -293,8 +294,10 @@ def test_a_not_ready_node_refuses_its_placements(api, kube, kube_cluster, kube_n
     assert not schedule.assignments.exclude(processor=node).exclude(placement="bound").exists()
 
 
-def test_push_to_an_unreachable_api_fails_every_placement_cleanly(kube_admin, api, cluster, kube_server):
+def test_push_to_an_unreachable_api_fails_every_placement_cleanly(kube_admin, api, cluster, kube_server, settings):
     from apps.scheduling.models import Schedule
+
+    settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 2  # refused connections are retried until this deadline
 
     server = f"https://127.0.0.1:{free_port()}"
     closed = kubeconfig_text(server, "token", kube_server.ca_path.read_bytes())
