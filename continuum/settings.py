@@ -377,3 +377,7 @@ CONTINUUM_KUBE_API_ALLOWED_HOSTS = [
     h.strip() for h in os.environ.get("CONTINUUM_KUBE_API_ALLOWED_HOSTS", "").split(",") if h.strip()
 ]
 CONTINUUM_KUBECONFIG_MAX_BYTES = int(os.environ.get("CONTINUUM_KUBECONFIG_MAX_BYTES", 64 * 1024))
+# The gateway retries a transient failure (connection error, 429, 5xx) of an idempotent call with exponential
+# backoff and jitter from RETRY_BASE_S until RETRY_DEADLINE_S has passed, then fails naming the call.
+CONTINUUM_KUBE_RETRY_DEADLINE_S = float(os.environ.get("CONTINUUM_KUBE_RETRY_DEADLINE_S", "30"))
+CONTINUUM_KUBE_RETRY_BASE_S = float(os.environ.get("CONTINUUM_KUBE_RETRY_BASE_S", "0.2"))

@@ -10,7 +10,6 @@ done). A call that is not idempotent is only retried when the request surely nev
 
 from __future__ import annotations
 
-import os
 import random
 import ssl
 import time
@@ -39,22 +38,12 @@ class GaveUp(urllib3.exceptions.HTTPError):
         super().__init__(f"{what}: gave up after {attempts} attempts in {elapsed:.1f} s: {cause}")
 
 
-def _setting(name: str, default: float) -> float:
-    value = getattr(settings, name, None)
-    if value is None:
-        value = os.environ.get(name, default)
-    try:
-        return max(0.0, float(value))
-    except (TypeError, ValueError):
-        return default
-
-
 def deadline_s() -> float:
-    return _setting("CONTINUUM_KUBE_RETRY_DEADLINE_S", 30.0)
+    return max(0.0, settings.CONTINUUM_KUBE_RETRY_DEADLINE_S)
 
 
 def base_s() -> float:
-    return _setting("CONTINUUM_KUBE_RETRY_BASE_S", 0.2)
+    return max(0.0, settings.CONTINUUM_KUBE_RETRY_BASE_S)
 
 
 def _never_sent(exc: BaseException) -> bool:
