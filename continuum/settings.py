@@ -24,24 +24,29 @@ def env_bool(name: str, default: bool) -> bool:
 DEBUG = env_bool("DEBUG", False)
 
 
+def _var_secret(name: str, make) -> str:
+    """A random secret kept in var/<name>, created owner-only (never readable by others, not even for a
+    moment) by the first process that needs it; the others read that one."""
+    path = VAR_DIR / name
+    if not path.exists():
+        VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        except FileExistsError:  # another process of the same server made it just now
+            pass
+        else:
+            with os.fdopen(fd, "w") as f:
+                f.write(make())
+    return path.read_text().strip()
+
+
 def _secret_key() -> str:
     """SECRET_KEY from the environment, else a random key kept in var/secret_key (never a fixed one)."""
     if os.environ.get("SECRET_KEY"):
         return os.environ["SECRET_KEY"]
-    path = VAR_DIR / "secret_key"
-    if not path.exists():
-        import secrets
+    import secrets
 
-        VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)
-        # Created owner-only (never readable by others, not even for a moment).
-        try:
-            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-        except FileExistsError:  # another process of the same server made it just now
-            fd = -1
-        if fd >= 0:
-            with os.fdopen(fd, "w") as f:
-                f.write(secrets.token_urlsafe(50))
-    return path.read_text().strip()
+    return _var_secret("secret_key", lambda: secrets.token_urlsafe(50))
 
 
 SECRET_KEY = _secret_key()
@@ -351,20 +356,10 @@ def _credentials_keys() -> list[str]:
     for rotation), else a random key kept in var/credentials_key (0600). Web and worker must share it."""
     if os.environ.get("CONTINUUM_CREDENTIALS_KEY"):
         return [k.strip() for k in os.environ["CONTINUUM_CREDENTIALS_KEY"].split(",") if k.strip()]
-    path = VAR_DIR / "credentials_key"
-    if not path.exists():
-        import base64
+    import base64
 
-        VAR_DIR.mkdir(parents=True, exist_ok=True)
-        key = base64.urlsafe_b64encode(os.urandom(32))  # a Fernet key
-        try:
-            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-        except FileExistsError:  # another process made it meanwhile: use theirs
-            pass
-        else:
-            with os.fdopen(fd, "wb") as out:
-                out.write(key)
-    return [path.read_text().strip()]
+    # A Fernet key: 32 random bytes, URL-safe base64.
+    return [_var_secret("credentials_key", lambda: base64.urlsafe_b64encode(os.urandom(32)).decode())]
 
 
 CONTINUUM_CREDENTIALS_KEYS = _credentials_keys()
