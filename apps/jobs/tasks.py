@@ -34,7 +34,12 @@ PROGRESS_INTERVAL = 0.2
 def failure(job: Job, exc: Exception) -> tuple[str, dict | None]:
     """What a failed job tells its callers: the message of an input error (ValueError, InputError, KubeError:
     the caller's to fix), else one line with an error id; the traceback goes to the log under that id only,
-    since it names files and internals the caller has no business seeing."""
+    since it names files and internals the caller has no business seeing. A job stopped by its size (the soft
+    time limit, the worker child's memory cap) says which limit, with no traceback: nothing in it was wrong."""
+    if isinstance(exc, SoftTimeLimitExceeded):
+        return time_limit_message(settings.CELERY_TASK_SOFT_TIME_LIMIT), None
+    if isinstance(exc, MemoryError):
+        return f"memory limit of {settings.CONTINUUM_JOB_MEMORY_LIMIT_MIB} MiB exceeded", None
     if isinstance(exc, ValueError):
         log.info("job %s (%s) failed: %s", job.pk, job.kind, exc)
         return str(exc), None
@@ -104,15 +109,6 @@ def run_job(self, job_id: str) -> str:
                 soft_time_limit(settings.CELERY_TASK_SOFT_TIME_LIMIT, enabled=not eager),
             ):
                 result, url = handler(job, progress)
-    except SoftTimeLimitExceeded:
-        # Celery's soft limit (CELERY_TASK_SOFT_TIME_LIMIT): the job is over, with that reason; no
-        # traceback, since nothing in the job was wrong but its size.
-        _fail(job.pk, time_limit_message(settings.CELERY_TASK_SOFT_TIME_LIMIT))
-        return Job.State.FAILED
-    except MemoryError:
-        # The worker child's address-space limit (CONTINUUM_JOB_MEMORY_LIMIT_MIB).
-        _fail(job.pk, f"memory limit of {settings.CONTINUUM_JOB_MEMORY_LIMIT_MIB} MiB exceeded")
-        return Job.State.FAILED
     except Exception as exc:
         detail, result = failure(job, exc)
         mine.update(
