@@ -35,7 +35,7 @@ from typing import Any
 from . import limits
 from .artifact_names import check_package
 from .errors import InputError
-from .safeload import loads_json
+from .safeload import check_text_file, loads_json
 
 FORMAT = "continuum.rosgraph/v1"
 LEVELS = ("mission", "macro", "functionality", "driver")
@@ -347,8 +347,7 @@ def load_rosgraph(text: str, fmt: str | None = None, name: str = "", **params: A
     """
     if fmt is not None and fmt not in READERS:
         raise InputError(f"unknown ROS graph format {fmt!r} (one of {', '.join(READERS)})", "format")
-    if "\x00" in text:  # no graph format has one, and no stored text may hold one
-        raise InputError("the file contains a NUL character")
+    check_text_file(text)
     stripped = text.lstrip()
     if fmt == "dot" or (fmt is None and not stripped.startswith(("{", "["))):
         return from_dot(text, name=name, **params)

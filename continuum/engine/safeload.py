@@ -107,6 +107,13 @@ def _first_problem(doc: Any) -> tuple[str, str] | None:
     return None
 
 
+def check_text_file(text: str) -> None:
+    """An uploaded text file may hold no NUL: no text format has one, and no stored text may hold one
+    (PostgreSQL's text and jsonb refuse it)."""
+    if "\x00" in text:
+        raise InputError("the file contains a NUL character")
+
+
 def loads_json(text: str | bytes, field: str | None = None, *, max_depth: int | None = None) -> Any:
     """``json.loads`` for untrusted text; every problem is an InputError on ``field`` (or, without one, on
     the document's top-level key where the problem is), naming the path, e.g. ``meta.x: NaN is not

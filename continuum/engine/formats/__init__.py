@@ -13,7 +13,7 @@ from typing import Any
 
 from ..dag import TaskGraph
 from ..errors import InputError
-from ..safeload import loads_json
+from ..safeload import check_text_file, loads_json
 from . import dax, stg, thesis_csv, wfformat
 
 Reader = Callable[[Any], TaskGraph]
@@ -71,8 +71,7 @@ def load_dag(
             content = content.decode("utf-8")
         except UnicodeDecodeError as exc:
             raise InputError(f"the file is not UTF-8 text (byte {exc.start})") from exc
-    if "\x00" in content:  # no text format has one, and no stored text may hold one
-        raise InputError("the file contains a NUL character")
+    check_text_file(content)
     if fmt is None:
         fmt = sniff_text(content)
     if fmt in TEXT_READERS:
