@@ -1,13 +1,10 @@
 from __future__ import annotations
 
-from drf_spectacular.types import OpenApiTypes
-from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
-from apps.tenancy.api import DefaultFleetMixin, FleetField, ScopedModelSerializer, ScopedSerializer
+from apps.tenancy.api import DefaultFleetMixin, FleetField, ScopedModelSerializer, ScopedSerializer, VisibleRelatedField
 from apps.tenancy.bounds import BoundedFileField, at_most
-from apps.tenancy.scoping import scope
 from continuum.engine import artifact_names, limits
 from continuum.engine.cluster import normalize_arch
 from continuum.engine.errors import InputError
@@ -268,25 +265,15 @@ class ClusteringListSerializer(ClusteringSerializer):
 
 
 # ---- placement --------------------------------------------------------------------------------------------
-@extend_schema_field(OpenApiTypes.INT)
-class VisibleModelField(serializers.PrimaryKeyRelatedField):
-    def __init__(self, model, **kwargs):
-        self.model = model
-        super().__init__(**kwargs)
-
-    def get_queryset(self):
-        return scope(self.model.objects.all(), self.context.get("request"))
-
-
 class PlaceRequestSerializer(ScopedSerializer):
     """Place containers on the nodes of a cluster: a clustering's containers (with per-container
     ``overrides``) or a ``continuum.containers/v1`` document (optionally with the ROS graph for bandwidth)."""
 
     cluster = VisibleClusterField()
     policy = serializers.ChoiceField(choices=[*POLICIES, *ALIASES], default="superclustering")
-    clustering = VisibleModelField(Clustering, required=False)
+    clustering = VisibleRelatedField(Clustering, required=False)
     containers = serializers.JSONField(required=False, help_text="a continuum.containers/v1 document")
-    rosgraph = VisibleModelField(RosGraph, required=False, help_text="with 'containers': bandwidth by Def. 3.2.1")
+    rosgraph = VisibleRelatedField(RosGraph, required=False, help_text="with 'containers': bandwidth by Def. 3.2.1")
     overrides = serializers.DictField(
         required=False, default=dict, help_text="container -> {cpu, memory_mib, priority, archs, node, tolerations...}"
     )

@@ -71,10 +71,16 @@ class DefaultFleetMixin:
 
 @extend_schema_field(OpenApiTypes.INT)
 class VisibleRelatedField(serializers.PrimaryKeyRelatedField):
-    """An object of the caller's fleets by id; subclasses set ``model`` (the path to the fleet is found by
-    ``scoping.fleet_path``). Other fleets' objects are "does not exist", like unknown ids."""
+    """An object of the caller's fleets by id; ``model`` is set by a subclass or given as the first argument
+    (the path to the fleet is found by ``scoping.fleet_path``). Other fleets' objects are "does not exist",
+    like unknown ids."""
 
     model = None
+
+    def __init__(self, model=None, **kwargs):
+        if model is not None:
+            self.model = model
+        super().__init__(**kwargs)
 
     def get_queryset(self):
         return scope(self.model.objects.all(), self.context.get("request"))
