@@ -20,9 +20,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from continuum.engine import Platform, TaskGraph
-from continuum.engine.errors import InputError
-from continuum.engine.heft4k import heft4k
-from continuum.engine.k8s_baselines import run_heft4k, run_heft_k8s, run_k8s_default
+from continuum.engine.core.errors import InputError
+from continuum.engine.heft4k.heft4k import heft4k
+from continuum.engine.heft4k.k8s_baselines import run_heft4k, run_heft_k8s, run_k8s_default
 
 TARGET = {"ideal": 11.0, "heft4k": 11.0, "heft-k8s": 13.333, "k8s": 14.667}
 SEEDS = range(8)

@@ -1,12 +1,12 @@
 """HEFT4K against the thesis' figures (3.3.2 Figs. 3.29-3.31, 4.3.2 Table 4.28, Figs. 4.16-4.19), seeded.
 
 Run: ``python benchmarks/heft4k_thesis.py [--dags N] [--seed S] [--json FILE]`` (default 150 DAGs, a few
-minutes on one core). Everything runs in the CFS simulator of :mod:`continuum.engine.cfs_sim`; the thesis
+minutes on one core). Everything runs in the CFS simulator of :mod:`continuum.engine.heft4k.cfs_sim`; the thesis
 ran 100k DAGs on its own simulator, so compare orderings and magnitudes, not digits. Speedups follow spec
 02 section 0: ``(M_baseline / M_heft4k - 1) * 100``; a node loss is a negative speedup.
 
 1. the Fig. 3.29/3.30 example (reconstructed DAG in tests/data);
-2. a Table 4.28-like corpus (:mod:`continuum.engine.synthetic`), each DAG on its own random 6 x 2-CPU cluster,
+2. a Table 4.28-like corpus (:mod:`continuum.engine.heft4k.synthetic`), each DAG on its own random 6 x 2-CPU cluster,
    with default Kubernetes, HEFT on Kubernetes, HEFT4K, ideal HEFT and DPE (Figs. 4.16-4.18);
 3. the remap experiment of Fig. 4.19: five successive random node losses, Algorithm 2 with theta = 20%;
 4. the threshold calibration of Fig. 3.31 (delta = 10%).
@@ -27,11 +27,11 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from continuum.engine import TaskGraph  # noqa: E402
-from continuum.engine.cluster import cluster_platform  # noqa: E402
-from continuum.engine.heft4k import heft4k  # noqa: E402
-from continuum.engine.k8s_baselines import compare, run_heft4k, run_heft_k8s, run_k8s_default, speedup  # noqa: E402
-from continuum.engine.remap import calibrate_threshold, calibration_points, remap  # noqa: E402
-from continuum.engine.synthetic import TABLE_4_28, corpus_stats, dag_stats, random_cluster, random_dag  # noqa: E402
+from continuum.engine.core.cluster import cluster_platform  # noqa: E402
+from continuum.engine.heft4k.heft4k import heft4k  # noqa: E402
+from continuum.engine.heft4k.k8s_baselines import compare, run_heft4k, run_heft_k8s, run_k8s_default, speedup  # noqa: E402
+from continuum.engine.heft4k.remap import calibrate_threshold, calibration_points, remap  # noqa: E402
+from continuum.engine.heft4k.synthetic import TABLE_4_28, corpus_stats, dag_stats, random_cluster, random_dag  # noqa: E402
 
 DATA = ROOT / "tests" / "data"
 

@@ -3,7 +3,7 @@
 Run on demand: ``python benchmarks/heft_vs_saga.py [--quick]``. saga is installed by this script into a
 throw-away virtual environment under /tmp and run in a subprocess (it is never imported here).
 
-Inputs: random layered DAGs of the HEFT literature (``continuum.engine.generators.layered_dag``: shape 1,
+Inputs: random layered DAGs of the HEFT literature (``continuum.engine.device.generators.layered_dag``: shape 1,
 mean out-degree 3, CCR 1) with one zero-cost entry and exit task added (saga adds them itself otherwise),
 on *related* machines - the cost model saga can express: a task of cost w takes w / speed on a processor
 (speeds uniform in [0.5, 1.5]) and an edge of size d takes d / bandwidth between two processors (bandwidth
@@ -36,8 +36,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _bench import best_of, ensure_venv, fit_exponent, table
 
 from continuum.engine import TaskGraph
-from continuum.engine.generators import layered_dag, related_platform
-from continuum.engine.heft import compile_problem, heft, schedule_list
+from continuum.engine.device.generators import layered_dag, related_platform
+from continuum.engine.device.heft import compile_problem, heft, schedule_list
 
 SAGA_VENV = Path(tempfile.gettempdir()) / "continuum-bench-saga-2.0.2"
 

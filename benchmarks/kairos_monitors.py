@@ -1,4 +1,4 @@
-"""The thesis's two ABV case studies, simulated (continuum/engine/abv_simulation.py), next to the thesis's
+"""The thesis's two ABV case studies, simulated (continuum/engine/verification/abv_simulation.py), next to the thesis's
 figures.
 
     python benchmarks/kairos_monitors.py [--scenario kairos|synthetic|both] [--time-limit S] [--json FILE]
@@ -23,7 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from continuum.engine.abv_simulation import scenario, simulate
+from continuum.engine.verification.abv_simulation import scenario, simulate
 
 THESIS = {
     "kairos": {

@@ -36,7 +36,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from continuum.engine.monitor_milp import MonitorStats, allocate
+from continuum.engine.verification.monitor_milp import MonitorStats, allocate
 
 
 def case_study_1(edge_available: float) -> dict:

@@ -4,7 +4,7 @@ Run on demand: ``python benchmarks/orb_frames.py``.
 
 Input: ``tests/data/orb_graph.csv`` (``FrancescoL96/DAG-Scheduling-Simulator``): 4 image pyramids x 5
 nodes x 8 levels + one GPU-only DL node = 161 tasks, CPU/GPU times and CPU<->GPU copy times in ms, on a
-board with 4 (or 1) CPU cores sharing memory and one GPU (``continuum.engine.board.board``).
+board with 4 (or 1) CPU cores sharing memory and one GPU (``continuum.engine.device.board.board``).
 
 The simulator is not on PyPI and is not run here; its figures are the ones its authors published
 (``/work/shared/notes/peers.md``): 3 frames on 4 CPUs + 1 GPU, G-FL 232.7, HEFT 224.0, XEFT 202.1; on 1 CPU
@@ -24,9 +24,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _bench import ROOT, best_of, table
 
-from continuum.engine.board import board
+from continuum.engine.device.board import board
+from continuum.engine.device.pipeline import frame_violations, pipeline, releases
 from continuum.engine.formats import load_dag
-from continuum.engine.pipeline import frame_violations, pipeline, releases
 
 SIMULATOR_3_FRAMES = {4: {"gfl": 232.7, "heft": 224.0, "xeft": 202.1}, 1: {"gfl": 586.4, "heft": 627.2, "xeft": 589.9}}
 SIMULATOR_10_FRAMES_S = (115.0, 172.0)

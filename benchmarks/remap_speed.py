@@ -1,7 +1,7 @@
 """How fast Algorithm 2 remaps a 1000-task DAG on a 50-node cluster after one node fails (goal: < 100 ms).
 
 Run: ``python benchmarks/remap_speed.py [--tasks 1000] [--nodes 50] [--failures 10] [--seed 0]``.
-A Table 4.28-like DAG (:mod:`continuum.engine.synthetic`) on a full mesh of 2-CPU nodes with U[500, 1000]
+A Table 4.28-like DAG (:mod:`continuum.engine.heft4k.synthetic`) on a full mesh of 2-CPU nodes with U[500, 1000]
 Mbit/s links is mapped once with HEFT4K (look-ahead); then single nodes fail one at a time (each time from
 the original mapping) and the remap time is measured around the whole of :func:`remap` (removing the node,
 re-routing the cluster, deciding, mapping, niceness), side by side with mapping from scratch.
@@ -18,9 +18,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from continuum.engine.heft4k import heft4k
-from continuum.engine.remap import remap
-from continuum.engine.synthetic import random_cluster, random_dag
+from continuum.engine.heft4k.heft4k import heft4k
+from continuum.engine.heft4k.remap import remap
+from continuum.engine.heft4k.synthetic import random_cluster, random_dag
 
 
 def timed(fn, *args, **kwargs):

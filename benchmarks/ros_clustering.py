@@ -23,10 +23,10 @@ import networkx as nx
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from continuum.engine.cluster import Cluster  # noqa: E402
-from continuum.engine.ros_clustering import cluster_ros, split_bandwidth  # noqa: E402
-from continuum.engine.rosgraph import RosGraph, load_rosgraph  # noqa: E402
-from continuum.engine.superclustering import default_kubernetes, load_workload, superclustering  # noqa: E402
+from continuum.engine.containers.ros_clustering import cluster_ros, split_bandwidth  # noqa: E402
+from continuum.engine.containers.rosgraph import RosGraph, load_rosgraph  # noqa: E402
+from continuum.engine.containers.superclustering import default_kubernetes, load_workload, superclustering  # noqa: E402
+from continuum.engine.core.cluster import Cluster  # noqa: E402
 
 DATA = ROOT / "tests" / "data"
 

@@ -19,9 +19,9 @@ they fitted I in the thesis. The thesis' third machine R (a PC without an RT ker
 CPU of its own here: RT-Kube's stress runs in the root cpuset at SCHED_OTHER.
 
 Configurations: "all on one node" = the thesis' K3S standard (every container on J, in a random creation
-order, the kernel admitting in that order); "RT-Kube" = the placement of continuum.engine.rt_kube.schedule on
+order, the kernel admitting in that order); "RT-Kube" = the placement of continuum.engine.rtkube.rt_kube.schedule on
 the same three nodes (a container it cannot place stays Pending: it never reaches the kernel). The simulator
-(continuum.engine.rt_sim, with benchmarks/rt_kube_thesis.py's calibration: 5 % overrun probability per job
+(continuum.engine.rtkube.rt_sim, with benchmarks/rt_kube_thesis.py's calibration: 5 % overrun probability per job
 with a stress container on the node) runs the same sets, placements and duration.
 
 The machine is shared: what other processes do on the two CPUs is part of the measurement (SCHED_DEADLINE
@@ -50,9 +50,9 @@ sys.path.insert(0, str(HERE))
 from rt_kube_thesis import PERIODS, THESIS_431  # noqa: E402
 
 from continuum.agent.sched import DeadlineParams, rt_bandwidth, set_deadline  # noqa: E402
-from continuum.engine import rt_kube  # noqa: E402
-from continuum.engine.rt_model import cluster_from_dict, rtset_from_dict  # noqa: E402
-from continuum.engine.rt_sim import SimParams, kube_default_placer, rt_kube_placer, simulate  # noqa: E402
+from continuum.engine.rtkube import rt_kube  # noqa: E402
+from continuum.engine.rtkube.rt_model import cluster_from_dict, rtset_from_dict  # noqa: E402
+from continuum.engine.rtkube.rt_sim import SimParams, kube_default_placer, rt_kube_placer, simulate  # noqa: E402
 
 CPUSET = Path("/sys/fs/cgroup/cpuset")
 WORKER_SRC = HERE / "rt_deadline_worker.c"

@@ -2,8 +2,8 @@
 
     python benchmarks/rt_kube_thesis.py [--horizon-ms 10000] [--seeds 3] [--admission-seeds 1000] [--quick]
 
-Every figure printed here is measured in this run by driving continuum.engine.rt_kube / rt_victims through
-continuum.engine.rt_sim; the thesis' published numbers are printed beside them, never mixed in.
+Every figure printed here is measured in this run by driving continuum.engine.rtkube.rt_kube / rt_victims through
+continuum.engine.rtkube.rt_sim; the thesis' published numbers are printed beside them, never mixed in.
 
 Model assumptions (spec 03, section 14), the same for every configuration:
 * cyclicdeadline-like jobs run U(0.3, 1.0) x WCET; a non-RT stress container on a node makes each job
@@ -31,16 +31,16 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from continuum.engine import rt_kube  # noqa: E402
-from continuum.engine.rt_model import RTContainer, cluster_from_dict, rtset_from_dict  # noqa: E402
-from continuum.engine.rt_sim import (  # noqa: E402
+from continuum.engine.rtkube import rt_kube  # noqa: E402
+from continuum.engine.rtkube.rt_model import RTContainer, cluster_from_dict, rtset_from_dict  # noqa: E402
+from continuum.engine.rtkube.rt_sim import (  # noqa: E402
     SimParams,
     fixed_placer,
     kube_default_placer,
     rt_kube_placer,
     simulate,
 )
-from continuum.engine.rt_victims import MonitorPolicy  # noqa: E402
+from continuum.engine.rtkube.rt_victims import MonitorPolicy  # noqa: E402
 
 WATERS = Path("/work/shared/datasets/rt_tasksets/waters2019_mobstr.extracted.json")
 

@@ -31,7 +31,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from continuum.engine.stl_monitor import Monitor
+from continuum.engine.verification.stl_monitor import Monitor
 
 PEERS = ["rtamt==0.4.10", "antlr4-python3-runtime==4.7"]
 OPTIONAL = ["mstlo-python==0.2.2"]

@@ -9,8 +9,8 @@ from typing import Any
 
 from django.core.management.base import BaseCommand, CommandError
 
-from continuum.engine.errors import InputError
-from continuum.engine.safeload import loads_json
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import loads_json
 
 
 class EngineCommand(BaseCommand):

@@ -39,9 +39,9 @@ from typing import Any
 
 import yaml
 
-from continuum.engine.cluster import Cluster
-from continuum.engine.errors import InputError
-from continuum.engine.rt_model import cluster_from_dict as rt_cluster_from_dict
+from continuum.engine.core.cluster import Cluster
+from continuum.engine.core.errors import InputError
+from continuum.engine.rtkube.rt_model import cluster_from_dict as rt_cluster_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
 BUILD_SCRIPT = ROOT / "scripts" / "build-kube.sh"

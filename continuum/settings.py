@@ -277,8 +277,8 @@ CONTINUUM_POD_COMMAND = shlex.split(os.environ.get("CONTINUUM_POD_COMMAND", "/pa
 CONTINUUM_NICE_BINARY = os.environ.get("CONTINUUM_NICE_BINARY", "nice")
 # HEFT4K remapping (Algorithm 2): total remap when the lost HEFT-rank share exceeds this fraction.
 CONTINUUM_REMAP_THRESHOLD = float(os.environ.get("CONTINUUM_REMAP_THRESHOLD", "0.2"))
-# ---- Limits (continuum/engine/limits.py; README "Limits"; CONTINUUM_MAX_<NAME> overrides) -----------
-from continuum.engine import limits as _limits  # noqa: E402
+# ---- Limits (continuum/engine/core/limits.py; README "Limits"; CONTINUUM_MAX_<NAME> overrides) -----------
+from continuum.engine.core import limits as _limits  # noqa: E402
 
 CONTINUUM_LIMITS = _limits.get()
 # Largest request body (JSON documents) and largest uploaded file (the import endpoints check each file's

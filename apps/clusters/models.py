@@ -6,9 +6,9 @@ from django.db import models
 
 from apps.kube.credentials import EncryptedTextField
 from apps.tenancy.models import FleetOwned
-from continuum.engine.cluster import Cluster as EngineCluster
-from continuum.engine.errors import InputError
-from continuum.engine.platform import Platform
+from continuum.engine.core.cluster import Cluster as EngineCluster
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import Platform
 
 
 class Cluster(FleetOwned):

@@ -14,7 +14,7 @@ from apps.tenancy.api import (
 )
 from apps.tenancy.bounds import at_most, at_most_items
 from apps.tenancy.models import FleetToken
-from continuum.engine import limits
+from continuum.engine.core import limits
 
 from .models import Cluster, ComputeNode, Link
 

@@ -13,7 +13,7 @@ from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
 from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 from . import services
 from .models import Clustering, Placement, RosGraph

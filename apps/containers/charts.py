@@ -19,7 +19,7 @@ import plotly.graph_objects as go
 from plotly.colors import qualitative
 
 from apps.dashboard.charts import EDGE_COLOUR, _base_layout, esc, escs
-from continuum.engine.rosgraph import LEVELS, RosGraph, natural_key
+from continuum.engine.containers.rosgraph import LEVELS, RosGraph, natural_key
 
 PALETTE = [*qualitative.T10, *qualitative.Pastel, *qualitative.Dark24]
 INTER_COLOUR = "#e4572e"

@@ -7,8 +7,8 @@ from django import forms
 
 from apps.clusters.models import Cluster
 from apps.dashboard.forms import json_object
-from continuum.engine.errors import InputError
-from continuum.engine.rosgraph import LEVELS, MODES, READERS, RosGraph
+from continuum.engine.containers.rosgraph import LEVELS, MODES, READERS, RosGraph
+from continuum.engine.core.errors import InputError
 
 from . import services
 from .charts import LEVEL_LABELS

@@ -12,10 +12,10 @@ from django.urls import reverse
 
 from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
-from continuum.engine.errors import InputError
-from continuum.engine.ros_clustering import cluster_ros as engine_cluster_ros
-from continuum.engine.ros_clustering import max_containers
-from continuum.engine.superclustering import place as engine_place
+from continuum.engine.containers.ros_clustering import cluster_ros as engine_cluster_ros
+from continuum.engine.containers.ros_clustering import max_containers
+from continuum.engine.containers.superclustering import place as engine_place
+from continuum.engine.core.errors import InputError
 
 from . import services
 from .models import Clustering, Placement, RosGraph

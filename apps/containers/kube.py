@@ -48,7 +48,7 @@ from apps.kube.gateway import (
     ensure_namespace,
     node_problems,
 )
-from continuum.engine.cluster import Cluster as EngineCluster
+from continuum.engine.core.cluster import Cluster as EngineCluster
 
 from .models import ContainerDeployment, Placement
 

@@ -13,9 +13,9 @@ from django.conf import settings
 from django.db import models
 
 from apps.tenancy.models import FleetOwned
-from continuum.engine.cluster import Cluster as EngineCluster
-from continuum.engine.rosgraph import RosGraph as EngineRosGraph
-from continuum.engine.superclustering import Workload, load_workload
+from continuum.engine.containers.rosgraph import RosGraph as EngineRosGraph
+from continuum.engine.containers.superclustering import Workload, load_workload
+from continuum.engine.core.cluster import Cluster as EngineCluster
 
 
 class RosGraph(FleetOwned):

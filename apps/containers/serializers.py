@@ -5,12 +5,12 @@ from rest_framework import serializers
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import DefaultFleetMixin, FleetField, ScopedModelSerializer, ScopedSerializer, VisibleRelatedField
 from apps.tenancy.bounds import BoundedFileField, at_most
-from continuum.engine import artifact_names, limits
-from continuum.engine.cluster import normalize_arch
-from continuum.engine.errors import InputError
-from continuum.engine.ros_clustering import max_containers
-from continuum.engine.rosgraph import MODES, READERS
-from continuum.engine.superclustering import ALIASES, POLICIES, SCORERS
+from continuum.engine.containers.ros_clustering import max_containers
+from continuum.engine.containers.rosgraph import MODES, READERS
+from continuum.engine.containers.superclustering import ALIASES, POLICIES, SCORERS
+from continuum.engine.core import artifact_names, limits
+from continuum.engine.core.cluster import normalize_arch
+from continuum.engine.core.errors import InputError
 
 from . import services
 from .models import Clustering, ContainerDeployment, Placement, RosGraph
@@ -232,7 +232,7 @@ class ClusteringSerializer(ScopedModelSerializer):
         return obj.containers
 
     def get_container_bandwidth(self, obj) -> list[dict]:
-        from continuum.engine.superclustering import container_bandwidth
+        from continuum.engine.containers.superclustering import container_bandwidth
 
         weights = container_bandwidth(obj.graph, obj.groups(), obj.result.get("params", {}).get("mode", "per_topic"))
         return [{"a": a, "b": b, "bytes_per_s": w} for (a, b), w in sorted(weights.items())]

@@ -1,7 +1,7 @@
 """Glue between the stored objects and the engine: graph import and edits, clusters as engine clusters, the
 workload of a clustering, the "why" table of a placement, the Dockerfiles archive.
 
-Every check that can fail raises :class:`~continuum.engine.errors.InputError` naming the culprit (the API turns
+Every check that can fail raises :class:`~continuum.engine.core.errors.InputError` naming the culprit (the API turns
 it into a 400 under the error's field).
 """
 
@@ -13,11 +13,8 @@ from collections.abc import Mapping
 from typing import Any
 
 from apps.clusters.models import Cluster, ComputeNode
-from continuum.engine import artifact_names
-from continuum.engine.cluster import Cluster as EngineCluster
-from continuum.engine.errors import InputError
-from continuum.engine.image_inheritance import DEFAULT_PLATFORMS, ImagePlan, plan_from_graph
-from continuum.engine.rosgraph import (
+from continuum.engine.containers.image_inheritance import DEFAULT_PLATFORMS, ImagePlan, plan_from_graph
+from continuum.engine.containers.rosgraph import (
     LEVEL_ALIASES,
     LEVELS,
     RosGraph,
@@ -26,8 +23,11 @@ from continuum.engine.rosgraph import (
     natural_key,
     pair,
 )
-from continuum.engine.safeload import loads_json
-from continuum.engine.superclustering import CONTAINERS_FORMAT, SCORERS, Workload, load_workload
+from continuum.engine.containers.superclustering import CONTAINERS_FORMAT, SCORERS, Workload, load_workload
+from continuum.engine.core import artifact_names
+from continuum.engine.core.cluster import Cluster as EngineCluster
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import loads_json
 
 from .models import Clustering, Placement
 

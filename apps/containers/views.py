@@ -16,8 +16,8 @@ from apps.dashboard.views import paginate, scoped
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
-from continuum.engine.errors import InputError
-from continuum.engine.superclustering import container_bandwidth
+from continuum.engine.containers.superclustering import container_bandwidth
+from continuum.engine.core.errors import InputError
 
 from . import charts, services
 from .forms import ClusterForm, LevelsForm, PlaceForm, RosGraphUploadForm

@@ -33,9 +33,9 @@ from statistics import fmean
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from continuum.engine.dag import TaskGraph
-from continuum.engine.platform import Platform
-from continuum.engine.schedule import Assignment, Schedule
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.platform import Platform
+from continuum.engine.core.schedule import Assignment, Schedule
 
 TASK_COLOUR = "#4c78a8"
 CRITICAL_COLOUR = "#e4572e"

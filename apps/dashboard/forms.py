@@ -9,21 +9,22 @@ from apps.clusters.models import Cluster
 from apps.tenancy.bounds import BoundedFormFileField
 from apps.workloads.importing import FORMATS, generate_dag, read_dag_file
 from apps.workloads.models import Application
-from continuum.engine import algorithms, limits
-from continuum.engine.board import board
-from continuum.engine.compare import DEFAULT_ALGORITHMS
-from continuum.engine.errors import InputError
-from continuum.engine.generators import SHAPES
-from continuum.engine.heft import RANK_MODES
-from continuum.engine.platform import Platform
-from continuum.engine.safeload import loads_json
+from continuum.engine.core import limits
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import Platform
+from continuum.engine.core.safeload import loads_json
+from continuum.engine.device import algorithms
+from continuum.engine.device.board import board
+from continuum.engine.device.compare import DEFAULT_ALGORITHMS
+from continuum.engine.device.generators import SHAPES
+from continuum.engine.device.heft import RANK_MODES
 
 FORMAT_HELP = "continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX (.dax/.xml), Kasahara STG (.stg), thesis CSV (.csv)"
 #: STG reader options (``continuum.engine.formats.stg``) offered as form fields.
 STG_OPTIONS = ("ccr", "processors", "heterogeneity", "seed")
 
 
-#: The maxima of README "Limits" (continuum/engine/limits.py), the same as the API's.
+#: The maxima of README "Limits" (continuum/engine/core/limits.py), the same as the API's.
 LIMITS = limits.get()
 
 def json_object(text: str | None, not_object: str) -> dict:

@@ -21,8 +21,8 @@ from apps.jobs.services import start_job
 from apps.scheduling.models import Assignment, Comparison, Schedule
 from apps.tenancy.scoping import visible_fleets
 from apps.workloads.models import Application
-from continuum.engine.errors import InputError
-from continuum.engine.platform import Platform
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import Platform
 
 from . import charts
 from .forms import AdviceForm, CompareForm, GenerateForm, ScheduleForm, UploadForm

@@ -3,8 +3,8 @@
 from django import forms
 from django.contrib import admin
 
-from continuum.engine.errors import InputError
-from continuum.engine.uma_advisor import extract_thresholds
+from continuum.engine.core.errors import InputError
+from continuum.engine.device.uma_advisor import extract_thresholds
 
 from .models import DeviceProfile
 

@@ -7,9 +7,9 @@ from rest_framework.response import Response
 
 from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
 from apps.tenancy.models import FleetToken
-from continuum.engine.errors import InputError
-from continuum.engine.ros_transport import ros_transport_advice
-from continuum.engine.uma_advisor import advise, extract_thresholds
+from continuum.engine.core.errors import InputError
+from continuum.engine.device.ros_transport import ros_transport_advice
+from continuum.engine.device.uma_advisor import advise, extract_thresholds
 
 from .models import DeviceProfile
 from .serializers import AdviceRequestSerializer, DeviceProfileSerializer, ThresholdsRequestSerializer

@@ -10,8 +10,8 @@ from django.core.exceptions import ValidationError
 from django.core.validators import MaxValueValidator, MinValueValidator
 from django.db import models
 
-from continuum.engine import uma_advisor
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
+from continuum.engine.device import uma_advisor
 
 PERCENT = [MinValueValidator(0.0), MaxValueValidator(100.0)]
 POSITIVE = [MinValueValidator(1e-9)]

@@ -2,7 +2,7 @@
 
 from apps.jobs.registry import job_kind
 from apps.scheduling.models import Schedule
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 from . import remapping
 from .models import RemapEvent

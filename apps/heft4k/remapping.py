@@ -1,6 +1,6 @@
 """HEFT4K remapping as a product (thesis 3.3.2, Algorithm 2): compute, store and apply a remap of a schedule.
 
-:func:`compute` runs the engine's :func:`continuum.engine.remap.remap` on a stored schedule and stores the
+:func:`compute` runs the engine's :func:`continuum.engine.heft4k.remap.remap` on a stored schedule and stores the
 result as a new Schedule row plus a :class:`RemapEvent`; nothing touches Kubernetes. :func:`apply` pushes
 ONLY the pods that change (a task moved to another node, or given another niceness by a total remap): the
 old pod is deleted and a new one created and bound to the new node; every other pod is left untouched and
@@ -25,8 +25,8 @@ from kubernetes.client.exceptions import ApiException
 from apps.clusters.models import ComputeNode
 from apps.kube import gateway
 from apps.scheduling.models import Assignment, Schedule
-from continuum.engine.errors import InputError
-from continuum.engine.remap import remap
+from continuum.engine.core.errors import InputError
+from continuum.engine.heft4k.remap import remap
 
 from .models import RemapEvent
 

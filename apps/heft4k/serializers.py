@@ -1,7 +1,7 @@
 from rest_framework import serializers
 
 from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 from . import remapping
 from .models import RemapEvent

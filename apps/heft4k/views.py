@@ -17,11 +17,11 @@ from apps.jobs.services import start_job
 from apps.scheduling.models import Schedule
 from apps.tenancy.scoping import visible_fleets
 from apps.workloads.models import Application
-from continuum.engine.dag import TaskGraph
-from continuum.engine.errors import InputError
-from continuum.engine.k8s_baselines import Unschedulable, run_heft4k, run_heft_k8s, run_k8s_default
-from continuum.engine.platform import Platform
-from continuum.engine.schedule import Schedule as EngineSchedule
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import Platform
+from continuum.engine.core.schedule import Schedule as EngineSchedule
+from continuum.engine.heft4k.k8s_baselines import Unschedulable, run_heft4k, run_heft_k8s, run_k8s_default
 
 from . import remapping
 from .models import RemapEvent

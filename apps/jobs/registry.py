@@ -3,7 +3,7 @@
 A handler is ``handler(job, progress) -> (result: dict, result_url: str)``. ``progress(percent, message)``
 records progress in the database. A handler must be idempotent: a job re-delivered after a worker died
 runs again from the start and must replace, not duplicate, what a previous attempt stored.
-Handlers raise :class:`~continuum.engine.errors.InputError` (or ``ValueError``) for bad arguments: the
+Handlers raise :class:`~continuum.engine.core.errors.InputError` (or ``ValueError``) for bad arguments: the
 job fails with that message and the worker carries on.
 """
 

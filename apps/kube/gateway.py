@@ -36,7 +36,7 @@ from kubernetes.utils import parse_quantity
 
 from apps.clusters.models import Cluster, ComputeNode
 from apps.scheduling.models import Assignment, Schedule
-from continuum.engine.heft4k import nice_container
+from continuum.engine.heft4k.heft4k import nice_container
 
 from . import kubeconfig, retry
 from .credentials import Undecryptable

@@ -6,7 +6,7 @@ from django.contrib import admin, messages
 from django.core.exceptions import ValidationError
 
 from apps.jobs.services import start_job
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 from .kube import has_api
 from .models import (

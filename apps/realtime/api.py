@@ -18,9 +18,9 @@ from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
 from apps.tenancy.scoping import visible_fleets
-from continuum.engine.errors import InputError
-from continuum.engine.rt_model import REALTIME_KIND, realtime_from_yaml, realtime_to_yaml, rtset_from_dict
-from continuum.engine.safeload import load_yaml_all
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import load_yaml_all
+from continuum.engine.rtkube.rt_model import REALTIME_KIND, realtime_from_yaml, realtime_to_yaml, rtset_from_dict
 
 from . import monitoring, planning
 from .kube import has_api

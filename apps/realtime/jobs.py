@@ -7,7 +7,7 @@ from django.db import transaction
 
 from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
-from continuum.engine import rt_kube
+from continuum.engine.rtkube import rt_kube
 
 from . import monitoring, planning, sync
 from .models import RealTime, RTPlan, RTPolicy

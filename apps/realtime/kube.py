@@ -29,7 +29,7 @@ from kubernetes.client.exceptions import ApiException
 
 from apps.clusters.models import Cluster
 from apps.kube.gateway import REQUEST_TIMEOUT, KubeError, api_client_for, describe
-from continuum.engine.rt_model import RT_SCHEDULER_NAME
+from continuum.engine.rtkube.rt_model import RT_SCHEDULER_NAME
 
 REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL = "rt.scheduling", "v1", "realtimes"
 MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL = "rt.monitoring", "v1alpha1", "monitorings"

@@ -12,7 +12,7 @@
 - :class:`RTEvent` / :class:`NodeTaint`: what the reconcile phase did (evictions, alerts) with the
   timestamps of Eq. 3.19, and the timed node taints.
 
-Validation is the engine's (``continuum.engine.rt_model``): every form, serializer and importer calls
+Validation is the engine's (``continuum.engine.rtkube.rt_model``): every form, serializer and importer calls
 :func:`engine_container`, so the rules (positive numbers, ``WCET <= D <= P``, known nodes, criticality
 A-C) and their messages are the same everywhere.
 """
@@ -27,15 +27,15 @@ from django.core.validators import MinValueValidator, RegexValidator
 from django.db import models
 
 from apps.clusters.models import Cluster, ComputeNode
-from continuum.engine.errors import InputError
-from continuum.engine.rt_kube import RTKubeParams
-from continuum.engine.rt_model import (
+from continuum.engine.core.errors import InputError
+from continuum.engine.rtkube.rt_kube import RTKubeParams
+from continuum.engine.rtkube.rt_model import (
     RTContainer,
     container_from_dict,
     realtime_resource,
     realtime_to_yaml,
 )
-from continuum.engine.rt_victims import POLICIES, VIOLATION_TAINT_KEY, MonitorPolicy
+from continuum.engine.rtkube.rt_victims import POLICIES, VIOLATION_TAINT_KEY, MonitorPolicy
 
 DNS_SUBDOMAIN = re.compile(r"^[a-z0-9]([-a-z0-9]*[a-z0-9])?(\.[a-z0-9]([-a-z0-9]*[a-z0-9])?)*$")
 dns_name = RegexValidator(

@@ -36,8 +36,8 @@ from django.db.models import Q
 from django.utils import timezone
 
 from apps.clusters.models import Cluster, ComputeNode
-from continuum.engine.errors import InputError
-from continuum.engine.rt_victims import (
+from continuum.engine.core.errors import InputError
+from continuum.engine.rtkube.rt_victims import (
     ClusterMonitor,
     ContainerInfo,
     MonitorPolicy,
@@ -45,7 +45,7 @@ from continuum.engine.rt_victims import (
     is_violation,
     response_time,
 )
-from continuum.engine.rt_victims import (
+from continuum.engine.rtkube.rt_victims import (
     MonitoringReport as EngineReport,
 )
 

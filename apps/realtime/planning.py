@@ -14,10 +14,10 @@ from typing import Any
 from django.utils import timezone
 
 from apps.clusters.models import Cluster, ComputeNode
-from continuum.engine import rt_kube
-from continuum.engine.errors import InputError
-from continuum.engine.placement import PlacementPlan
-from continuum.engine.rt_model import RT_TAINT, RTContainer, RTNode, Taint, rtset_from_dict
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.placement import PlacementPlan
+from continuum.engine.rtkube import rt_kube
+from continuum.engine.rtkube.rt_model import RT_TAINT, RTContainer, RTNode, Taint, rtset_from_dict
 
 from .models import NodeTaint, RealTime, RTPod, RTPolicy
 

@@ -36,10 +36,10 @@ from kubernetes import client, watch
 
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube.gateway import api_client_for, node_fields
-from continuum.engine import rt_kube
-from continuum.engine.errors import InputError
-from continuum.engine.placement import Decision
-from continuum.engine.rt_model import (
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.placement import Decision
+from continuum.engine.rtkube import rt_kube
+from continuum.engine.rtkube.rt_model import (
     NONE,
     RT_LABEL,
     RT_SCHEDULER_NAME,

@@ -4,7 +4,7 @@ from rest_framework import serializers
 from apps.clusters.models import Cluster
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 from .models import (
     Monitoring,

@@ -24,8 +24,8 @@ from typing import Any
 from django.db import transaction
 
 from apps.clusters.models import Cluster, ComputeNode
-from continuum.engine.errors import InputError
-from continuum.engine.rt_model import RT_TAINT, realtime_from_dict
+from continuum.engine.core.errors import InputError
+from continuum.engine.rtkube.rt_model import RT_TAINT, realtime_from_dict
 
 from .kube import (
     CRITICALITY_LABEL,

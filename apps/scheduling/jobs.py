@@ -6,9 +6,9 @@ from django.db import transaction
 from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
 from apps.workloads.models import Application
-from continuum.engine import algorithms
-from continuum.engine.compare import compare
-from continuum.engine.platform import Platform
+from continuum.engine.core.platform import Platform
+from continuum.engine.device import algorithms
+from continuum.engine.device.compare import compare
 
 from .models import Comparison, Schedule
 

@@ -5,9 +5,9 @@ from django.db.models import Count, F, Func, IntegerField, OuterRef, Subquery, V
 from django.db.models.functions import Coalesce
 
 from apps.tenancy.models import FleetOwned
-from continuum.engine.platform import Platform
-from continuum.engine.schedule import Assignment as EngineAssignment
-from continuum.engine.schedule import Schedule as EngineSchedule
+from continuum.engine.core.platform import Platform
+from continuum.engine.core.schedule import Assignment as EngineAssignment
+from continuum.engine.core.schedule import Schedule as EngineSchedule
 
 
 class JSONArrayLength(Func):
@@ -150,7 +150,7 @@ class Schedule(FleetOwned):
 class Comparison(FleetOwned):
     """Several algorithms run on one application and target in one job (thesis Tables 4.1 and 4.3).
 
-    ``result`` is :func:`continuum.engine.compare.compare`'s dict (makespan, SLR, speedup against
+    ``result`` is :func:`continuum.engine.device.compare.compare`'s dict (makespan, SLR, speedup against
     VisionWorks, overlap, XO, idle time per algorithm, and the relative speeds); each algorithm's schedule is
     a normal :class:`Schedule` row pointing here.
     """
@@ -163,7 +163,7 @@ class Comparison(FleetOwned):
     platform = models.JSONField(help_text="the platform compared on, as continuum.platform/v1")
     algorithms = models.JSONField(help_text="the algorithms compared, in the order asked")
     params = models.JSONField(default=dict, blank=True, help_text="frames, fps/period, batch, rank_mode, comm_mode")
-    result = models.JSONField(help_text="continuum.engine.compare.compare()'s figures")
+    result = models.JSONField(help_text="continuum.engine.device.compare.compare()'s figures")
     best = models.CharField(max_length=50, blank=True)
     created = models.DateTimeField(auto_now_add=True)
 

@@ -3,12 +3,12 @@ from rest_framework import serializers
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
 from apps.tenancy.bounds import at_most
-from continuum.engine import limits
-from continuum.engine.algorithms import SCHEDULERS
-from continuum.engine.compare import DEFAULT_ALGORITHMS
-from continuum.engine.errors import InputError
-from continuum.engine.heft import COMM_MODES, RANK_MODES
-from continuum.engine.platform import Platform
+from continuum.engine.core import limits
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import Platform
+from continuum.engine.device.algorithms import SCHEDULERS
+from continuum.engine.device.compare import DEFAULT_ALGORITHMS
+from continuum.engine.device.heft import COMM_MODES, RANK_MODES
 
 from .models import Assignment, Comparison, Schedule
 

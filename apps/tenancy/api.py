@@ -13,7 +13,7 @@ from rest_framework.response import Response
 from rest_framework.views import exception_handler as drf_exception_handler
 from rest_framework.views import set_rollback
 
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 from .audit import request_id
 from .models import Fleet, FleetToken

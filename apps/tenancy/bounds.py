@@ -1,4 +1,4 @@
-"""The API's side of :mod:`continuum.engine.limits`: bounded pagination, a JSON body parser that checks
+"""The API's side of :mod:`continuum.engine.core.limits`: bounded pagination, a JSON body parser that checks
 depth/NaN/NUL before recursing, and a middleware that turns a NUL in the query string into a 400.
 
 Each answers a hostile input with a 400 naming the parameter, where Django/DRF/PostgreSQL would otherwise
@@ -18,9 +18,9 @@ from rest_framework.fields import FileField
 from rest_framework.pagination import LimitOffsetPagination
 from rest_framework.parsers import FormParser, JSONParser, MultiPartParser
 
-from continuum.engine import limits
-from continuum.engine.errors import InputError
-from continuum.engine.safeload import loads_json
+from continuum.engine.core import limits
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import loads_json
 
 #: int() refuses more digits than this anyway; far more than any real offset.
 _MAX_DIGITS = 18
@@ -70,7 +70,7 @@ class BoundedLimitOffsetPagination(LimitOffsetPagination):
 
 
 class SafeJSONParser(JSONParser):
-    """DRF's JSON parser through :func:`continuum.engine.safeload.loads_json`: too deep, NaN/Infinity,
+    """DRF's JSON parser through :func:`continuum.engine.core.safeload.loads_json`: too deep, NaN/Infinity,
     1e400 or NUL is a 400, and the body size is bounded by DATA_UPLOAD_MAX_MEMORY_SIZE (Django)."""
 
     def parse(self, stream, media_type=None, parser_context=None):

@@ -6,8 +6,8 @@ from django.db import transaction
 from django.urls import reverse
 
 from apps.jobs.registry import job_kind
-from continuum.engine.abv_simulation import scenario as make_scenario
-from continuum.engine.abv_simulation import simulate
+from continuum.engine.verification.abv_simulation import scenario as make_scenario
+from continuum.engine.verification.abv_simulation import simulate
 
 from . import services
 from .models import AllocationRun

@@ -15,8 +15,8 @@ from django.db import models
 from django.utils import timezone
 
 from apps.tenancy.models import FleetOwned
-from continuum.engine.errors import InputError
-from continuum.engine.stl_monitor import Program, synthesize
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.stl_monitor import Program, synthesize
 
 
 class Verdict(models.TextChoices):

@@ -4,8 +4,8 @@ from rest_framework import serializers
 from apps.clusters.models import ComputeNode
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import FleetOwnedSerializer, ScopedModelSerializer, ScopedSerializer, VisibleRelatedField
-from continuum.engine.errors import InputError
-from continuum.engine.monitor_milp import MonitorStats
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.monitor_milp import MonitorStats
 
 from . import services
 from .models import AllocationRun, Assertion, Handler, MigrationEvent, Monitor, MonitorVerdict, Violation

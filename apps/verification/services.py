@@ -14,10 +14,10 @@ from django.conf import settings
 from django.db import transaction
 
 from apps.clusters.models import Cluster, ComputeNode
-from continuum.engine.abv_simulation import SimulationResult
-from continuum.engine.errors import InputError
-from continuum.engine.monitor_milp import Allocation, MonitorStats, allocate
-from continuum.engine.stl_monitor import Monitor as EngineMonitor
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.abv_simulation import SimulationResult
+from continuum.engine.verification.monitor_milp import Allocation, MonitorStats, allocate
+from continuum.engine.verification.stl_monitor import Monitor as EngineMonitor
 
 from .models import AllocationRun, Handler, MigrationEvent, Monitor, MonitorVerdict, Verdict, Violation
 

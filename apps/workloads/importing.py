@@ -10,11 +10,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from continuum.engine import generators
-from continuum.engine.dag import TaskGraph
-from continuum.engine.errors import InputError
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import loads_json
+from continuum.engine.device import generators
 from continuum.engine.formats import JSON_READERS, TEXT_READERS, format_for_path, load_dag
-from continuum.engine.safeload import loads_json
 
 FORMATS = sorted({*JSON_READERS, *TEXT_READERS})
 GENERATORS = ("thesis", "layered")

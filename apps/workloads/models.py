@@ -4,7 +4,7 @@ from django.conf import settings
 from django.db import models
 
 from apps.tenancy.models import FleetOwned
-from continuum.engine.dag import TaskGraph
+from continuum.engine.core.dag import TaskGraph
 
 
 class Application(FleetOwned):

@@ -2,9 +2,10 @@ from rest_framework import serializers
 
 from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
 from apps.tenancy.bounds import BoundedFileField, at_most
-from continuum.engine import generators, limits
-from continuum.engine.dag import TaskGraph
-from continuum.engine.errors import InputError
+from continuum.engine.core import limits
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.errors import InputError
+from continuum.engine.device import generators
 
 from .importing import FORMATS, GENERATORS, generate_dag, parse_options, read_dag_file
 from .models import Application

@@ -7,8 +7,8 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING
 
-from continuum.engine.monitor_milp import MonitorAllocator
-from continuum.engine.stl_monitor import synthesize
+from continuum.engine.verification.monitor_milp import MonitorAllocator
+from continuum.engine.verification.stl_monitor import synthesize
 
 if TYPE_CHECKING:
     from .handler import Handler

@@ -6,7 +6,7 @@ with a priority scheduler (priority = active instances, plus aging so nothing st
 slice), reports statistics, takes part in the coordinator election and carries out the coordinator's
 requests: EXEC (run these monitors), MIGRATE (move one to another handler, Fig. 3.43) and SHUTDOWN.
 
-Migration over Redis follows :mod:`continuum.engine.stl_monitor`'s protocol functions:
+Migration over Redis follows :mod:`continuum.engine.verification.stl_monitor`'s protocol functions:
 
     coordinator --MIGRATE(m, H2)--> H1: migrate_begin (off the scheduler, still buffering)
     H1 --MIGRATION_START(m)--> H2: standby copy, subscribed from here on
@@ -26,7 +26,7 @@ import signal
 import time
 from dataclasses import dataclass, field
 
-from continuum.engine.stl_monitor import (
+from continuum.engine.verification.stl_monitor import (
     Monitor,
     Program,
     migrate_begin,

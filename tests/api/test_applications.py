@@ -6,7 +6,7 @@ import pytest
 from django.core.files.uploadedfile import SimpleUploadedFile
 
 from continuum.engine import TaskGraph
-from continuum.engine.schedule import Schedule as EngineSchedule
+from continuum.engine.core.schedule import Schedule as EngineSchedule
 
 pytestmark = pytest.mark.django_db
 

@@ -20,9 +20,9 @@ from django.core.files.uploadedfile import SimpleUploadedFile
 from apps.containers.management.commands import cluster_ros
 from apps.containers.models import Clustering, RosGraph
 from apps.jobs.models import Job
-from continuum.engine import image_inheritance
-from continuum.engine.errors import InputError
-from continuum.engine.image_inheritance import plan_images
+from continuum.engine.containers import image_inheritance
+from continuum.engine.containers.image_inheritance import plan_images
+from continuum.engine.core.errors import InputError
 
 pytestmark = pytest.mark.django_db
 

@@ -9,9 +9,9 @@ from apps.jobs.models import Job
 from apps.scheduling.models import Comparison, Schedule
 from apps.workloads.models import Application
 from continuum.engine import TaskGraph
-from continuum.engine.board import board
-from continuum.engine.pipeline import frame_violations, releases
-from continuum.engine.schedule import Schedule as EngineSchedule
+from continuum.engine.core.schedule import Schedule as EngineSchedule
+from continuum.engine.device.board import board
+from continuum.engine.device.pipeline import frame_violations, releases
 from tests.conftest import DATA
 
 pytestmark = pytest.mark.django_db

@@ -6,7 +6,7 @@ from rest_framework.test import APIClient
 
 from apps.devices.admin import DeviceProfileForm
 from apps.devices.models import DeviceProfile
-from continuum.engine import uma_advisor
+from continuum.engine.device import uma_advisor
 
 pytestmark = pytest.mark.django_db
 

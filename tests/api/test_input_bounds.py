@@ -3,9 +3,9 @@
 
 import pytest
 
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
+from continuum.engine.device.generators import layered_dag
 from continuum.engine.formats import load_dag
-from continuum.engine.generators import layered_dag
 from tests.conftest import DATA
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 from django.core.files.uploadedfile import SimpleUploadedFile
 
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 from continuum.engine.formats import load_dag
 
 ROOT = Path(__file__).resolve().parents[2]

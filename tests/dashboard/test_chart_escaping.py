@@ -13,10 +13,10 @@ from apps.containers import charts as container_charts
 from apps.dashboard import charts
 from apps.realtime import charts as rt_charts
 from apps.verification import charts as verification_charts
-from continuum.engine.dag import TaskGraph
-from continuum.engine.platform import Platform
-from continuum.engine.rosgraph import RosGraph
-from continuum.engine.schedule import Assignment, Schedule
+from continuum.engine.containers.rosgraph import RosGraph
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.platform import Platform
+from continuum.engine.core.schedule import Assignment, Schedule
 
 EVIL = '<a href="javascript:alert(1)">x</a>'
 EVIL2 = "<img src=x onerror=alert(2)>"

@@ -12,12 +12,12 @@ from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.scheduling.models import Comparison, Schedule
 from apps.workloads.models import Application
-from continuum.engine.board import board
-from continuum.engine.compare import compare
-from continuum.engine.dag import TaskGraph
-from continuum.engine.pipeline import pipeline
-from continuum.engine.schedule import Assignment
-from continuum.engine.schedule import Schedule as EngineSchedule
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.schedule import Assignment
+from continuum.engine.core.schedule import Schedule as EngineSchedule
+from continuum.engine.device.board import board
+from continuum.engine.device.compare import compare
+from continuum.engine.device.pipeline import pipeline
 from tests.conftest import DATA
 
 from .conftest import make_application

@@ -8,8 +8,8 @@ import plotly.graph_objects as go
 import pytest
 
 from apps.dashboard import charts
-from continuum.engine.platform import Platform
-from continuum.engine.schedule import Assignment, Schedule
+from continuum.engine.core.platform import Platform
+from continuum.engine.core.schedule import Assignment, Schedule
 
 
 def bar_hovers(fig: go.Figure) -> list[str]:

@@ -12,11 +12,11 @@ from apps.jobs.models import Job
 from apps.jobs.registry import HANDLERS
 from apps.scheduling.models import Schedule
 from apps.workloads.models import Application
-from continuum.engine.dag import TaskGraph
-from continuum.engine.heft import heft
-from continuum.engine.platform import Platform, Processor
-from continuum.engine.schedule import Assignment
-from continuum.engine.schedule import Schedule as EngineSchedule
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.platform import Platform, Processor
+from continuum.engine.core.schedule import Assignment
+from continuum.engine.core.schedule import Schedule as EngineSchedule
+from continuum.engine.device.heft import heft
 from tests.conftest import DATA
 
 from .conftest import make_application

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from functools import cache
 
-from continuum.engine import stl_parser as P
+from continuum.engine.verification import stl_parser as P
 
 
 def instants(events, mode="timestamp"):

@@ -2,7 +2,8 @@
 
 import pytest
 
-from continuum.engine.abv_simulation import (
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.abv_simulation import (
     Navigation,
     Scenario,
     SimMonitor,
@@ -13,7 +14,6 @@ from continuum.engine.abv_simulation import (
     simulate,
     synthetic_scenario,
 )
-from continuum.engine.errors import InputError
 
 
 @pytest.fixture(scope="module")

@@ -6,8 +6,8 @@ import random
 import pytest
 
 from continuum.engine import InputError, Platform, TaskGraph
-from continuum.engine.cfs_sim import NICE_WEIGHTS, cpu_rates, nice_weight, simulate
-from continuum.engine.heft4k import heft4k
+from continuum.engine.heft4k.cfs_sim import NICE_WEIGHTS, cpu_rates, nice_weight, simulate
+from continuum.engine.heft4k.heft4k import heft4k
 
 from .test_heft4k import random_cluster, random_dag
 

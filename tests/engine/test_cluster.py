@@ -3,8 +3,8 @@
 import pytest
 
 from continuum.engine import InputError, Platform
-from continuum.engine.cluster import cluster_platform
-from continuum.engine.platform import Link, Processor
+from continuum.engine.core.cluster import cluster_platform
+from continuum.engine.core.platform import Link, Processor
 
 
 def doc(**extra):

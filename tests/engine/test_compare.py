@@ -6,8 +6,8 @@ from pathlib import Path
 import pytest
 
 from continuum.engine import InputError, TaskGraph
-from continuum.engine.board import board
-from continuum.engine.compare import compare
+from continuum.engine.device.board import board
+from continuum.engine.device.compare import compare
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 
@@ -73,7 +73,7 @@ def test_progress_per_algorithm_and_every_schedule_handed_over(fig31):
 
 @pytest.mark.parametrize("algorithm", ["gfl", "gfl_c", "visionworks", "visionworks_overlap", "heft", "xeft"])
 def test_every_native_multi_frame_scheduler_reports_progress(fig31, algorithm):
-    from continuum.engine.algorithms import run
+    from continuum.engine.device.algorithms import run
 
     calls = []
     schedule = run(algorithm, fig31, board(2), progress=lambda d, t: calls.append((d, t)), frames=5)

@@ -6,13 +6,13 @@ from pathlib import Path
 import pytest
 
 from continuum.engine import TaskGraph
-from continuum.engine import overlap as ov
-from continuum.engine.board import board
-from continuum.engine.gfl import gfl
-from continuum.engine.heft import compile_problem, compiled_ranks, heft, priority_list, upward_ranks
-from continuum.engine.pipeline import frame_violations, pipeline, releases
-from continuum.engine.visionworks import visionworks
-from continuum.engine.xeft import build_cluster, xeft
+from continuum.engine.device import overlap as ov
+from continuum.engine.device.board import board
+from continuum.engine.device.gfl import gfl
+from continuum.engine.device.heft import compile_problem, compiled_ranks, heft, priority_list, upward_ranks
+from continuum.engine.device.pipeline import frame_violations, pipeline, releases
+from continuum.engine.device.visionworks import visionworks
+from continuum.engine.device.xeft import build_cluster, xeft
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 
@@ -241,8 +241,8 @@ def test_board_transfers_only_between_cpu_and_gpu():
 
 def test_idle_counts_every_cpu_of_a_multi_core_processor():
     """A 2-CPU node running two tasks side by side is not idle (busy time may exceed the makespan)."""
-    from continuum.engine.platform import Platform, Processor
-    from continuum.engine.schedule import Assignment, Schedule
+    from continuum.engine.core.platform import Platform, Processor
+    from continuum.engine.core.schedule import Assignment, Schedule
 
     platform = Platform([Processor("node0", cores=2), Processor("gpu0", "gpu")])
     schedule = Schedule(

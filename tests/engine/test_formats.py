@@ -5,10 +5,10 @@ from pathlib import Path
 import pytest
 
 from continuum.engine import InputError, Platform
-from continuum.engine.board import board
+from continuum.engine.device.board import board
+from continuum.engine.device.heft import heft
+from continuum.engine.device.overlap import cp_min
 from continuum.engine.formats import format_for_path, load_dag, sniff_text
-from continuum.engine.heft import heft
-from continuum.engine.overlap import cp_min
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 

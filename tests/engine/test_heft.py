@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from continuum.engine import InputError, Platform, TaskGraph
-from continuum.engine.heft import earliest_slot, heft, upward_ranks
+from continuum.engine.device.heft import earliest_slot, heft, upward_ranks
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 

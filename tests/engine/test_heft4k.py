@@ -7,10 +7,10 @@ from pathlib import Path
 import pytest
 
 from continuum.engine import InputError, Platform, TaskGraph
-from continuum.engine import heft4k as h4k
-from continuum.engine.cluster import cluster_platform
-from continuum.engine.heft import heft
-from continuum.engine.heft4k import heft4k, map_dag, nice_container, niceness, placements
+from continuum.engine.core.cluster import cluster_platform
+from continuum.engine.device.heft import heft
+from continuum.engine.heft4k import heft4k as h4k
+from continuum.engine.heft4k.heft4k import heft4k, map_dag, nice_container, niceness, placements
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 

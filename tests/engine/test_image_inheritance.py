@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from continuum.engine import InputError
-from continuum.engine.image_inheritance import (
+from continuum.engine.containers.image_inheritance import (
     TABLE_4_16,
     TABLE_4_16_PRINTED_TOTALS,
     apt_package,
@@ -18,7 +18,7 @@ from continuum.engine.image_inheritance import (
     plan_images,
     reduction,
 )
-from continuum.engine.rosgraph import RosGraph
+from continuum.engine.containers.rosgraph import RosGraph
 
 # Spec 02 acceptance 4.
 DEPS = {"C1": ["a", "b", "c"], "C2": ["a", "b", "d", "e"], "C3": ["a", "d", "f"]}

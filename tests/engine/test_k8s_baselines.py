@@ -6,7 +6,7 @@ from collections import Counter
 import pytest
 
 from continuum.engine import InputError, Platform, TaskGraph
-from continuum.engine.k8s_baselines import (
+from continuum.engine.heft4k.k8s_baselines import (
     Unschedulable,
     compare,
     dpe,

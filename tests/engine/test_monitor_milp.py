@@ -5,8 +5,14 @@ import random
 
 import pytest
 
-from continuum.engine.errors import InputError
-from continuum.engine.monitor_milp import MonitorAllocator, MonitorStats, StatsFilter, allocate, complete_cpu
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.monitor_milp import (
+    MonitorAllocator,
+    MonitorStats,
+    StatsFilter,
+    allocate,
+    complete_cpu,
+)
 
 
 def _doc(nodes, topics, monitors):

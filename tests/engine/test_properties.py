@@ -10,13 +10,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from continuum.engine import Platform, Processor
-from continuum.engine import overlap as ov
-from continuum.engine.algorithms import SCHEDULERS
-from continuum.engine.board import board
-from continuum.engine.generators import classify, layered_dag, related_platform, thesis_dag
-from continuum.engine.heft import compile_problem, compiled_ranks, heft, priority_list
-from continuum.engine.pipeline import NATIVE, frame_violations, pipeline, releases, replicate
-from continuum.engine.xeft import build_cluster, descendants
+from continuum.engine.device import overlap as ov
+from continuum.engine.device.algorithms import SCHEDULERS
+from continuum.engine.device.board import board
+from continuum.engine.device.generators import classify, layered_dag, related_platform, thesis_dag
+from continuum.engine.device.heft import compile_problem, compiled_ranks, heft, priority_list
+from continuum.engine.device.pipeline import NATIVE, frame_violations, pipeline, releases, replicate
+from continuum.engine.device.xeft import build_cluster, descendants
 
 log = logging.getLogger(__name__)
 # The device-level schedulers with a native multi-frame form (HEFT4K is a cluster-level mapper).
@@ -179,7 +179,7 @@ def test_rank_based_on_heterogeneous_platforms(n, seed, procs, comm, unrelated, 
 
 @pytest.mark.parametrize("seed", range(4))
 def test_numpy_ready_times_match_the_scalar_path(seed, monkeypatch):
-    import continuum.engine.heft as heft_module
+    import continuum.engine.device.heft as heft_module
 
     rng = random.Random(seed)
     dag = layered_dag(120, seed=seed)

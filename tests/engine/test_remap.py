@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 
 from continuum.engine import InputError, TaskGraph
-from continuum.engine.cluster import cluster_platform
-from continuum.engine.heft4k import heft4k
-from continuum.engine.remap import CalibrationPoint, calibrate_threshold, calibration_points, decide, remap
+from continuum.engine.core.cluster import cluster_platform
+from continuum.engine.heft4k.heft4k import heft4k
+from continuum.engine.heft4k.remap import CalibrationPoint, calibrate_threshold, calibration_points, decide, remap
 
 from .test_heft4k import random_cluster, random_dag
 

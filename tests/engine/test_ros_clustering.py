@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from continuum.engine import InputError
-from continuum.engine.ros_clustering import cluster_nodes, cluster_ros, max_containers, split_bandwidth
-from continuum.engine.rosgraph import RosGraph, load_rosgraph
+from continuum.engine.containers.ros_clustering import cluster_nodes, cluster_ros, max_containers, split_bandwidth
+from continuum.engine.containers.rosgraph import RosGraph, load_rosgraph
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 # Spec 02 section 2.8: consistent with every fact of Fig. 3.21 (v1-v3 = 5, v1-v4 = 4, v0 isolated). Not thesis data.

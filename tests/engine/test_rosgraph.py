@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from continuum.engine import InputError
-from continuum.engine.rosgraph import (
+from continuum.engine.containers.rosgraph import (
     RosGraph,
     eq_3_12,
     from_dot,

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from continuum.engine import InputError
-from continuum.engine.rt_kube import (
+from continuum.engine.rtkube.rt_kube import (
     Ledger,
     RTKubeParams,
     b_curve,
@@ -23,7 +23,7 @@ from continuum.engine.rt_kube import (
     schedule,
     sort_queue,
 )
-from continuum.engine.rt_model import RTContainer, Taint, cluster_from_dict, rtset_from_dict, untolerated
+from continuum.engine.rtkube.rt_model import RTContainer, Taint, cluster_from_dict, rtset_from_dict, untolerated
 
 
 def node(name, cpu=8, crit="A", rt=True, **kw):

@@ -8,7 +8,7 @@ import pytest
 import yaml
 
 from continuum.engine import InputError
-from continuum.engine.rt_model import (
+from continuum.engine.rtkube.rt_model import (
     RT_TAINT,
     RT_TOLERATION,
     RTContainer,

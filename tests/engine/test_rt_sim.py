@@ -5,9 +5,9 @@ import random
 import pytest
 
 from continuum.engine import InputError
-from continuum.engine.rt_model import cluster_from_dict, rtset_from_dict
-from continuum.engine.rt_sim import SimParams, fixed_placer, kube_default_placer, rt_kube_placer, simulate
-from continuum.engine.rt_victims import MonitorPolicy
+from continuum.engine.rtkube.rt_model import cluster_from_dict, rtset_from_dict
+from continuum.engine.rtkube.rt_sim import SimParams, fixed_placer, kube_default_placer, rt_kube_placer, simulate
+from continuum.engine.rtkube.rt_victims import MonitorPolicy
 
 
 def nodes(*specs):

@@ -3,7 +3,7 @@
 import pytest
 
 from continuum.engine import InputError
-from continuum.engine.rt_victims import (
+from continuum.engine.rtkube.rt_victims import (
     ClusterMonitor,
     ContainerInfo,
     MonitoringReport,

@@ -11,8 +11,8 @@ import zlib
 
 import pytest
 
-from continuum.engine.errors import InputError
-from continuum.engine.stl_monitor import (
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.stl_monitor import (
     Monitor,
     migrate_begin,
     migrate_complete,

@@ -5,9 +5,9 @@ import random
 
 import pytest
 
-from continuum.engine.errors import InputError
-from continuum.engine.stl_monitor import Monitor, Violation, check_trace, synthesize
-from continuum.engine.stl_parser import parse_assertion
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.stl_monitor import Monitor, Violation, check_trace, synthesize
+from continuum.engine.verification.stl_parser import parse_assertion
 
 from .stl_oracle import instance_verdicts
 from .test_stl_parser import _random_formula

@@ -4,8 +4,8 @@ import random
 
 import pytest
 
-from continuum.engine.errors import InputError
-from continuum.engine.stl_parser import (
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.stl_parser import (
     Arith,
     Assertion,
     BoolOp,

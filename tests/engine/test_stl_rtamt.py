@@ -14,7 +14,7 @@ import random
 
 import pytest
 
-from continuum.engine.stl_monitor import Monitor
+from continuum.engine.verification.stl_monitor import Monitor
 
 rtamt = pytest.importorskip("rtamt")
 

@@ -14,8 +14,8 @@ import random
 
 import pytest
 
-from continuum.engine.stl_monitor import Monitor, check_trace, synthesize
-from continuum.engine.stl_parser import parse_assertion
+from continuum.engine.verification.stl_monitor import Monitor, check_trace, synthesize
+from continuum.engine.verification.stl_parser import parse_assertion
 
 from .stl_oracle import instance_verdicts
 from .test_stl_migration import Network, _stream

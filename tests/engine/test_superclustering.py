@@ -9,9 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from continuum.engine import InputError
-from continuum.engine.cluster import Cluster, normalize_arch
-from continuum.engine.rosgraph import RosGraph
-from continuum.engine.superclustering import (
+from continuum.engine.containers.rosgraph import RosGraph
+from continuum.engine.containers.superclustering import (
     Workload,
     container_bandwidth,
     default_kubernetes,
@@ -20,6 +19,7 @@ from continuum.engine.superclustering import (
     place,
     superclustering,
 )
+from continuum.engine.core.cluster import Cluster, normalize_arch
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 # Spec 02 section 5.3: reconstructed Fig. 3.28a weights (not thesis data) and priority C4 > C0 > C1 > C2 > C3.

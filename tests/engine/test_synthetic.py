@@ -4,7 +4,7 @@ import random
 
 import pytest
 
-from continuum.engine.synthetic import corpus_stats, critical_path_length, dag_stats, random_cluster, random_dag
+from continuum.engine.heft4k.synthetic import corpus_stats, critical_path_length, dag_stats, random_cluster, random_dag
 
 
 def test_generator_is_seeded_and_in_range():
@@ -41,7 +41,6 @@ def test_cluster_is_a_full_mesh_of_two_cpu_nodes():
 
 def test_critical_path_uses_mean_costs():
     from continuum.engine import TaskGraph
-
     dag = TaskGraph.from_dict(
         {
             "tasks": [

@@ -5,8 +5,8 @@ import json
 import pytest
 
 from continuum.engine import InputError
-from continuum.engine import uma_advisor as uma
-from continuum.engine.ros_transport import ros_overhead, ros_transport_advice, table
+from continuum.engine.device import uma_advisor as uma
+from continuum.engine.device.ros_transport import ros_overhead, ros_transport_advice, table
 
 
 def test_device_registry_is_seeded():

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from rosbags.typesys import Stores, get_typestore
 
-from continuum.engine.rosgraph import RosGraph, eq_3_12
+from continuum.engine.containers.rosgraph import RosGraph, eq_3_12
 from continuum.fleet.rosbag import BagError, events_from_bag, read_stats, rosgraph_from_bag
 
 from .conftest import robot_topics, write_bag

@@ -12,7 +12,7 @@ from django.core.management import get_commands, load_command_class
 from apps.clusters.models import Cluster, ComputeNode, Link
 from apps.jobs.models import Job
 from apps.workloads.models import Application
-from continuum.engine import limits
+from continuum.engine.core import limits
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 

@@ -12,10 +12,10 @@ from apps.dashboard import charts
 from apps.dashboard.views import job_result_link
 from apps.heft4k.models import RemapEvent
 from apps.jobs.models import Job
-from continuum.engine.cluster import cluster_platform
-from continuum.engine.dag import TaskGraph
-from continuum.engine.heft4k import heft4k
-from continuum.engine.k8s_baselines import run_heft4k, run_heft_k8s
+from continuum.engine.core.cluster import cluster_platform
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.heft4k.heft4k import heft4k
+from continuum.engine.heft4k.k8s_baselines import run_heft4k, run_heft_k8s
 from tests.conftest import CLUSTER_DOC
 
 from .fan import FAN_DAG, heft4k_schedule
@@ -225,7 +225,7 @@ def test_gantt_hover_shows_niceness_and_notes_only_when_there_are_some():
     trace = bars(charts.gantt_figure(plan, platform, dag, colour_by_niceness=True))[0]
     assert all(c[5] == next(a.niceness for a in plan.assignments if a.task == c[0]) for c in trace.customdata)
     assert all(text.endswith(f"niceness: {c[5]}") for text, c in zip(trace.hovertext, trace.customdata, strict=True))
-    from continuum.engine.heft import heft
+    from continuum.engine.device.heft import heft
 
     plain = bars(charts.gantt_figure(heft(dag, platform), platform, dag))[0]
     assert not any("niceness" in text for text in plain.hovertext) and plain.marker.color == charts.TASK_COLOUR

@@ -8,7 +8,7 @@ import pytest
 from apps.heft4k.models import RemapEvent
 from apps.jobs.models import Job
 from apps.scheduling.models import Schedule
-from continuum.engine.remap import remap as engine_remap
+from continuum.engine.heft4k.remap import remap as engine_remap
 
 from .fan import heft4k_schedule, nodes_of, run
 

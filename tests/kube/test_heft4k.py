@@ -9,7 +9,7 @@ from django.conf import settings
 
 from apps.heft4k.models import RemapEvent
 from apps.heft4k.watch import watch_nodes
-from continuum.engine.remap import remap as engine_remap
+from continuum.engine.heft4k.remap import remap as engine_remap
 from tests.heft4k.fan import heft4k_schedule, run
 from tests.kubeapi import free_port, kubeconfig_text
 

@@ -10,7 +10,7 @@ import pytest
 from kubernetes import client
 
 from continuum.devcluster import HOLLOW_CAPACITY, hollow_nodes
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 from tests.kube.conftest import MULTINODE_CLUSTER, MULTINODE_VICTIM
 
 pytestmark = pytest.mark.kube

@@ -58,7 +58,7 @@ def test_crashed_job_exposes_a_reason_and_error_id_but_no_traceback(api, fleet, 
 
 
 def test_job_input_errors_keep_their_message(fleet, monkeypatch):
-    from continuum.engine.errors import InputError
+    from continuum.engine.core.errors import InputError
 
     def cycle(job, progress):
         raise InputError("cycle: a -> b -> a")

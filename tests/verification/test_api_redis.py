@@ -116,7 +116,7 @@ def test_allocation_applied_to_running_handlers_migrates_without_losing_events(a
     """The MILP (run through the API) moves a monitor off an overloaded handler while events flow; the
     handlers migrate it (Fig. 3.43) and its verdicts equal an unmigrated in-process evaluation."""
     from apps.verification.models import MigrationEvent
-    from continuum.engine.stl_monitor import Monitor as EngineMonitor
+    from continuum.engine.verification.stl_monitor import Monitor as EngineMonitor
 
     bus, start = network
     text = "G(x >= 7 -> F[0,40](y >= 7))"

@@ -17,7 +17,7 @@ import pytest
 
 redis = pytest.importorskip("redis")
 
-from continuum.engine.stl_monitor import Monitor, synthesize  # noqa: E402
+from continuum.engine.verification.stl_monitor import Monitor, synthesize  # noqa: E402
 from continuum.verification_runtime.bus import Bus  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent.parent

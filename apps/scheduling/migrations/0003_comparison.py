@@ -22,7 +22,7 @@ class Migration(migrations.Migration):
                 ('platform', models.JSONField(help_text='the platform compared on, as continuum.platform/v1')),
                 ('algorithms', models.JSONField(help_text='the algorithms compared, in the order asked')),
                 ('params', models.JSONField(blank=True, default=dict, help_text='frames, fps/period, batch, rank_mode, comm_mode')),
-                ('result', models.JSONField(help_text="continuum.engine.compare.compare()'s figures")),
+                ('result', models.JSONField(help_text="continuum.engine.device.compare.compare()'s figures")),
                 ('best', models.CharField(blank=True, max_length=50)),
                 ('created', models.DateTimeField(auto_now_add=True)),
                 ('application', models.ForeignKey(on_delete=django.db.models.deletion.CASCADE, related_name='comparisons', to='workloads.application')),

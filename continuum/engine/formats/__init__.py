@@ -1,7 +1,7 @@
 """Readers for the DAG formats Continuum accepts; :func:`load_dag` picks the right one.
 
-Each reader turns a file into a validated :class:`~continuum.engine.dag.TaskGraph` or raises
-:class:`~continuum.engine.errors.InputError` with a message naming the line or element at fault.
+Each reader turns a file into a validated :class:`~continuum.engine.core.dag.TaskGraph` or raises
+:class:`~continuum.engine.core.errors.InputError` with a message naming the line or element at fault.
 """
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ from collections.abc import Callable
 from pathlib import PurePath
 from typing import Any
 
-from ..dag import TaskGraph
-from ..errors import InputError
-from ..safeload import check_text_file, loads_json
-from . import dax, stg, thesis_csv, wfformat
+from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import check_text_file, loads_json
+from continuum.engine.formats import dax, stg, thesis_csv, wfformat
 
 Reader = Callable[[Any], TaskGraph]
 

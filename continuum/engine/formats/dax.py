@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 
-from ..dag import Edge, Task, TaskGraph
-from ..errors import InputError
+from continuum.engine.core.dag import Edge, Task, TaskGraph
+from continuum.engine.core.errors import InputError
 
 MBIT_PER_BYTE = 8 / 1e6
 

@@ -21,8 +21,8 @@ from __future__ import annotations
 import math
 import random
 
-from ..dag import Edge, Task, TaskGraph
-from ..errors import InputError
+from continuum.engine.core.dag import Edge, Task, TaskGraph
+from continuum.engine.core.errors import InputError
 
 #: Most processors the ``processors`` option may cost tasks on (one cost per processor and task).
 MAX_PROCESSORS = 1024

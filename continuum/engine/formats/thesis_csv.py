@@ -7,7 +7,7 @@ dependency, when that level exists (so ``scale0, -1`` chains the levels of ``sca
 means there is no implementation on that kind of processor (an exclusive node); ``copy_t`` is the
 CPU <-> GPU copy a level needs before it can start. The simulator adds that copy to the node when any of
 its inputs was computed on the other kind; here it is the ``data`` of each incoming edge, which a board
-platform (:func:`continuum.engine.board.board`, bandwidth 1) turns into the same time when one input
+platform (:func:`continuum.engine.device.board.board`, bandwidth 1) turns into the same time when one input
 crosses. Times are in the simulator's units (ms).
 """
 
@@ -17,8 +17,8 @@ import csv
 import io
 import math
 
-from ..dag import Edge, Task, TaskGraph
-from ..errors import InputError
+from continuum.engine.core.dag import Edge, Task, TaskGraph
+from continuum.engine.core.errors import InputError
 
 
 def _time(value: str, lineno: int, what: str) -> float | None:

@@ -11,9 +11,9 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from .. import limits
-from ..dag import Edge, Task, TaskGraph
-from ..errors import InputError
+from continuum.engine.core import limits
+from continuum.engine.core.dag import Edge, Task, TaskGraph
+from continuum.engine.core.errors import InputError
 
 MBIT_PER_BYTE = 8 / 1e6
 

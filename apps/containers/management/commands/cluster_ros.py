@@ -6,10 +6,10 @@ from pathlib import Path
 from typing import Any
 
 from continuum.commands import EngineCommand
-from continuum.engine.errors import InputError
-from continuum.engine.image_inheritance import plan_from_graph
-from continuum.engine.ros_clustering import cluster_ros, max_containers
-from continuum.engine.rosgraph import MODES, READERS, load_rosgraph
+from continuum.engine.containers.image_inheritance import plan_from_graph
+from continuum.engine.containers.ros_clustering import cluster_ros, max_containers
+from continuum.engine.containers.rosgraph import MODES, READERS, load_rosgraph
+from continuum.engine.core.errors import InputError
 
 
 class Command(EngineCommand):

@@ -5,10 +5,10 @@ from __future__ import annotations
 from typing import Any
 
 from continuum.commands import EngineCommand
-from continuum.engine.cluster import Cluster
-from continuum.engine.errors import InputError
-from continuum.engine.rosgraph import load_rosgraph
-from continuum.engine.superclustering import ALIASES, POLICIES, load_workload, place
+from continuum.engine.containers.rosgraph import load_rosgraph
+from continuum.engine.containers.superclustering import ALIASES, POLICIES, load_workload, place
+from continuum.engine.core.cluster import Cluster
+from continuum.engine.core.errors import InputError
 
 
 class Command(EngineCommand):

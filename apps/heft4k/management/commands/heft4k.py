@@ -5,13 +5,13 @@ from __future__ import annotations
 from typing import Any
 
 from continuum.commands import EngineCommand
-from continuum.engine.cluster import cluster_platform
-from continuum.engine.errors import InputError
+from continuum.engine.core.cluster import cluster_platform
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import ROUTINGS
 from continuum.engine.formats import load_dag
-from continuum.engine.heft4k import heft4k, placements
-from continuum.engine.k8s_baselines import Unschedulable, run_heft4k, run_heft_k8s, run_k8s_default
-from continuum.engine.platform import ROUTINGS
-from continuum.engine.remap import remap
+from continuum.engine.heft4k.heft4k import heft4k, placements
+from continuum.engine.heft4k.k8s_baselines import Unschedulable, run_heft4k, run_heft_k8s, run_k8s_default
+from continuum.engine.heft4k.remap import remap
 
 
 class Command(EngineCommand):

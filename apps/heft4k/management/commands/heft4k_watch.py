@@ -10,7 +10,7 @@ from apps.clusters.models import Cluster
 from apps.heft4k.watch import watch_nodes
 from apps.kube import gateway
 from continuum.commands import EngineCommand
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 
 class Command(EngineCommand):

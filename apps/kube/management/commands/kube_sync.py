@@ -9,7 +9,7 @@ from django.core.management.base import CommandError
 from apps.clusters.models import Cluster
 from apps.kube import gateway
 from continuum.commands import EngineCommand
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
 
 
 class Command(EngineCommand):

@@ -10,9 +10,9 @@ from __future__ import annotations
 from typing import Any
 
 from continuum.commands import EngineCommand
-from continuum.engine import rt_kube
-from continuum.engine.errors import InputError
-from continuum.engine.rt_model import cluster_from_dict, realtime_from_yaml, rtset_from_dict, rtset_to_dict
+from continuum.engine.core.errors import InputError
+from continuum.engine.rtkube import rt_kube
+from continuum.engine.rtkube.rt_model import cluster_from_dict, realtime_from_yaml, rtset_from_dict, rtset_to_dict
 
 
 class Command(EngineCommand):

@@ -4,7 +4,7 @@
 The DAG may be continuum JSON, WfFormat JSON, a Kasahara STG file, a Pegasus DAX or the thesis
 simulator's CSV; the format follows from ``--format``, else the file name (``.stg``, ``.xml``/``.dax``,
 ``.csv``), else the content. ``--frames/--fps/--batch`` schedule several frames with any algorithm
-(:mod:`continuum.engine.pipeline`).
+(:mod:`continuum.engine.device.pipeline`).
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from typing import Any
 
 from apps.scheduling.jobs import with_defaults
 from continuum.commands import EngineCommand
-from continuum.engine import algorithms
-from continuum.engine.board import board, shared_memory
-from continuum.engine.errors import InputError
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import Platform
+from continuum.engine.device import algorithms
+from continuum.engine.device.board import board, shared_memory
 from continuum.engine.formats import format_for_path, load_dag
-from continuum.engine.platform import Platform
 
 
 def _key_values(pairs: list[str] | None, flag: str) -> dict[str, Any]:

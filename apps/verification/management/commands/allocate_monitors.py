@@ -10,8 +10,8 @@ from __future__ import annotations
 from typing import Any
 
 from continuum.commands import EngineCommand
-from continuum.engine.errors import InputError
-from continuum.engine.monitor_milp import MonitorStats, StatsFilter, allocate
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.monitor_milp import MonitorStats, StatsFilter, allocate
 
 
 class Command(EngineCommand):

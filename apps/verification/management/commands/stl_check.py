@@ -9,8 +9,8 @@ from __future__ import annotations
 from typing import Any
 
 from continuum.commands import EngineCommand
-from continuum.engine.errors import InputError
-from continuum.engine.stl_monitor import check_trace, parse_trace_csv, synthesize
+from continuum.engine.core.errors import InputError
+from continuum.engine.verification.stl_monitor import check_trace, parse_trace_csv, synthesize
 
 
 class Command(EngineCommand):

@@ -1,0 +1,658 @@
+"""Super-clustering: bandwidth-aware placement of containers on cluster nodes (thesis 3.3.1, Figs. 3.27-3.28).
+
+The four phases of Fig. 3.27, as a Kubernetes scheduler plugin chain:
+
+1. **Sort** the queue by priority class, higher first (ties, spec proposal: the container's total
+   bandwidth, descending, then natural name order).
+2. **Filter** the nodes: image architecture (spec 02 section 4: a container never lands on a node whose arch
+   its image lacks), taints and tolerations, required node affinity / node selector, then CPU cores, memory
+   and storage still free. No node left: the container stays pending, each node's rejection reason kept.
+3. **Score** the remaining nodes. The bandwidth rank (Eq. 3.14) of node ``n`` for container ``L`` is the
+   traffic that would stay local, ``sum over containers c already bound to n of bandwidth(L, c)``;
+   Eq. (3.15) normalises it to 0-100 by the best node (all 0 when every rank is 0). Other weighted policies
+   add up Kubernetes-style (``total = sum of w_p * score_p``): preferred node affinity by default;
+   PreferNoSchedule taints, least-allocated and balanced-allocation are available. When the best totals tie (e.g.
+   all ranks 0), the **free-resource policy** picks the node with the most free CPU, then memory, then the
+   first name (spec: the free-node policy is a tie-breaker, not a summed term).
+4. **Bind**: reserve the resources; the container now counts as deployed for the next ranks.
+
+Container bandwidth is Definition 3.2.1 lifted to containers: the sum of Eq. (3.12) over the ROS-node
+pairs across the two containers.
+
+:func:`default_kubernetes` is the baseline the thesis compares against (spec 9.1): same filters, queue in
+priority then input order, NodeResourcesFit/LeastAllocated + NodeResourcesBalancedAllocation (+ node
+affinity and taint scores), ties broken at random with a seed, like kube-scheduler. Bandwidth-blind.
+
+Every decision keeps a :class:`~continuum.engine.core.placement.NodeVerdict` per node: the filter that rejected it
+with a reason, or each policy's score and the total.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import random
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
+from continuum.engine.core.cluster import Cluster, ClusterNode, normalize_arch
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.placement import Decision, NodeVerdict, PlacementPlan
+from continuum.engine.core.taints import Toleration, untolerated
+
+CONTAINERS_FORMAT = "continuum.containers/v1"
+#: Platforms assumed for an image that declares none: what the thesis builds with ``docker buildx``
+#: (linux/amd64 and linux/arm64/v8, Section 4.2.1). RISC-V needs an explicit build.
+DEFAULT_PLATFORMS = ("amd64", "arm64")
+OPERATORS = ("In", "NotIn", "Exists", "DoesNotExist", "Gt", "Lt")
+SUPERCLUSTERING_WEIGHTS = {"bandwidth": 1.0, "node_affinity": 1.0}
+KUBERNETES_WEIGHTS = {"least_allocated": 1.0, "balanced_allocation": 1.0, "node_affinity": 1.0, "taint_toleration": 1.0}
+
+
+# ---- container specifications ---------------------------------------------------------------------
+@dataclass(frozen=True)
+class Requirement:
+    """One node-selector expression (Kubernetes ``matchExpressions`` item)."""
+
+    key: str
+    operator: str = "In"
+    values: tuple[str, ...] = ()
+
+    def matches(self, labels: Mapping[str, str]) -> bool:
+        value = labels.get(self.key)
+        if self.operator == "In":
+            return value is not None and value in self.values
+        if self.operator == "NotIn":
+            return value is None or value not in self.values
+        if self.operator == "Exists":
+            return value is not None
+        if self.operator == "DoesNotExist":
+            return value is None
+        try:  # Gt / Lt compare integers, as Kubernetes does
+            return value is not None and (
+                int(value) > int(self.values[0]) if self.operator == "Gt" else int(value) < int(self.values[0])
+            )
+        except ValueError:
+            return False
+
+    def __str__(self) -> str:
+        if self.operator in ("Exists", "DoesNotExist"):
+            return f"{self.key} {self.operator}"
+        return f"{self.key} {self.operator} [{', '.join(self.values)}]"
+
+
+@dataclass(frozen=True)
+class ContainerSpec:
+    name: str
+    cpu: float = 0.0
+    memory_mib: float = 0.0
+    storage_mib: float = 0.0
+    priority: int = 0
+    #: Architectures the container's image is built for.
+    archs: tuple[str, ...] = DEFAULT_PLATFORMS
+    node_selector: Mapping[str, str] = field(default_factory=dict)
+    required: tuple[Requirement, ...] = ()
+    #: (weight, expressions) preferred node-affinity terms.
+    preferred: tuple[tuple[float, tuple[Requirement, ...]], ...] = ()
+    tolerations: tuple[Toleration, ...] = ()
+    #: ROS nodes inside (informational here; bandwidth comes from the workload).
+    nodes: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """This container as a ``continuum.containers/v1`` entry with every value resolved (CPU and memory
+        summed from the ROS graph, ``node`` folded into the required affinity): :func:`load_workload` reads
+        it back to an equal spec without the graph."""
+        doc: dict[str, Any] = {
+            "name": self.name,
+            "nodes": list(self.nodes),
+            "cpu": self.cpu,
+            "memory_mib": self.memory_mib,
+            "storage_mib": self.storage_mib,
+            "priority": self.priority,
+            "archs": list(self.archs),
+        }
+        if self.node_selector:
+            doc["node_selector"] = dict(self.node_selector)
+        affinity: dict[str, Any] = {}
+        if self.required:
+            affinity["required"] = [_expression_dict(r) for r in self.required]
+        if self.preferred:
+            affinity["preferred"] = [
+                {"weight": w, "match": [_expression_dict(r) for r in exprs]} for w, exprs in self.preferred
+            ]
+        if affinity:
+            doc["affinity"] = affinity
+        if self.tolerations:
+            doc["tolerations"] = [
+                {"key": t.key, "operator": t.operator, "value": t.value, "effect": t.effect} for t in self.tolerations
+            ]
+        return doc
+
+
+def _expression_dict(req: Requirement) -> dict[str, Any]:
+    return {"key": req.key, "operator": req.operator, "values": list(req.values)}
+
+
+@dataclass
+class Workload:
+    """Containers to place and the bandwidth (bytes/s) between pairs of them, keyed by :func:`pair`."""
+
+    containers: list[ContainerSpec]
+    bandwidth: dict[tuple[str, str], float] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        names = [c.name for c in self.containers]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise InputError(f"duplicate container name {dup[0]!r}", "containers")
+        known = set(names)
+        for (a, b), w in self.bandwidth.items():
+            for end in (a, b):
+                if end not in known:
+                    raise InputError(f"bandwidth {a}-{b} refers to unknown container {end!r}", "bandwidth")
+            if not (isinstance(w, (int, float)) and math.isfinite(w) and w >= 0):
+                raise InputError(f"bandwidth {a}-{b} is invalid: {w!r}", "bandwidth")
+
+    def bw(self, a: str, b: str) -> float:
+        return self.bandwidth.get(pair(a, b), 0.0)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The resolved ``continuum.containers/v1`` document: explicit bandwidth entries, no graph needed."""
+        return {
+            "format": CONTAINERS_FORMAT,
+            "containers": [c.to_dict() for c in self.containers],
+            "bandwidth": [
+                {"a": a, "b": b, "bytes_per_s": w}
+                for (a, b), w in sorted(
+                    self.bandwidth.items(), key=lambda kv: (natural_key(kv[0][0]), natural_key(kv[0][1]))
+                )
+            ],
+        }
+
+    def total_bandwidth(self, name: str) -> float:
+        return sum(w for (a, b), w in self.bandwidth.items() if name in (a, b) and a != b)
+
+
+def container_bandwidth(graph: RosGraph, groups: Mapping[str, Sequence[str]], mode: str = "per_topic") -> dict:
+    """Definition 3.2.1 between containers: the sum of ROS-node bandwidths across each pair of containers."""
+    owner: dict[str, str] = {}
+    for name, members in groups.items():
+        for m in members:
+            if m not in graph.nodes:
+                raise InputError(f"container {name!r} names unknown ROS node {m!r}", "containers")
+            if m in owner:
+                raise InputError(f"ROS node {m!r} is in two containers ({owner[m]!r} and {name!r})", "containers")
+            owner[m] = name
+    out: dict[tuple[str, str], float] = {}
+    for (a, b), w in graph.weights(mode).items():
+        ca, cb = owner.get(a), owner.get(b)
+        if ca is not None and cb is not None and ca != cb:
+            key = pair(ca, cb)
+            out[key] = out.get(key, 0.0) + w
+    return out
+
+
+def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Workload:
+    """Read a ``continuum.containers/v1`` document (the ``cluster_ros --json`` output is accepted too).
+
+    ``{"containers": [{"name", "nodes": [ROS nodes], "cpu", "memory_mib", "storage_mib", "priority" (or
+    "priority_class", a key of the top-level "priority_classes": {name: value}),
+    "archs": [...], "node": "mcb", "node_selector": {...}, "affinity": {"required": [expr],
+    "preferred": [{"weight": w, "match": [expr]}]}, "tolerations": [...]}],
+    "archs": [default platforms], "bandwidth": [{"a", "b", "bytes_per_s"}]}`` where ``expr`` is
+    ``{"key", "operator", "values"}``. With a ROS graph, a container's missing CPU/memory are the sums over its
+    ROS nodes and the bandwidth between containers follows Definition 3.2.1; explicit ``bandwidth`` entries
+    override a pair.
+    """
+    if not isinstance(doc, Mapping):
+        raise InputError("a containers document must be a JSON object")
+    fmt = doc.get("format", CONTAINERS_FORMAT)
+    if fmt != CONTAINERS_FORMAT:
+        raise InputError(f"unsupported format {fmt!r}, expected {CONTAINERS_FORMAT!r}", "format")
+    raw = doc.get("containers")
+    if not isinstance(raw, list) or not raw:
+        raise InputError("'containers' must be a non-empty list", "containers")
+    default_archs = _archs(doc.get("archs", list(DEFAULT_PLATFORMS)), "containers document")
+    classes = doc.get("priority_classes") or {}
+    if not isinstance(classes, Mapping) or not all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in classes.values()
+    ):
+        raise InputError("'priority_classes' must map class names to numbers", "priority_classes")
+    containers = [_parse_container(i, c, default_archs, graph, classes) for i, c in enumerate(raw)]
+    bandwidth: dict[tuple[str, str], float] = {}
+    if graph is not None:
+        groups = {c.name: c.nodes for c in containers if c.nodes}
+        bandwidth = container_bandwidth(graph, groups)
+    raw_bw = doc.get("bandwidth", [])
+    if not isinstance(raw_bw, list):
+        raise InputError("'bandwidth' must be a list of {a, b, bytes_per_s}", "bandwidth")
+    for i, item in enumerate(raw_bw):
+        if not isinstance(item, Mapping) or not item.get("a") or not item.get("b"):
+            raise InputError(f"bandwidth[{i}] needs container names 'a' and 'b'", "bandwidth")
+        value = item.get("bytes_per_s")
+        if value is None and "mbps" in item:
+            value = item["mbps"] * 1e6 / 8 if _number(item["mbps"]) else item["mbps"]
+        if not _number(value):
+            raise InputError(
+                f"bandwidth[{i}] ({item['a']}-{item['b']}) needs a non-negative 'bytes_per_s'", "bandwidth"
+            )
+        if item["a"] == item["b"]:
+            raise InputError(f"bandwidth[{i}] joins container {item['a']!r} to itself", "bandwidth")
+        bandwidth[pair(str(item["a"]), str(item["b"]))] = float(value)
+    return Workload(containers, bandwidth)
+
+
+def _number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x >= 0
+
+
+def _archs(raw: Any, where: str) -> tuple[str, ...]:
+    if isinstance(raw, str):
+        raw = [raw]
+    if not isinstance(raw, list) or not raw:
+        raise InputError(f"{where}: 'archs' must be a non-empty list of architectures", "archs")
+    return tuple(dict.fromkeys(normalize_arch(a, where) for a in raw))
+
+
+def _expressions(raw: Any, where: str) -> tuple[Requirement, ...]:
+    if isinstance(raw, Mapping):  # shorthand {"label": ["v1", "v2"]} or {"label": "v"}
+        raw = [{"key": k, "operator": "In", "values": v if isinstance(v, list) else [v]} for k, v in raw.items()]
+    if not isinstance(raw, list):
+        raise InputError(f"{where} must be a list of {{key, operator, values}} expressions", "affinity")
+    out = []
+    for i, e in enumerate(raw):
+        if not isinstance(e, Mapping) or not isinstance(e.get("key"), str) or not e["key"]:
+            raise InputError(f"{where}[{i}] needs a 'key'", "affinity")
+        op = e.get("operator", "In")
+        if op not in OPERATORS:
+            raise InputError(f"{where}[{i}] has unknown operator {op!r} (one of {', '.join(OPERATORS)})", "affinity")
+        values = e.get("values", [])
+        if not isinstance(values, list):
+            raise InputError(f"{where}[{i}]: 'values' must be a list", "affinity")
+        if op in ("In", "NotIn") and not values:
+            raise InputError(f"{where}[{i}]: operator {op} needs values", "affinity")
+        if op in ("Gt", "Lt") and len(values) != 1:
+            raise InputError(f"{where}[{i}]: operator {op} needs exactly one value", "affinity")
+        out.append(Requirement(e["key"], op, tuple(str(v) for v in values)))
+    return tuple(out)
+
+
+def _parse_container(
+    index: int,
+    raw: Any,
+    default_archs: tuple[str, ...],
+    graph: RosGraph | None,
+    classes: Mapping[str, float],
+) -> ContainerSpec:
+    if not isinstance(raw, Mapping):
+        raise InputError(f"containers[{index}] must be an object", "containers")
+    name = raw.get("name")
+    if not isinstance(name, str) or not name:
+        raise InputError(f"containers[{index}] has no string 'name'", "containers")
+    where = f"container {name!r}"
+    nodes = raw.get("nodes", [])
+    if not isinstance(nodes, list) or not all(isinstance(n, str) for n in nodes):
+        raise InputError(f"{where}: 'nodes' must be a list of ROS node names", "containers")
+    if graph is not None:
+        for n in nodes:
+            if n not in graph.nodes:
+                raise InputError(f"{where} names unknown ROS node {n!r}", "containers")
+    values: dict[str, float] = {}
+    for key, attr in (("cpu", "cpu"), ("memory_mib", "memory_mib"), ("storage_mib", None)):
+        if raw.get(key) is not None:
+            if not _number(raw[key]):
+                raise InputError(f"{where} has invalid {key} {raw[key]!r}", "containers")
+            values[key] = float(raw[key])
+        elif graph is not None and attr is not None:
+            values[key] = sum(getattr(graph.nodes[n], attr) for n in nodes)
+        else:
+            values[key] = 0.0
+    priority = raw.get("priority", 0)
+    if raw.get("priority_class") is not None:
+        if raw["priority_class"] not in classes:
+            known = ", ".join(sorted(classes)) or "none declared"
+            raise InputError(f"{where} has unknown priority_class {raw['priority_class']!r} ({known})", "containers")
+        priority = classes[raw["priority_class"]]
+    if isinstance(priority, bool) or not isinstance(priority, (int, float)) or not math.isfinite(priority):
+        raise InputError(f"{where} has invalid priority {priority!r}", "containers")
+    selector = raw.get("node_selector") or {}
+    if not isinstance(selector, Mapping):
+        raise InputError(f"{where}: 'node_selector' must map label keys to values", "containers")
+    affinity = raw.get("affinity") or {}
+    if not isinstance(affinity, Mapping):
+        raise InputError(f"{where}: 'affinity' must be an object with 'required'/'preferred'", "containers")
+    required = _expressions(affinity.get("required", []), f"{where} affinity.required")
+    if raw.get("node"):
+        required += (Requirement("kubernetes.io/hostname", "In", (str(raw["node"]),)),)
+    preferred = []
+    for i, term in enumerate(affinity.get("preferred", []) or []):
+        if not isinstance(term, Mapping) or not _number(term.get("weight", 1)):
+            raise InputError(f"{where} affinity.preferred[{i}] needs a non-negative 'weight'", "containers")
+        exprs = _expressions(term.get("match", []), f"{where} affinity.preferred[{i}].match")
+        preferred.append((float(term.get("weight", 1)), exprs))
+    tolerations = []
+    for i, t in enumerate(raw.get("tolerations", []) or []):
+        tolerations.append(Toleration.parse(t, f"{where} tolerations[{i}]"))
+    return ContainerSpec(
+        name=name,
+        cpu=values["cpu"],
+        memory_mib=values["memory_mib"],
+        storage_mib=values["storage_mib"],
+        priority=int(priority) if float(priority).is_integer() else priority,
+        archs=_archs(raw["archs"], where) if "archs" in raw else default_archs,
+        node_selector={str(k): str(v) for k, v in selector.items()},
+        required=required,
+        preferred=tuple(preferred),
+        tolerations=tuple(tolerations),
+        nodes=tuple(nodes),
+    )
+
+
+# ---- the scheduler --------------------------------------------------------------------------------
+@dataclass
+class _NodeState:
+    node: ClusterNode
+    cpu: float = 0.0
+    memory_mib: float = 0.0
+    storage_mib: float = 0.0
+    bound: list[str] = field(default_factory=list)
+
+    def free(self, what: str) -> float:
+        cap = getattr(self.node, what)
+        return math.inf if cap is None else cap - getattr(self, what)
+
+
+FilterFn = Callable[[ContainerSpec, _NodeState, float], str | None]
+
+
+def _filter_arch(c: ContainerSpec, s: _NodeState, overhead: float) -> str | None:
+    if s.node.arch not in c.archs:
+        return f"node arch {s.node.arch} not among the image's platforms [{', '.join(c.archs)}]"
+    return None
+
+
+def _filter_taints(c: ContainerSpec, s: _NodeState, overhead: float) -> str | None:
+    bad = untolerated(s.node.taints, c.tolerations)
+    return f"taint {bad[0]} not tolerated" if bad else None
+
+
+def _filter_affinity(c: ContainerSpec, s: _NodeState, overhead: float) -> str | None:
+    labels = s.node.all_labels()
+    for key, value in c.node_selector.items():
+        if labels.get(key) != value:
+            return f"node selector {key}={value} not matched ({key}={labels.get(key, '<unset>')})"
+    for req in c.required:
+        if not req.matches(labels):
+            return f"required node affinity {req} not matched ({req.key}={labels.get(req.key, '<unset>')})"
+    return None
+
+
+def _filter_resources(c: ContainerSpec, s: _NodeState, overhead: float) -> str | None:
+    eps = 1e-9
+    for what, want, unit in (
+        ("cpu", c.cpu, " cores"),
+        ("memory_mib", c.memory_mib + overhead, " MiB"),
+        ("storage_mib", c.storage_mib, " MiB"),
+    ):
+        free = s.free(what)
+        if want > free + eps:
+            label = what.removesuffix("_mib")
+            return f"insufficient {label}: requests {want:g}{unit}, {free:g} of {getattr(s.node, what):g} free"
+    return None
+
+
+FILTERS: tuple[tuple[str, FilterFn], ...] = (
+    ("NodeArch", _filter_arch),
+    ("TaintToleration", _filter_taints),
+    ("NodeAffinity", _filter_affinity),
+    ("NodeResourcesFit", _filter_resources),
+)
+
+
+def _normalise(raw: Mapping[str, float], reverse: bool = False) -> dict[str, float]:
+    """Eq. (3.15)-style: ``raw / max * 100`` (all 0 when the max is 0); ``reverse`` gives ``100 - that``."""
+    top = max(raw.values(), default=0.0)
+    if top <= 0:
+        return dict.fromkeys(raw, 100.0 if reverse else 0.0)
+    return {k: (100.0 - v / top * 100.0) if reverse else v / top * 100.0 for k, v in raw.items()}
+
+
+def _fractions(c: ContainerSpec, s: _NodeState, overhead: float) -> list[float]:
+    """Requested share of each limited resource (CPU, memory) after placing ``c`` on ``s``."""
+    out = []
+    for what, want in (("cpu", c.cpu), ("memory_mib", c.memory_mib + overhead)):
+        cap = getattr(s.node, what)
+        if cap:
+            out.append(min(1.0, (getattr(s, what) + want) / cap))
+    return out
+
+
+def _score(
+    policy: str, c: ContainerSpec, feasible: Sequence[_NodeState], workload: Workload, overhead: float
+) -> dict[str, float]:
+    if policy == "bandwidth":  # Eq. (3.14), normalised by Eq. (3.15)
+        return _normalise({s.node.name: sum(workload.bw(c.name, b) for b in s.bound) for s in feasible})
+    if policy == "node_affinity":
+        raw = {}
+        for s in feasible:
+            labels = s.node.all_labels()
+            raw[s.node.name] = sum(w for w, exprs in c.preferred if all(e.matches(labels) for e in exprs))
+        return _normalise(raw)
+    if policy == "taint_toleration":
+        raw = {}
+        for s in feasible:
+            raw[s.node.name] = sum(
+                1
+                for t in s.node.taints
+                if t.effect == "PreferNoSchedule" and not any(tol.tolerates(t) for tol in c.tolerations)
+            )
+        return _normalise(raw, reverse=True)
+    if policy == "least_allocated":
+        out = {}
+        for s in feasible:
+            fr = _fractions(c, s, overhead)
+            out[s.node.name] = 100.0 * (1 - sum(fr) / len(fr)) if fr else 100.0
+        return out
+    if policy == "balanced_allocation":
+        out = {}
+        for s in feasible:
+            fr = _fractions(c, s, overhead)
+            mean = sum(fr) / len(fr) if fr else 0.0
+            std = math.sqrt(sum((f - mean) ** 2 for f in fr) / len(fr)) if fr else 0.0
+            out[s.node.name] = 100.0 * (1 - std)
+        return out
+    if policy == "free_resources":
+        return _normalise({s.node.name: s.free("cpu") if s.node.cpu is not None else 0.0 for s in feasible})
+    raise InputError(f"unknown scoring policy {policy!r} (one of {', '.join(SCORERS)})", "weights")
+
+
+#: The scoring policies, in the order explanations list them.
+SCORERS = ("bandwidth", "least_allocated", "balanced_allocation", "node_affinity", "taint_toleration")
+
+
+def _check_weights(weights: Mapping[str, float]) -> dict[str, float]:
+    out = {}
+    for k, w in weights.items():
+        if k not in SCORERS:
+            raise InputError(f"unknown scoring policy {k!r} (one of {', '.join(SCORERS)})", "weights")
+        if not _number(w):
+            raise InputError(f"policy {k!r} has invalid weight {w!r}", "weights")
+        out[k] = float(w)
+    return out
+
+
+def _schedule(
+    policy_name: str,
+    workload: Workload,
+    cluster: Cluster,
+    order: list[ContainerSpec],
+    weights: Mapping[str, float],
+    tie_break: Callable[[list[_NodeState]], _NodeState],
+    overhead_mib: float,
+    params: dict[str, Any],
+) -> PlacementPlan:
+    states = {name: _NodeState(node) for name, node in cluster.nodes.items()}
+    decisions: list[Decision] = []
+    for c in order:
+        rejected: dict[str, NodeVerdict] = {}
+        feasible: list[_NodeState] = []
+        for name, s in states.items():  # phase 2: filter
+            for fname, fn in FILTERS:
+                reason = fn(c, s, overhead_mib)
+                if reason is not None:
+                    rejected[name] = NodeVerdict(name, rejected_by=fname, reason=reason)
+                    break
+            else:
+                feasible.append(s)
+        if not feasible:
+            decisions.append(Decision(c.name, None, None, tuple(rejected[n] for n in states)))
+            continue
+        scores = {p: _score(p, c, feasible, workload, overhead_mib) for p in weights}  # phase 3: score
+        shown = dict(scores)
+        if policy_name == "superclustering":
+            shown["free_resources"] = _score("free_resources", c, feasible, workload, overhead_mib)
+        totals = {s.node.name: sum(w * scores[p][s.node.name] for p, w in weights.items()) for s in feasible}
+        top = max(totals.values())
+        best = [s for s in feasible if math.isclose(totals[s.node.name], top, rel_tol=1e-12, abs_tol=1e-9)]
+        chosen = tie_break(best)
+        chosen.cpu += c.cpu  # phase 4: bind
+        chosen.memory_mib += c.memory_mib + overhead_mib
+        chosen.storage_mib += c.storage_mib
+        chosen.bound.append(c.name)
+        verdicts = []
+        for name in states:
+            if name in rejected:
+                verdicts.append(rejected[name])
+            else:
+                per = {p: round(v[name], 6) for p, v in shown.items()}
+                verdicts.append(NodeVerdict(name, scores=per, total=round(totals[name], 6)))
+        decisions.append(Decision(c.name, chosen.node.name, round(totals[chosen.node.name], 6), tuple(verdicts)))
+    plan = PlacementPlan(policy_name, decisions, params=params)
+    plan.metrics.update(plan_metrics(plan, workload, cluster, states))
+    return plan
+
+
+def superclustering(
+    workload: Workload,
+    cluster: Cluster,
+    *,
+    weights: Mapping[str, float] | None = None,
+    overhead_mib: float = 0.0,
+) -> PlacementPlan:
+    """Place containers by super-clustering (Fig. 3.27, Eqs. 3.14-3.15) with the free-resource tie-break.
+
+    ``overhead_mib`` is the runtime's memory cost per container (e.g. 39 MiB for K3s, Table 4.17), reserved
+    on top of each container's request.
+    """
+    w = _check_weights(SUPERCLUSTERING_WEIGHTS if weights is None else weights)
+    _check_overhead(overhead_mib)
+    order = sorted(
+        workload.containers, key=lambda c: (-c.priority, -workload.total_bandwidth(c.name), natural_key(c.name))
+    )
+
+    def freest(best: list[_NodeState]) -> _NodeState:
+        return min(best, key=lambda s: (-s.free("cpu"), -s.free("memory_mib"), natural_key(s.node.name)))
+
+    params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib}
+    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params)
+
+
+def default_kubernetes(
+    workload: Workload,
+    cluster: Cluster,
+    *,
+    seed: int = 0,
+    weights: Mapping[str, float] | None = None,
+    overhead_mib: float = 0.0,
+) -> PlacementPlan:
+    """The default-Kubernetes-like baseline: least allocated + balanced allocation, random ties (seeded)."""
+    w = _check_weights(KUBERNETES_WEIGHTS if weights is None else weights)
+    _check_overhead(overhead_mib)
+    order = sorted(workload.containers, key=lambda c: -c.priority)  # stable: FIFO within a priority
+    rng = random.Random(seed)
+
+    def pick(best: list[_NodeState]) -> _NodeState:
+        return best[rng.randrange(len(best))]
+
+    params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib}
+    return _schedule("default-kubernetes", workload, cluster, order, w, pick, overhead_mib, params)
+
+
+def _check_overhead(overhead: float) -> None:
+    if not _number(overhead):
+        raise InputError(f"container overhead must be a non-negative number of MiB, got {overhead!r}", "overhead")
+
+
+POLICIES: dict[str, Callable[..., PlacementPlan]] = {
+    "superclustering": superclustering,
+    "default-kubernetes": default_kubernetes,
+}
+ALIASES = {"default": "default-kubernetes", "kubernetes": "default-kubernetes", "k8s": "default-kubernetes"}
+
+
+def place(policy: str, workload: Workload, cluster: Cluster, **params: Any) -> PlacementPlan:
+    name = ALIASES.get(policy, policy)
+    if name not in POLICIES:
+        raise InputError(f"unknown placement policy {policy!r} (one of {', '.join(POLICIES)})", "policy")
+    if name == "superclustering":
+        params.pop("seed", None)
+    return POLICIES[name](workload, cluster, **params)
+
+
+# ---- what a plan costs on the network ---------------------------------------------------------------
+def inter_node_bandwidth(placed: Mapping[str, str], workload: Workload) -> float:
+    """Bytes/s between containers bound to different nodes (pending containers are not counted)."""
+    return sum(w for (a, b), w in workload.bandwidth.items() if a in placed and b in placed and placed[a] != placed[b])
+
+
+def plan_metrics(
+    plan: PlacementPlan, workload: Workload, cluster: Cluster, states: Mapping[str, _NodeState] | None = None
+) -> dict[str, Any]:
+    """``inter_node_bandwidth`` (bytes/s) and its breakdown: per node the traffic crossing its boundary, per
+    link the load in Mbps on the least-latency path, the bandwidth lost to pending containers, and the
+    resources each node has committed."""
+    placed = plan.placed()
+    node_traffic = dict.fromkeys(cluster.nodes, 0.0)
+    link_load: dict[tuple[str, str], float] = {}
+    intra = pending_bw = 0.0
+    for (a, b), w in workload.bandwidth.items():
+        if a not in placed or b not in placed:
+            pending_bw += w
+            continue
+        na, nb = placed[a], placed[b]
+        if na == nb:
+            intra += w
+            continue
+        node_traffic[na] += w
+        node_traffic[nb] += w
+        # Without a path (no links given) the pair itself stands for the link between the two nodes.
+        hops = list(itertools.pairwise(cluster.path(na, nb))) or [(na, nb)]
+        for x, y in hops:
+            key = pair(x, y)
+            link_load[key] = link_load.get(key, 0.0) + w
+    links = []
+    for (x, y), load in sorted(link_load.items()):
+        route = cluster.route(x, y)
+        links.append(
+            {
+                "src": x,
+                "dst": y,
+                "load_mbps": load * 8 / 1e6,
+                "bandwidth_mbps": None if route is None else route[1],
+            }
+        )
+    metrics: dict[str, Any] = {
+        "inter_node_bandwidth": inter_node_bandwidth(placed, workload),
+        "intra_node_bandwidth": intra,
+        "pending_bandwidth": pending_bw,
+        "node_traffic": node_traffic,
+        "link_load": links,
+    }
+    if states is not None:
+        metrics["allocated"] = {
+            n: {"cpu": s.cpu, "memory_mib": s.memory_mib, "storage_mib": s.storage_mib, "containers": list(s.bound)}
+            for n, s in states.items()
+        }
+    return metrics

@@ -1,0 +1,86 @@
+"""The placement type: items (containers, RT containers) put on cluster nodes, with the reason for each.
+
+This is what the node-level placers return (super-clustering, thesis 3.3.1; RT-Kube, 3.4) and what the
+database, the "why here?" views, the API and the Kubernetes gateway read. Like kube-scheduler-simulator,
+every decision keeps, for each node, the filter that rejected it or the score each policy gave it.
+DAG schedules with start and finish times use :class:`~continuum.engine.core.schedule.Schedule` instead.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+
+@dataclass(frozen=True)
+class NodeVerdict:
+    """One node's outcome for one item: rejected by a filter, or scored by the policies."""
+
+    node: str
+    #: Name of the filter that rejected the node; ``None`` when it passed every filter.
+    rejected_by: str | None = None
+    reason: str = ""
+    #: Policy name -> score of this node (after normalisation), when it passed the filters.
+    scores: dict[str, float] = field(default_factory=dict)
+    total: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "node": self.node,
+            "rejected_by": self.rejected_by,
+            "reason": self.reason,
+            "scores": dict(self.scores),
+            "total": self.total,
+        }
+
+
+@dataclass(frozen=True)
+class Decision:
+    """Where one item went (``node``), or ``None`` when it stays pending, and why."""
+
+    item: str
+    node: str | None
+    score: float | None = None
+    verdicts: tuple[NodeVerdict, ...] = ()
+
+    @property
+    def pending(self) -> bool:
+        return self.node is None
+
+    def reasons(self) -> dict[str, str]:
+        """Node -> why it was not chosen (the filter's reason), for the contracts' ``pending`` lists."""
+        return {v.node: v.reason or (v.rejected_by or "") for v in self.verdicts if v.rejected_by}
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "item": self.item,
+            "node": self.node,
+            "score": self.score,
+            "verdicts": [v.to_dict() for v in self.verdicts],
+        }
+
+
+@dataclass
+class PlacementPlan:
+    """All decisions of one placement run, in decision order."""
+
+    policy: str
+    decisions: list[Decision]
+    params: dict[str, Any] = field(default_factory=dict)
+    metrics: dict[str, Any] = field(default_factory=dict)
+
+    def placed(self) -> dict[str, str]:
+        return {d.item: d.node for d in self.decisions if d.node is not None}
+
+    def to_dict(self, item_key: str = "container") -> dict[str, Any]:
+        """The contracts' shape (``placements``, ``pending``) plus the full explanation."""
+        return {
+            "policy": self.policy,
+            "placements": [
+                {item_key: d.item, "node": d.node, "score": d.score} for d in self.decisions if not d.pending
+            ],
+            "pending": [{item_key: d.item, "reasons": d.reasons()} for d in self.decisions if d.pending],
+            "decisions": [d.to_dict() for d in self.decisions],
+            "params": dict(self.params),
+            **self.metrics,
+        }
