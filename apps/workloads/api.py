@@ -30,9 +30,7 @@ class ApplicationViewSet(FleetScopedMixin, ExtensibleViewSetMixin, viewsets.Mode
     @extend_schema(
         request={"multipart/form-data": ApplicationImportSerializer}, responses={201: ApplicationImportResultSerializer}
     )
-    @action(
-        detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser]
-    )
+    @action(detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser])
     def import_file(self, request):
         """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX,
         Kasahara STG (reader ``options`` such as ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5}``) or the
