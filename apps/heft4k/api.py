@@ -5,6 +5,7 @@ from rest_framework.response import Response
 
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
+from apps.scheduling.api import ScheduleViewSet
 from apps.tenancy.api import FleetScopedMixin
 
 from . import remapping
@@ -12,21 +13,20 @@ from .models import RemapEvent
 from .serializers import RemapEventSerializer, RemapRequestSerializer
 
 
-class RemapActionMixin:
-    """``POST /schedules/{id}/remap/`` for the schedule viewset (HEFT4K Algorithm 2)."""
-
-    @extend_schema(request=RemapRequestSerializer, responses={202: JobSerializer})
-    @action(detail=True, methods=["post"])
-    def remap(self, request, pk=None):
-        """Start a job that remaps the schedule without the failed nodes (partial or total, as Algorithm 2
-        decides) and stores the new schedule; unless ``what_if``, it recreates only the pods that change."""
-        schedule = self.get_object()
-        serializer = RemapRequestSerializer(
-            data=request.data, context={**self.get_serializer_context(), "schedule": schedule}
-        )
-        serializer.is_valid(raise_exception=True)
-        job = start_job("remap", schedule.fleet, serializer.job_arguments(), request.user)
-        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+# ---- an action on schedules (``/schedules/{id}/remap/``: HEFT4K Algorithm 2) -----------------------------------
+@ScheduleViewSet.extra_action
+@extend_schema(request=RemapRequestSerializer, responses={202: JobSerializer})
+@action(detail=True, methods=["post"])
+def remap(self, request, pk=None):
+    """Start a job that remaps the schedule without the failed nodes (partial or total, as Algorithm 2
+    decides) and stores the new schedule; unless ``what_if``, it recreates only the pods that change."""
+    schedule = self.get_object()
+    serializer = RemapRequestSerializer(
+        data=request.data, context={**self.get_serializer_context(), "schedule": schedule}
+    )
+    serializer.is_valid(raise_exception=True)
+    job = start_job("remap", schedule.fleet, serializer.job_arguments(), request.user)
+    return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 
 class RemapEventViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):

@@ -7,4 +7,5 @@ class Heft4kConfig(AppConfig):
     verbose_name = "HEFT4K"
 
     def ready(self) -> None:
-        from . import jobs  # noqa: F401 - registers the remap and remap_apply job kinds
+        # api: adds the schedules' remap action; jobs: registers the remap and remap_apply job kinds
+        from . import api, jobs  # noqa: F401

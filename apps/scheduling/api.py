@@ -3,17 +3,28 @@ from rest_framework import mixins, status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
-from apps.heft4k.api import RemapActionMixin
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
-from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.api import ExtensibleViewSetMixin, FleetScopedMixin
+from apps.workloads.api import ApplicationViewSet
 
 from .models import Comparison, Schedule
-from .serializers import ComparisonListSerializer, ComparisonSerializer, ScheduleListSerializer, ScheduleSerializer
+from .serializers import (
+    CompareRequestSerializer,
+    ComparisonListSerializer,
+    ComparisonSerializer,
+    ScheduleListSerializer,
+    ScheduleRequestSerializer,
+    ScheduleSerializer,
+)
 
 
-class ScheduleViewSet(RemapActionMixin, FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
+class ScheduleViewSet(
+    FleetScopedMixin, ExtensibleViewSetMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet
+):
     """Stored schedules (created by scheduling jobs) and their push to Kubernetes."""
+
+    # Apps above scheduling add actions through ExtensibleViewSetMixin: ``remap`` (apps.heft4k.api).
 
     queryset = Schedule.objects.select_related("fleet")
     filterset_fields = ["application", "cluster", "algorithm"]
@@ -54,3 +65,49 @@ class ComparisonViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Rea
 
     def get_serializer_class(self):
         return ComparisonListSerializer if self.action == "list" else ComparisonSerializer
+
+
+# ---- actions on applications (``/applications/{id}/schedule/`` and ``/compare/``) ----------------------------
+@ApplicationViewSet.extra_action
+@extend_schema(request=ScheduleRequestSerializer, responses={202: JobSerializer})
+@action(detail=True, methods=["post"])
+def schedule(self, request, pk=None):
+    """Start a scheduling job; its result links to the stored schedule."""
+    app = self.get_object()
+    serializer = ScheduleRequestSerializer(data=request.data, context=self.get_serializer_context())
+    serializer.is_valid(raise_exception=True)
+    data = serializer.validated_data
+    if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
+        return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
+    arguments = {"application": app.pk, "algorithm": data["algorithm"], "params": data["params"]}
+    job = start_job("schedule", app.fleet, arguments | _target_arguments(data), request.user)
+    return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+
+@ApplicationViewSet.extra_action
+@extend_schema(request=CompareRequestSerializer, responses={202: JobSerializer})
+@action(detail=True, methods=["post"])
+def compare(self, request, pk=None):
+    """Start a job that runs several algorithms on this application and target (frames optional) and stores
+    each schedule plus a comparison (makespan, SLR, speedup vs VisionWorks, overlap, idle time)."""
+    app = self.get_object()
+    serializer = CompareRequestSerializer(data=request.data, context=self.get_serializer_context())
+    serializer.is_valid(raise_exception=True)
+    data = serializer.validated_data
+    if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
+        return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
+    arguments = {
+        "application": app.pk,
+        "algorithms": data["algorithms"],
+        "rank_mode": data["rank_mode"],
+        "comm_mode": data["comm_mode"],
+        **serializer.frame_options(),
+    }
+    job = start_job("compare", app.fleet, arguments | _target_arguments(data), request.user)
+    return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
+
+
+def _target_arguments(data: dict) -> dict:
+    if data.get("cluster") is not None:
+        return {"cluster": data["cluster"].pk}
+    return {"platform": data["platform"]}

@@ -6,4 +6,10 @@ class SchedulingConfig(AppConfig):
     label = "scheduling"
 
     def ready(self) -> None:
-        from . import jobs  # noqa: F401 - registers the job kinds
+        from apps.tenancy.demo import register_demo
+
+        # api: adds the applications' schedule and compare actions; jobs: registers the job kinds
+        from . import api, jobs  # noqa: F401
+        from .demo import demo_schedule
+
+        register_demo(demo_schedule)

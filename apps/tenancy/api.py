@@ -4,6 +4,7 @@ import logging
 import uuid
 from functools import partial
 
+from django.core.exceptions import ImproperlyConfigured
 from django.db.models import QuerySet
 from drf_spectacular.types import OpenApiTypes
 from drf_spectacular.utils import extend_schema_field
@@ -157,6 +158,32 @@ class FleetScopedMixin:
         if self.fleet_lookup is None:
             return scope(qs, self.request)
         return qs.filter(**{f"{self.fleet_lookup}__in": visible_fleets(self.request)})
+
+
+# A viewset that apps above it add ``@action`` routes to, the way NetBox plugins extend its views: the host
+# never imports its extensions (the extension imports the host, which sits below it). The extending app
+# defines the action in its own ``api.py`` and its ``AppConfig.ready()`` imports that module, so the route
+# exists before the URLconf is built:
+#
+#     @ApplicationViewSet.extra_action
+#     @extend_schema(request=ScheduleRequestSerializer, responses={202: JobSerializer})
+#     @action(detail=True, methods=["post"])
+#     def schedule(self, request, pk=None): ...
+#
+# The route, its name, the OpenAPI operation id and the schema are those of an action written in the host's
+# class body. (Comments, not a docstring: drf-spectacular describes operations with the first docstring in
+# the viewset's MRO.)
+class ExtensibleViewSetMixin:
+    @classmethod
+    def extra_action(cls, func):
+        """Add the ``@action``-decorated ``func`` to this viewset under its own name; returns ``func``."""
+        if not hasattr(func, "mapping") or not hasattr(func, "detail"):
+            raise ImproperlyConfigured(f"{func.__qualname__} is not decorated with @action")
+        current = getattr(cls, func.__name__, None)
+        if current is not None and current is not func:
+            raise ImproperlyConfigured(f"{cls.__name__} already has an attribute {func.__name__!r}")
+        setattr(cls, func.__name__, func)
+        return func
 
 
 class FleetSerializer(ScopedModelSerializer):

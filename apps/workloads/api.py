@@ -3,10 +3,7 @@ from rest_framework import status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
-from apps.jobs.serializers import JobSerializer
-from apps.jobs.services import start_job
-from apps.scheduling.serializers import CompareRequestSerializer, ScheduleRequestSerializer
-from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.api import ExtensibleViewSetMixin, FleetScopedMixin
 from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
 
 from .models import Application
@@ -19,7 +16,9 @@ from .serializers import (
 )
 
 
-class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
+class ApplicationViewSet(FleetScopedMixin, ExtensibleViewSetMixin, viewsets.ModelViewSet):
+    # No docstring: it would become the description of every operation in the schema. Apps above workloads
+    # add actions through ExtensibleViewSetMixin: ``schedule`` and ``compare`` (apps.scheduling.api).
     queryset = Application.objects.select_related("fleet")
     filterset_fields = ["fleet__slug", "source_format"]
     search_fields = ["name", "description"]
@@ -31,9 +30,7 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
     @extend_schema(
         request={"multipart/form-data": ApplicationImportSerializer}, responses={201: ApplicationImportResultSerializer}
     )
-    @action(
-        detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser]
-    )
+    @action(detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser])
     def import_file(self, request):
         """Create an application from an uploaded DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX,
         Kasahara STG (reader ``options`` such as ``{"ccr": 1, "processors": 4, "heterogeneity": 0.5}``) or the
@@ -57,44 +54,3 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
         return Response(
             ApplicationSerializer(app, context=self.get_serializer_context()).data, status=status.HTTP_201_CREATED
         )
-
-    @extend_schema(request=ScheduleRequestSerializer, responses={202: JobSerializer})
-    @action(detail=True, methods=["post"])
-    def schedule(self, request, pk=None):
-        """Start a scheduling job; its result links to the stored schedule."""
-        app = self.get_object()
-        serializer = ScheduleRequestSerializer(data=request.data, context=self.get_serializer_context())
-        serializer.is_valid(raise_exception=True)
-        data = serializer.validated_data
-        if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
-            return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
-        arguments = {"application": app.pk, "algorithm": data["algorithm"], "params": data["params"]}
-        job = start_job("schedule", app.fleet, arguments | _target_arguments(data), request.user)
-        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
-
-    @extend_schema(request=CompareRequestSerializer, responses={202: JobSerializer})
-    @action(detail=True, methods=["post"])
-    def compare(self, request, pk=None):
-        """Start a job that runs several algorithms on this application and target (frames optional) and stores
-        each schedule plus a comparison (makespan, SLR, speedup vs VisionWorks, overlap, idle time)."""
-        app = self.get_object()
-        serializer = CompareRequestSerializer(data=request.data, context=self.get_serializer_context())
-        serializer.is_valid(raise_exception=True)
-        data = serializer.validated_data
-        if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
-            return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
-        arguments = {
-            "application": app.pk,
-            "algorithms": data["algorithms"],
-            "rank_mode": data["rank_mode"],
-            "comm_mode": data["comm_mode"],
-            **serializer.frame_options(),
-        }
-        job = start_job("compare", app.fleet, arguments | _target_arguments(data), request.user)
-        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
-
-
-def _target_arguments(data: dict) -> dict:
-    if data.get("cluster") is not None:
-        return {"cluster": data["cluster"].pk}
-    return {"platform": data["platform"]}

@@ -2,6 +2,9 @@
 
 Idempotent: running it again changes nothing that exists. The administrator's password and the fleet token's
 key are random, kept in var/demo-credentials.txt (the database holds only the key's hash) and printed.
+
+The cluster, the applications and the first schedule come from the apps that own them: each registers a demo
+step (``apps.tenancy.demo.register_demo``), so this command imports no domain app.
 """
 
 import secrets
@@ -12,13 +15,8 @@ from django.contrib.auth import get_user_model
 from django.core.management.base import BaseCommand
 from django.db import transaction
 
-from apps.clusters.models import Cluster, ComputeNode, Link
-from apps.jobs.services import start_job
+from apps.tenancy.demo import Demo, demo_steps
 from apps.tenancy.models import Fleet, FleetToken, hash_token_key
-from apps.workloads.models import Application
-from continuum.engine.formats import load_dag
-
-DATA = Path(settings.BASE_DIR) / "tests" / "data"
 
 
 class Command(BaseCommand):
@@ -29,10 +27,11 @@ class Command(BaseCommand):
         with transaction.atomic():
             password = self._admin(credentials)
             fleet, key = self._fleet(credentials)
-            cluster = self._cluster(fleet)
-            apps = self._applications(fleet)
-        if not apps[0].schedules.exists():
-            start_job("schedule", fleet, {"application": apps[0].pk, "algorithm": "heft", "cluster": cluster.pk})
+            demo = Demo(fleet=fleet)
+            for step in demo_steps():
+                step(demo)
+        for then in demo.after_commit:
+            then()
         self.stdout.write(f"demo ready: log in as admin / {password}  (fleet token for the API: {key})")
 
     def _admin(self, credentials: Path) -> str:
@@ -62,42 +61,3 @@ class Command(BaseCommand):
         lines = [line for line in lines if not line.startswith("token ")] + [f"token {key}"]
         credentials.write_text("\n".join(lines) + "\n")
         return fleet, key
-
-    def _cluster(self, fleet: Fleet) -> Cluster:
-        cluster, created = Cluster.objects.get_or_create(
-            fleet=fleet, name="edge-cloud", defaults={"description": "robot, edge and cloud"}
-        )
-        if created:
-            spec = [
-                ("robot-board", "arm64", 4, 4096, 1.0),
-                ("jetson", "arm64", 8, 16384, 1.5),
-                ("edge-server", "amd64", 16, 65536, 2.5),
-                ("cloud-vm", "amd64", 32, 131072, 3.0),
-            ]
-            nodes = {
-                name: ComputeNode.objects.create(
-                    cluster=cluster, name=name, arch=arch, cpu=cpu, memory_mib=mem, speed=speed
-                )
-                for name, arch, cpu, mem, speed in spec
-            }
-            for a, b, mbps, ms in [
-                ("robot-board", "jetson", 1000, 0.2),
-                ("jetson", "edge-server", 866, 2.0),
-                ("edge-server", "cloud-vm", 100, 20.0),
-            ]:
-                Link.objects.create(cluster=cluster, src=nodes[a], dst=nodes[b], bandwidth_mbps=mbps, latency_ms=ms)
-        return cluster
-
-    def _applications(self, fleet: Fleet) -> list[Application]:
-        result = []
-        for name, fmt in [("montage-chameleon-2mass-005d-001.json", None), ("topcuoglu.dag.json", None)]:
-            graph = load_dag((DATA / name).read_text(), fmt)
-            app = Application.objects.filter(fleet=fleet, name=graph.name).first()
-            if app is None:
-                app = Application(
-                    fleet=fleet, name=graph.name, source_format=graph.meta.get("source_format", "continuum")
-                )
-                app.set_graph(graph)
-                app.save()
-            result.append(app)
-        return result
