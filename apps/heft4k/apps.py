@@ -7,4 +7,13 @@ class Heft4kConfig(AppConfig):
     verbose_name = "HEFT4K"
 
     def ready(self) -> None:
-        from . import jobs  # noqa: F401 - registers the remap and remap_apply job kinds
+        from apps.scheduling.signals import schedule_stored
+
+        from . import (
+            jobs,  # noqa: F401 - registers the remap, remap_apply and heft4k_simulate job kinds
+            simulation,
+            views,
+        )
+
+        views.register()  # HEFT4K's panels on the schedule and application pages
+        schedule_stored.connect(simulation.on_schedule_stored, dispatch_uid="heft4k-simulate-stored-schedules")

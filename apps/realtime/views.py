@@ -14,9 +14,9 @@ from django.utils import timezone
 from django.views.decorators.http import require_POST
 
 from apps.clusters.models import Cluster
-from apps.dashboard.charts import to_html
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
+from apps.ui.charts import to_html
 
 from . import charts
 from .models import Monitoring, MonitoringReport, NodeTaint, RealTime, RTDecision, RTEvent, RTPlan, RTPod, RTPolicy
@@ -198,7 +198,7 @@ def run_whatif(request: HttpRequest, pk: int) -> HttpResponse:
     )
     if job.state == "succeeded" and (job.result or {}).get("rt_plan"):
         return redirect("realtime:plan", pk=job.result["rt_plan"])
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 @login_required

@@ -6,4 +6,9 @@ class SchedulingConfig(AppConfig):
     label = "scheduling"
 
     def ready(self) -> None:
-        from . import jobs  # noqa: F401 - registers the job kinds
+        from . import (
+            jobs,  # noqa: F401 - registers the job kinds
+            views,
+        )
+
+        views.register()  # the schedule and compare forms and the schedules on the application page

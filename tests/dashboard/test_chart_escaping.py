@@ -1,6 +1,6 @@
 """Names in Plotly figures are escaped (issue 10, trust boundary): Plotly renders a subset of HTML in hover text,
 text, legend entries, titles and tick labels, so a task named ``<a href="javascript:alert(1)">x</a>`` would be a
-live link on the page. Every chart builder of ``apps/*/charts.py`` goes through ``apps.dashboard.charts.esc``."""
+live link on the page. Every chart builder of ``apps/*/charts.py`` goes through ``apps.ui.charts.esc``."""
 
 import json
 from datetime import UTC, datetime
@@ -10,8 +10,9 @@ import plotly.graph_objects as go
 import pytest
 
 from apps.containers import charts as container_charts
-from apps.dashboard import charts
 from apps.realtime import charts as rt_charts
+from apps.scheduling import charts as scheduling_charts
+from apps.ui import charts
 from apps.verification import charts as verification_charts
 from continuum.engine.containers.rosgraph import RosGraph
 from continuum.engine.core.dag import TaskGraph
@@ -74,7 +75,7 @@ def test_dag_and_network_figures_escape_task_processor_and_status_names():
     platform = Platform.from_dict({"processors": [{"id": EVIL, "class": EVIL2}, {"id": "p2"}],
                                    "links": [{"src": EVIL, "dst": "p2", "bandwidth": 1.0}]})  # fmt: skip
     assert_escaped(charts.network_figure(platform, status={EVIL: EVIL2}))
-    bars = plain_json(charts.comparison_bars_figure({EVIL: {"makespan": 1.0}}))  # names shown upper-case
+    bars = plain_json(scheduling_charts.comparison_bars_figure({EVIL: {"makespan": 1.0}}))  # names shown upper-case
     assert "&lt;A HREF=&quot;JAVASCRIPT:ALERT(1)&quot;&gt;X&lt;/A&gt;" in bars and "<A " not in bars
 
 

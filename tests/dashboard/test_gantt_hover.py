@@ -7,7 +7,7 @@ import json
 import plotly.graph_objects as go
 import pytest
 
-from apps.dashboard import charts
+from apps.ui import charts
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 
