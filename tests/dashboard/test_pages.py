@@ -418,8 +418,8 @@ def test_gantt_hover_names_task_start_finish_and_frame():
     # Written in Python (tests/dashboard/test_gantt_hover.py checks the duration): no template arithmetic.
     for (task, frame, processor, start, finish, *_), text in zip(trace.customdata, trace.hovertext, strict=True):
         assert text.startswith(f"<b>{task}</b> (frame {frame})<br>processor: {processor}<br>")
-        assert f"start: {charts._fmt(start)} {dag.time_unit}" in text
-        assert f"finish: {charts._fmt(finish)} {dag.time_unit}" in text
+        assert f"start: {charts.fmt(start)} {dag.time_unit}" in text
+        assert f"finish: {charts.fmt(finish)} {dag.time_unit}" in text
 
 
 def test_gantt_keeps_idle_processors_and_labels_frames():
