@@ -13,6 +13,7 @@ from django.db import transaction
 
 from apps.scheduling.models import Schedule
 from continuum.engine.core.dag import TaskGraph
+from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Schedule as EngineSchedule
 from continuum.engine.heft4k.k8s_baselines import Unschedulable, run_heft4k, run_heft_k8s, run_k8s_default
@@ -83,7 +84,10 @@ def store(schedule: Schedule) -> ScheduleSimulation | None:
     plan = schedule.to_engine()
     if not is_heft4k(plan):
         return None
-    fields = simulate(plan, schedule.application.graph, schedule.engine_platform())
+    try:
+        fields = simulate(plan, schedule.application.graph, schedule.engine_platform())
+    except (InputError, KeyError) as exc:  # the application changed since: the page says so too
+        fields = {"note": f"not simulated: {exc}"[:300]}
     defaults = {"note": "", "simulated": {}, "sharing": [], "baselines": [], **fields}
     with transaction.atomic():
         row, _ = ScheduleSimulation.objects.update_or_create(schedule=schedule, defaults=defaults)
