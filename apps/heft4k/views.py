@@ -20,6 +20,7 @@ from apps.scheduling.models import Schedule
 from apps.scheduling.views import schedule_page
 from apps.ui import charts
 from apps.ui.helpers import paginate, scoped
+from apps.ui.links import register_result_page
 from apps.ui.panels import register_panel
 from apps.workloads.models import Application
 from continuum.engine.core.dag import TaskGraph
@@ -89,7 +90,9 @@ def application_panel(request: HttpRequest, application: Application, **_: objec
 
 
 def register() -> None:
-    """Add HEFT4K's panels to the schedule and application pages (called by the app's ``ready()``)."""
+    """Add HEFT4K's panels to the schedule and application pages and its remap page as the page of a job
+    result naming a remap (called by the app's ``ready()``)."""
+    register_result_page("remap", "heft4k:remap", order=10)
     register_panel(
         "scheduling.schedule",
         "heft4k",

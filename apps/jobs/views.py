@@ -5,24 +5,20 @@ from __future__ import annotations
 from django.contrib.auth.decorators import login_required
 from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, render
-from django.urls import reverse
 
 from apps.ui.helpers import paginate, scoped
+from apps.ui.links import result_page
 
 from .models import Job
 
 
 def job_result_link(job: Job) -> str:
-    """Where a finished job's result is shown in the dashboard (its API URL when there is no page)."""
-    result = job.result or {}
-    if job.state == Job.State.SUCCEEDED and isinstance(result.get("remap"), int):
-        return reverse("heft4k:remap", args=[result["remap"]])
-    if job.state == Job.State.SUCCEEDED and isinstance(result.get("schedule"), int):
-        return reverse("scheduling:schedule", args=[result["schedule"]])
-    if job.state == Job.State.SUCCEEDED and isinstance(result.get("page"), str) and result["page"].startswith("/"):
-        return result["page"]  # the job names its dashboard page itself
-    if job.state == Job.State.SUCCEEDED and isinstance(result.get("comparison"), int):
-        return reverse("scheduling:comparison", args=[result["comparison"]])
+    """Where a finished job's result is shown in the dashboard (its API URL when there is no page): the
+    apps that own the pages register them (``apps.ui.links``)."""
+    if job.state == Job.State.SUCCEEDED:
+        page = result_page(job.result or {})
+        if page is not None:
+            return page
     return job.result_url
 
 

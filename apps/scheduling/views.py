@@ -23,6 +23,7 @@ from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
 from apps.ui import charts
 from apps.ui.helpers import paginate, scoped
+from apps.ui.links import register_result_page
 from apps.ui.panels import register_panel, render_panels
 from apps.workloads.models import Application
 from apps.workloads.views import APPLICATION_PAGE, application_page
@@ -54,7 +55,10 @@ def application_panel(
 
 
 def register() -> None:
-    """Add the scheduling panel to the application page (called by the app's ``ready()``)."""
+    """Add the scheduling panel to the application page and the schedule and comparison pages as the pages
+    of job results naming them (called by the app's ``ready()``)."""
+    register_result_page("schedule", "scheduling:schedule", order=20)
+    register_result_page("comparison", "scheduling:comparison", order=40)
     register_panel(
         APPLICATION_PAGE,
         "scheduling",

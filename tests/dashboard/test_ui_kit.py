@@ -55,3 +55,16 @@ def test_panels_render_in_order_and_skip_the_ones_with_nothing_to_show():
 def test_the_domain_apps_register_their_panels_on_the_pages_they_extend():
     assert [p.name for p in panels.panels_for("workloads.application")] == ["scheduling", "heft4k"]
     assert [p.name for p in panels.panels_for("scheduling.schedule")] == ["heft4k"]
+
+
+def test_result_pages_are_registered_by_the_apps_that_own_them():
+    from django.urls import reverse
+
+    from apps.ui.links import result_page
+
+    # A remap names its new schedule too: the remap page wins; a job's own page comes before a comparison.
+    assert result_page({"remap": 3, "schedule": 4}) == reverse("heft4k:remap", args=[3])
+    assert result_page({"schedule": 4, "page": "/ros/x/"}) == reverse("scheduling:schedule", args=[4])
+    assert result_page({"comparison": 5, "page": "/ros/x/"}) == "/ros/x/"
+    assert result_page({"comparison": 5, "page": "http://elsewhere/"}) == reverse("scheduling:comparison", args=[5])
+    assert result_page({"schedule": "4"}) is None and result_page({}) is None
