@@ -415,7 +415,7 @@ def test_gantt_highlights_the_critical_path():
 def test_gantt_hover_names_task_start_finish_and_frame():
     dag, platform, sched = topcuoglu()
     trace = bars(charts.gantt_figure(sched, platform=platform, dag=dag))[0]
-    # Written in Python (tests/dashboard/test_gantt_hover.py checks the duration): no template arithmetic.
+    # Written in Python (tests/ui/test_gantt_hover.py checks the duration): no template arithmetic.
     for (task, frame, processor, start, finish, *_), text in zip(trace.customdata, trace.hovertext, strict=True):
         assert text.startswith(f"<b>{task}</b> (frame {frame})<br>processor: {processor}<br>")
         assert f"start: {charts.fmt(start)} {dag.time_unit}" in text
