@@ -65,6 +65,7 @@ INSTALLED_APPS = [
     "drf_spectacular",
     "drf_spectacular_sidecar",
     "apps.tenancy",
+    "apps.ui",
     "apps.clusters",
     "apps.workloads",
     "apps.jobs",

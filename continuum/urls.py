@@ -60,6 +60,11 @@ urlpatterns = [
     path("ros/", include("apps.containers.urls")),
     path("realtime/", include("apps.realtime.urls")),
     path("", include("apps.dashboard.urls")),
+    path("", include("apps.clusters.urls")),
+    path("", include("apps.workloads.urls")),
+    path("", include("apps.scheduling.urls")),
+    path("", include("apps.devices.urls")),
+    path("", include("apps.jobs.urls")),
     path("", include("apps.heft4k.urls")),
     path("verification/", include("apps.verification.urls")),
 ]

@@ -1,5 +1,5 @@
 """Plotly figures of ROS graphs, containers and placements, drawn from engine objects and stored engine dicts
-(no Django here). Rendered with :func:`apps.dashboard.charts.to_html` (plotly.js comes from static files).
+(no Django here). Rendered with :func:`apps.ui.charts.to_html` (plotly.js comes from static files).
 
 - :func:`rosgraph_figure`: ROS nodes in rows by abstraction level (Fig. 3.19, mission on top, drivers at the
   bottom) and in columns by container, coloured by container; edge width grows with the bandwidth (Eq. 3.12),
@@ -18,7 +18,7 @@ from typing import Any
 import plotly.graph_objects as go
 from plotly.colors import qualitative
 
-from apps.dashboard.charts import EDGE_COLOUR, _base_layout, esc, escs
+from apps.ui.charts import EDGE_COLOUR, base_layout, esc, escs
 from continuum.engine.containers.rosgraph import LEVELS, RosGraph, natural_key
 
 PALETTE = [*qualitative.T10, *qualitative.Pastel, *qualitative.Dark24]
@@ -184,7 +184,7 @@ def rosgraph_figure(
             )
         )
     xs = [x for x, _ in pos.values()] or [0.0]
-    _base_layout(fig, height=560)
+    base_layout(fig, height=560)
     fig.update_layout(
         legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "left", "x": 0, "title": "container"},
         margin={"l": 10, "r": 10, "t": 60, "b": 10},
@@ -256,7 +256,7 @@ def container_figure(containers: Sequence[Mapping[str, Any]], bandwidth: Sequenc
             showlegend=False,
         )
     )
-    _base_layout(fig, height=440)
+    base_layout(fig, height=440)
     lim = 1.5 if len(names) > 1 else 1.0
     fig.update_xaxes(visible=False, range=[-lim, lim])
     fig.update_yaxes(visible=False, range=[-lim, lim * 0.95], scaleanchor="x")
@@ -371,7 +371,7 @@ def placement_figure(
         )
     if pending:
         fig.add_annotation(x=1.75, y=1.15, text="<b>pending</b>", showarrow=False, font={"color": PENDING_COLOUR})
-    _base_layout(fig, height=480)
+    base_layout(fig, height=480)
     fig.update_layout(legend={"orientation": "v", "yanchor": "top", "y": 1, "xanchor": "left", "x": 1.01})
     fig.update_xaxes(visible=False, range=[-1.5, 2.1 if pending else 1.5])
     fig.update_yaxes(visible=False, range=[-1.4, 1.3], scaleanchor="x")
@@ -405,7 +405,7 @@ def disk_figure(images: Mapping[str, Any]) -> go.Figure:
             hovertemplate="%{y}: %{x:.4g} MiB of its own<extra></extra>",
         )
     )
-    _base_layout(fig, height=max(260, 90 + 34 * len(rows)))
+    base_layout(fig, height=max(260, 90 + 34 * len(rows)))
     fig.update_layout(
         barmode="group",
         legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "left", "x": 0},

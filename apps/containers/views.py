@@ -11,11 +11,11 @@ from django.http import Http404, HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
-from apps.dashboard.charts import to_html
-from apps.dashboard.views import paginate, scoped
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
+from apps.ui.charts import to_html
+from apps.ui.helpers import paginate, scoped
 from continuum.engine.containers.superclustering import container_bandwidth
 from continuum.engine.core.errors import InputError
 
@@ -132,7 +132,7 @@ def rosgraph_cluster(request: HttpRequest, pk: int) -> HttpResponse:
     if not form.is_valid():
         return _graph_page(request, row, cluster_form=form, status=400)
     job = start_job("cluster_ros", row.fleet, form.job_arguments(row), request.user)
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 # ---- clusterings ------------------------------------------------------------------------------------------
@@ -212,7 +212,7 @@ def clustering_place(request: HttpRequest, pk: int) -> HttpResponse:
     if not form.is_valid():
         return _clustering_page(request, clustering, form, status=400)
     job = start_job("place", clustering.fleet, form.job_arguments(), request.user)
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 # ---- placements -------------------------------------------------------------------------------------------
@@ -282,4 +282,4 @@ def placement_push(request: HttpRequest, pk: int) -> HttpResponse:
         messages.error(request, "Pushing to Kubernetes is not available in this installation.")
         return redirect("containers:placement", pk=placement.pk)
     job = start_job("push_placement", placement.fleet, {"placement": placement.pk}, request.user)
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)

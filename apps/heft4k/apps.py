@@ -7,5 +7,10 @@ class Heft4kConfig(AppConfig):
     verbose_name = "HEFT4K"
 
     def ready(self) -> None:
-        # api: adds the schedules' remap action; jobs: registers the remap and remap_apply job kinds
-        from . import api, jobs  # noqa: F401
+        from apps.scheduling.signals import schedule_stored
+
+        # api: adds the schedules' remap action; jobs: registers the remap, remap_apply and heft4k_simulate kinds
+        from . import api, jobs, simulation, views  # noqa: F401
+
+        views.register()  # HEFT4K's panels on the schedule and application pages
+        schedule_stored.connect(simulation.on_schedule_stored, dispatch_uid="heft4k-simulate-stored-schedules")

@@ -4,7 +4,7 @@ from apps.jobs.registry import job_kind
 from apps.scheduling.models import Schedule
 from continuum.engine.core.errors import InputError
 
-from . import remapping
+from . import remapping, simulation
 from .models import RemapEvent
 
 
@@ -38,6 +38,8 @@ def remap(job, progress) -> tuple[dict, str]:
             raise InputError(f"unknown trigger {trigger!r}", "trigger")
         progress(5, f"remapping schedule {schedule.pk} without {', '.join(map(str, fail))}")
         event = remapping.compute(schedule, fail, threshold=args.get("threshold"), trigger=trigger, job=job)
+    if event.new_schedule is not None:
+        simulation.ensure(event.new_schedule)  # what the new schedule's page shows beside the plan
     progress(
         50,
         f"{event.decision} remap: {len(event.lost_tasks)} tasks lost, {len(event.moved_tasks)} moved, "
@@ -58,3 +60,19 @@ def remap_apply(job, progress) -> tuple[dict, str]:
     progress(5, f"applying remap {event.pk}")
     remapping.apply(event, progress)
     return remapping.summary(event), f"/api/v1/remaps/{event.pk}/"
+
+
+@job_kind("heft4k_simulate")
+def simulate(job, progress) -> tuple[dict, str]:
+    """Arguments: ``schedule`` (id of a HEFT4K schedule). Runs its CFS simulation and the baselines and stores
+    them for the schedule page (schedules stored before the jobs did it themselves)."""
+    pk = _id(job, "schedule")
+    schedule = Schedule.objects.select_related("application").filter(pk=pk, fleet=job.fleet).first()
+    if schedule is None:
+        raise ValueError(f"schedule {pk} does not exist")
+    progress(5, f"simulating schedule {schedule.pk} on Kubernetes (Linux CFS)")
+    row = simulation.store(schedule)
+    if row is None:
+        raise InputError(f"schedule {pk} is not a HEFT4K schedule (its tasks have no niceness)", "schedule")
+    result = {"schedule": schedule.pk, "simulated": not row.note, "note": row.note}
+    return result, f"/api/v1/schedules/{schedule.pk}/"

@@ -74,3 +74,32 @@ class RemapEvent(FleetOwned):
     @property
     def pods_moved(self) -> int:
         return sum(1 for p in self.pods if p.get("created"))
+
+
+class ScheduleSimulation(models.Model):
+    """What the schedule page shows of a HEFT4K schedule beside its plan, computed once by a job: the plan's
+    run under the Linux CFS simulator (pods started at once, CPUs shared by nice weight) and the simulated
+    makespans of the schedulers HEFT4K is compared with (thesis 4.3.2), on the same DAG and nodes.
+
+    The job that stores a HEFT4K schedule computes it (``schedule``, ``compare`` and ``remap`` jobs); a
+    ``heft4k_simulate`` job computes it for a schedule stored before. ``note`` says why nothing was
+    simulated (too many tasks, several frames), with ``simulated`` then empty.
+    """
+
+    schedule = models.OneToOneField(
+        "scheduling.Schedule", on_delete=models.CASCADE, related_name="heft4k_simulation"
+    )
+    note = models.CharField(max_length=300, blank=True, help_text="why the schedule was not simulated")
+    simulated = models.JSONField(
+        default=dict, blank=True, help_text="the CFS-simulated run, as continuum.schedule/v1"
+    )
+    sharing = models.JSONField(
+        default=list, blank=True, help_text="[task, frame, text]: time each simulated task lost to CPU sharing"
+    )
+    baselines = models.JSONField(
+        default=list, blank=True, help_text="simulated makespans: [{name, makespan, vs_plan}]"
+    )
+    created = models.DateTimeField(auto_now_add=True)
+
+    def __str__(self) -> str:
+        return f"CFS simulation of schedule {self.schedule_id}"

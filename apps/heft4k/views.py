@@ -1,100 +1,60 @@
-"""HEFT4K pages of the dashboard: the schedule panel (niceness, predicted vs simulated Gantt, "fail this
-node" what-if), remap events and their history. Every page needs a login and is scoped to the user's fleets."""
+"""HEFT4K pages of the dashboard: the panels it adds to the schedule page (niceness, predicted vs simulated
+Gantt, "fail this node" what-if) and the application page (remapping history), remap events and their
+history. Every page needs a login and is scoped to the user's fleets.
+
+The host pages never import this module: :func:`register` adds the panels (``apps.ui.panels``) when the
+app is ready.
+"""
 
 from __future__ import annotations
 
-from django import forms
-from django.conf import settings
 from django.contrib import messages
 from django.contrib.auth.decorators import login_required
 from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
-from apps.dashboard import charts
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.scheduling.models import Schedule
-from apps.tenancy.scoping import visible_fleets
+from apps.scheduling.views import schedule_page
+from apps.ui import charts
+from apps.ui.helpers import paginate, scoped
+from apps.ui.links import register_result_page
+from apps.ui.panels import register_panel
 from apps.workloads.models import Application
 from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Schedule as EngineSchedule
-from continuum.engine.heft4k.k8s_baselines import Unschedulable, run_heft4k, run_heft_k8s, run_k8s_default
 
-from . import remapping
-from .models import RemapEvent
+from . import remapping, simulation
+from .forms import WhatIfForm
+from .models import RemapEvent, ScheduleSimulation
 
-#: Above this many tasks the schedule page does not run the simulator on every view.
-SIMULATE_MAX_TASKS = 3000
-
-
-class WhatIfForm(forms.Form):
-    """Fail one node of a schedule and see Algorithm 2's remap before anything is pushed."""
-
-    node = forms.ChoiceField(label="Fail node")
-    threshold = forms.FloatField(
-        required=False,
-        min_value=0,
-        max_value=100,
-        label="Threshold (%)",
-        help_text="total remap when the lost share of the HEFT ranks exceeds this",
-    )
-
-    def __init__(self, *args, schedule: Schedule, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.schedule = schedule
-        counts: dict[str, int] = {}
-        for processor in schedule.assignments.values_list("processor", flat=True):
-            counts[processor] = counts.get(processor, 0) + 1
-        self.fields["node"].choices = [
-            (n, f"{n} ({counts.get(n, 0)} task{'s' if counts.get(n, 0) != 1 else ''})")
-            for n in remapping.schedule_nodes(schedule)
-        ]
-        self.fields["threshold"].initial = round(100 * settings.CONTINUUM_REMAP_THRESHOLD, 6)
-        self.fields["threshold"].widget.attrs["step"] = "any"
-
-    def clean(self):
-        data = super().clean()
-        if "node" not in data:
-            return data
-        threshold = data.get("threshold")
-        data["fraction"] = None if threshold is None else threshold / 100.0
-        try:
-            remapping.check(self.schedule, [data["node"]], data["fraction"])
-        except InputError as exc:
-            self.add_error("threshold" if exc.field == "threshold" else "node", str(exc))
-        return data
-
-    def job_arguments(self) -> dict:
-        return {
-            "schedule": self.schedule.pk,
-            "fail": [self.cleaned_data["node"]],
-            "what_if": True,
-            "threshold": self.cleaned_data["fraction"],
-            "trigger": RemapEvent.Trigger.WHAT_IF,
-        }
-
-
-def _scoped(request: HttpRequest, qs, lookup: str = "fleet"):
-    return qs.filter(**{f"{lookup}__in": visible_fleets(request)})
+#: Said on the page of a HEFT4K schedule stored before its job simulated it.
+NOT_COMPUTED = "simulation not computed: this schedule was stored before jobs simulated their schedules"
 
 
 # ---- the schedule page's HEFT4K panel --------------------------------------------------------------
 def schedule_panel(
+    request: HttpRequest,
     schedule: Schedule,
+    *,
     engine: EngineSchedule,
     platform: Platform,
     dag: TaskGraph,
     critical: list[tuple[str, int]],
     whatif_form: WhatIfForm | None = None,
+    **_: object,
 ) -> dict | None:
     """What the schedule page shows for a HEFT4K schedule (one whose tasks carry a niceness), else None:
-    the predicted plan and its CFS-simulated run on one time axis, the simulated makespans of the
-    baselines, the what-if form and the remaps of this schedule."""
-    if not any(a.niceness is not None for a in engine.assignments):
+    the predicted plan and its stored CFS-simulated run on one time axis (its ``figure`` replaces the page's
+    Gantt chart), the simulated makespans of the baselines, the what-if form and the remaps of this
+    schedule. Nothing is simulated here: the job that stored the schedule did (:mod:`.simulation`)."""
+    if not simulation.is_heft4k(engine):
         return None
+    stored = ScheduleSimulation.objects.filter(schedule=schedule).first()
     panel: dict = {
         "form": whatif_form or WhatIfForm(schedule=schedule),
         "can_remap": len(remapping.schedule_nodes(schedule)) > 1 and all(a.frame == 0 for a in engine.assignments),
@@ -102,58 +62,61 @@ def schedule_panel(
         "remaps": list(schedule.remaps.all()[:10]),
         "simulated": [],
         "simulation_note": "",
+        "not_computed": stored is None,
     }
     predicted = charts.GanttPanel("Predicted (HEFT4K plan, synchronised)", engine, platform, set(critical))
     panels = [predicted]
-    frames = len({a.frame for a in engine.assignments})
-    if len(dag.tasks) > SIMULATE_MAX_TASKS:
-        panel["simulation_note"] = f"not simulated: more than {SIMULATE_MAX_TASKS} tasks"
-    elif frames > 1:
-        # The CFS simulator runs one instance of the DAG; it would fold the frames onto one mapping.
-        panel["simulation_note"] = f"not simulated: the CFS simulation runs one frame and this schedule has {frames}"
+    if stored is None:
+        panel["simulation_note"] = NOT_COMPUTED
+    elif stored.note:
+        panel["simulation_note"] = stored.note
     else:
-        simulated = run_heft4k(dag, platform, engine)
-        notes = _sharing_notes(simulated, dag, platform, dag.time_unit)
+        simulated = EngineSchedule.from_dict(stored.simulated)
+        notes = {(task, frame): text for task, frame, text in stored.sharing}
         panels.append(
             charts.GanttPanel("Simulated on Kubernetes (Linux CFS, niceness)", simulated, platform, set(critical),
                               notes=notes)
         )  # fmt: skip
-        panel["simulated"] = _baselines(dag, platform, engine, simulated)
+        panel["simulated"] = stored.baselines
     fig = charts.stacked_gantt_figure(panels, dag.time_unit, colour_by_niceness=True)
     panel["figure"] = charts.to_html(fig, div_id="gantt-chart")
+    panel["gantt_title"] = ": predicted plan" + (" and simulated run" if panel["simulated"] else "")
     return panel
 
 
-def _sharing_notes(simulated: EngineSchedule, dag: TaskGraph, platform: Platform, unit: str) -> dict:
-    """Hover line for a simulated task: how much longer than its cost it took (CPU shared, preempted)."""
-    notes = {}
-    for a in simulated.assignments:
-        cost = platform.cost(dag.tasks[a.task], platform.processors[platform.index[a.processor]]) or 0.0
-        lost = (a.finish - a.start) - cost
-        notes[(a.task, a.frame)] = (
-            f"cost {cost:.6g} {unit}; {lost:.6g} {unit} lost to CPU sharing" if lost > 1e-9 else "ran alone"
-        )
-    return notes
+def application_panel(request: HttpRequest, application: Application, **_: object) -> dict:
+    """The application page's remapping history."""
+    return {"remaps": application.remaps.select_related("schedule")[:10]}
 
 
-def _baselines(dag, platform, plan, simulated) -> list[dict]:
-    """Simulated makespans of HEFT4K and the schedulers it is compared with (thesis 4.3.2), same inputs."""
-    rows = [
-        {"name": "HEFT4K (this mapping, with niceness)", "makespan": simulated.makespan},
-        {
-            "name": "HEFT on Kubernetes (this mapping, all nice 0)",
-            "makespan": run_heft_k8s(dag, platform, plan).makespan,
+def register() -> None:
+    """Add HEFT4K's panels to the schedule and application pages and its remap page as the page of a job
+    result naming a remap (called by the app's ``ready()``)."""
+    register_result_page("remap", "heft4k:remap", order=10)
+    register_panel(
+        "scheduling.schedule",
+        "heft4k",
+        schedule_panel,
+        templates={
+            "notice": "heft4k/schedule_origin.html",
+            "gantt_intro": "heft4k/schedule_gantt_intro.html",
+            "after_gantt": "heft4k/schedule_panel.html",
         },
-    ]
-    try:
-        default = run_k8s_default(dag, platform).makespan
-    except Unschedulable:
-        default = None
-    rows.append({"name": "default Kubernetes scheduler (model)", "makespan": default})
-    for row in rows:
-        m = row["makespan"]
-        row["vs_plan"] = None if m is None or plan.makespan <= 0 else m / plan.makespan - 1.0
-    return rows
+    )
+    register_panel(
+        "workloads.application", "heft4k", application_panel, templates={"main": "heft4k/application_remaps.html"}
+    )
+
+
+@login_required
+@require_POST
+def simulate(request: HttpRequest, pk: int) -> HttpResponse:
+    """Start the job that simulates a HEFT4K schedule stored before its job did (never in the request)."""
+    schedule = get_object_or_404(scoped(request, Schedule.objects.select_related("fleet")), pk=pk)
+    job = start_job("heft4k_simulate", schedule.fleet, {"schedule": schedule.pk}, request.user)
+    if job.state == Job.State.SUCCEEDED:
+        return redirect("scheduling:schedule", pk=schedule.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 # ---- what-if and remap pages ------------------------------------------------------------------------
@@ -161,12 +124,10 @@ def _baselines(dag, platform, plan, simulated) -> list[dict]:
 @require_POST
 def whatif(request: HttpRequest, pk: int) -> HttpResponse:
     schedule = get_object_or_404(
-        _scoped(request, Schedule.objects.select_related("fleet", "application", "cluster", "job")), pk=pk
+        scoped(request, Schedule.objects.select_related("fleet", "application", "cluster", "job")), pk=pk
     )
     form = WhatIfForm(request.POST, schedule=schedule)
     if not form.is_valid():
-        from apps.dashboard.views import schedule_page
-
         return schedule_page(request, schedule, whatif_form=form, status=400)
     job = start_job("remap", schedule.fleet, form.job_arguments(), request.user)
     return _after_job(job)
@@ -179,13 +140,13 @@ def _after_job(job: Job) -> HttpResponse:
     event = RemapEvent.objects.filter(job=job).first()
     if job.done and event is not None:
         return redirect("heft4k:remap", pk=event.pk)
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 @login_required
 def remap_detail(request: HttpRequest, pk: int) -> HttpResponse:
     event = get_object_or_404(
-        _scoped(request, RemapEvent.objects.select_related("fleet", "application", "schedule", "new_schedule", "job")),
+        scoped(request, RemapEvent.objects.select_related("fleet", "application", "schedule", "new_schedule", "job")),
         pk=pk,
     )
     figure = problem = ""
@@ -253,7 +214,7 @@ def _before_after(event: RemapEvent) -> str:
 @login_required
 @require_POST
 def remap_apply(request: HttpRequest, pk: int) -> HttpResponse:
-    event = get_object_or_404(_scoped(request, RemapEvent.objects.select_related("fleet", "schedule")), pk=pk)
+    event = get_object_or_404(scoped(request, RemapEvent.objects.select_related("fleet", "schedule")), pk=pk)
     reason = remapping.cannot_apply(event)
     if reason:
         messages.error(request, f"Cannot apply: {reason}.")
@@ -266,17 +227,15 @@ def remap_apply(request: HttpRequest, pk: int) -> HttpResponse:
         event.refresh_from_db()
         messages.success(request, f"Applied: {event.message}.")
         return redirect("heft4k:remap", pk=event.pk)
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 @login_required
 def remap_list(request: HttpRequest) -> HttpResponse:
-    from apps.dashboard.views import paginate
-
-    events = _scoped(request, RemapEvent.objects.select_related("application", "schedule"))
+    events = scoped(request, RemapEvent.objects.select_related("application", "schedule"))
     application = None
     if request.GET.get("application", "").isdigit():
-        application = get_object_or_404(_scoped(request, Application.objects), pk=int(request.GET["application"]))
+        application = get_object_or_404(scoped(request, Application.objects), pk=int(request.GET["application"]))
         events = events.filter(application=application)
     return render(
         request,

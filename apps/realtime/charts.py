@@ -12,7 +12,7 @@ from statistics import fmean, quantiles
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from apps.dashboard.charts import FONT, _base_layout, esc
+from apps.ui.charts import FONT, base_layout, esc
 
 PALETTE = ["#4c78a8", "#f58518", "#54a24b", "#b279a2", "#e45756", "#72b7b2", "#eeca3b", "#9d755d", "#bab0ac"]
 CLASS_COLOURS = {"C": "#b03a2e", "B": "#d68910", "A": "#2e86c1", "NONE": "#9aa1a9"}
@@ -61,7 +61,7 @@ def utilization_figure(nodes: Sequence[Mapping]) -> go.Figure:
             hovertemplate="%{y}<br>threshold %{x:.3f}<extra></extra>",
         )
     )
-    _base_layout(fig, height=max(200, 110 + 46 * len(names)))
+    base_layout(fig, height=max(200, 110 + 46 * len(names)))
     top = max([*thresholds, *(sum(n["by_class"].values()) for n in nodes), 1.0])
     fig.update_layout(
         barmode="stack",
@@ -170,7 +170,7 @@ def timeline_figure(
             )
         )
     height = max(280, 110 + 190 * len(nodes))
-    _base_layout(fig, height=height)
+    base_layout(fig, height=height)
     fig.update_layout(
         # Above the first panel's title (subplot titles sit just above their panel).
         legend={"orientation": "h", "yanchor": "bottom", "y": 1 + 40 / height, "xanchor": "left", "x": 0},
@@ -202,7 +202,7 @@ def response_figure(values_ms: Sequence[float], components: Mapping[str, float] 
                 x=stats[key], y=1, yref="paper", xanchor="left", yanchor="bottom", showarrow=False,
                 text=f"{key} {stats[key]:.1f} ms", font={"size": 11},
             )  # fmt: skip
-    _base_layout(fig, height=280)
+    base_layout(fig, height=280)
     fig.update_layout(showlegend=False, margin={"l": 10, "r": 20, "t": 40, "b": 10}, bargap=0.05)
     fig.update_xaxes(title_text="report received → eviction sent (ms)", rangemode="tozero", gridcolor="#e4e7eb")
     fig.update_yaxes(title_text="evictions", gridcolor="#e4e7eb")

@@ -14,9 +14,9 @@ from django.utils import timezone
 from django.views.decorators.http import require_POST
 
 from apps.clusters.models import Cluster
-from apps.dashboard.charts import to_html
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
+from apps.ui.charts import to_html
 
 from . import charts
 from .models import Monitoring, MonitoringReport, NodeTaint, RealTime, RTDecision, RTEvent, RTPlan, RTPod, RTPolicy
@@ -80,20 +80,45 @@ def _node_rows(cluster: Cluster, pods: list[RTPod], tainted: set[str]) -> list[d
 
 @login_required
 def cluster_page(request: HttpRequest, pk: int) -> HttpResponse:
+    """One cluster's RT state: node utilization, RealTime objects and pods, the missed-deadline timeline of
+    the chosen window, the eviction response times, the RT scheduler's decisions and the what-if plans."""
     cluster = get_object_or_404(clusters_of(request).select_related("fleet"), pk=pk)
     policy = RTPolicy.for_cluster(cluster)
     now = timezone.now()
     window = request.GET.get("window", "1h")
-    minutes = WINDOWS.get(window, 60)
-    since = now - timedelta(minutes=minutes)
-
+    since = now - timedelta(minutes=WINDOWS.get(window, 60))
     pods = list(RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True).select_related("realtime"))
+    return render(
+        request,
+        "realtime/cluster.html",
+        {
+            "cluster": cluster,
+            "policy": policy,
+            **_node_context(cluster, pods, now),
+            **_realtime_context(cluster, pods),
+            **_timeline_context(cluster, policy, since, now),
+            "window": window,
+            "windows": list(WINDOWS),
+            **_response_context(cluster),
+            **_decision_context(cluster, pods),
+            "plans": RTPlan.objects.filter(cluster=cluster, kind=RTPlan.Kind.WHATIF)[:10],
+            "nav": "realtime",
+        },
+    )
+
+
+def _node_context(cluster: Cluster, pods: list[RTPod], now) -> dict:
+    """The nodes' RT utilization against their threshold (table and figure) and the taints in force."""
     active_taints = list(
         NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True, expires_at__gt=now).select_related("node")
     )
     nodes = _node_rows(cluster, pods, {t.node.name for t in active_taints})
     util_fig = to_html(charts.utilization_figure(nodes), div_id="utilization-chart") if nodes else None
+    return {"nodes": nodes, "util_fig": util_fig, "taints": active_taints}
 
+
+def _realtime_context(cluster: Cluster, pods: list[RTPod]) -> dict:
+    """The RealTime objects with their live pods, WCETs and latest missed-deadline reports; the other pods."""
     latest = {m.pod or m.container_name: m for m in Monitoring.objects.filter(cluster=cluster)}
     realtimes = list(cluster.realtimes.prefetch_related("wcets__node", "pods"))
     for rt in realtimes:
@@ -102,8 +127,12 @@ def cluster_page(request: HttpRequest, pk: int) -> HttpResponse:
         rt.missed = [m for m in (latest.get(p.name) for p in rt.live_pods) if m]
         if not rt.missed and rt.name in latest:
             rt.missed = [latest[rt.name]]
-    others = [p for p in pods if p.realtime_id is None]
+    return {"realtimes": realtimes, "others": [p for p in pods if p.realtime_id is None]}
 
+
+def _timeline_context(cluster: Cluster, policy: RTPolicy, since, now) -> dict:
+    """The timeline of the window: missed-deadline reports (the latest :data:`TIMELINE_LIMIT`), RT events
+    and the taints they put on nodes."""
     reports = list(
         MonitoringReport.objects.filter(cluster=cluster, received_at__gte=since)
         .order_by("-received_at")
@@ -124,32 +153,55 @@ def cluster_page(request: HttpRequest, pk: int) -> HttpResponse:
         {"node": e.node, "time": e.received_at, "kind": e.kind, "victim": e.victim, "container": e.container}
         for e in events
     ]
+    timeline = None
+    if report_rows or event_rows:
+        taint_rows = _taint_rows(cluster, since, now)
+        fig = charts.timeline_figure(report_rows, event_rows, taint_rows, policy.threshold_period, now)
+        timeline = to_html(fig, div_id="timeline-chart")
+    return {
+        "timeline": timeline,
+        "report_count": len(report_rows),
+        "limited": len(report_rows) >= TIMELINE_LIMIT,
+        "events": events[-25:][::-1],
+    }
+
+
+def _taint_rows(cluster: Cluster, since, now) -> list[dict]:
+    """The taints in force during the window, clipped to it."""
     taints = NodeTaint.objects.filter(cluster=cluster, expires_at__gte=since).filter(
         Q(lifted_at__isnull=True) | Q(lifted_at__gte=since)
     )
-    taint_rows = []
+    rows = []
     for t in taints.select_related("node", "event"):
         start = t.event.received_at if t.event else t.created
         end = min(t.lifted_at or t.expires_at, t.expires_at, now)
-        taint_rows.append({"node": t.node.name, "start": max(start, since), "end": end})
-    timeline = None
-    if report_rows or event_rows:
-        fig = charts.timeline_figure(report_rows, event_rows, taint_rows, policy.threshold_period, now)
-        timeline = to_html(fig, div_id="timeline-chart")
+        rows.append({"node": t.node.name, "start": max(start, since), "end": end})
+    return rows
 
+
+def _response_context(cluster: Cluster) -> dict:
+    """The eviction response times (the latest 2000) and their components, against thesis Table 4.35."""
     responses = list(
         RTEvent.objects.filter(cluster=cluster, kind=RTEvent.Kind.EVICTION, response_ms__isnull=False)
         .order_by("-received_at")
         .values_list("response_ms", "response")[:2000]
     )
     response_ms = [r[0] for r in responses]
-    response_stats = charts.summary(response_ms)
     components = {}
     for key in ("update_wait", "trans_json", "reconcile", "trans_kill", "total"):
         values = [r[1][key] for r in responses if isinstance(r[1], dict) and key in r[1]]
         components[key] = charts.summary(values)
     response_fig = to_html(charts.response_figure(response_ms), div_id="response-chart") if response_ms else None
+    return {
+        "response_fig": response_fig,
+        "response_stats": charts.summary(response_ms),
+        "components": components,
+        "table_4_35": charts.TABLE_4_35,
+    }
 
+
+def _decision_context(cluster: Cluster, pods: list[RTPod]) -> dict:
+    """The RT scheduler's latest decisions and the pods waiting for it, each with its last decision."""
     decisions = list(RTDecision.objects.filter(cluster=cluster)[:25])
     pending = [p for p in pods if not p.node and p.scheduler_name == "RT-scheduler"]
     last_decision = {}
@@ -157,33 +209,7 @@ def cluster_page(request: HttpRequest, pk: int) -> HttpResponse:
         last_decision.setdefault((d.namespace, d.pod), d)
     for p in pending:
         p.decision = last_decision.get((p.namespace, p.name))
-    return render(
-        request,
-        "realtime/cluster.html",
-        {
-            "cluster": cluster,
-            "policy": policy,
-            "nodes": nodes,
-            "util_fig": util_fig,
-            "realtimes": realtimes,
-            "others": others,
-            "pending": pending,
-            "timeline": timeline,
-            "window": window,
-            "windows": list(WINDOWS),
-            "report_count": len(report_rows),
-            "limited": len(report_rows) >= TIMELINE_LIMIT,
-            "response_fig": response_fig,
-            "response_stats": response_stats,
-            "components": components,
-            "table_4_35": charts.TABLE_4_35,
-            "events": events[-25:][::-1],
-            "taints": active_taints,
-            "decisions": decisions,
-            "plans": RTPlan.objects.filter(cluster=cluster, kind=RTPlan.Kind.WHATIF)[:10],
-            "nav": "realtime",
-        },
-    )
+    return {"decisions": decisions, "pending": pending}
 
 
 @login_required
@@ -198,7 +224,7 @@ def run_whatif(request: HttpRequest, pk: int) -> HttpResponse:
     )
     if job.state == "succeeded" and (job.result or {}).get("rt_plan"):
         return redirect("realtime:plan", pk=job.result["rt_plan"])
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 @login_required

@@ -9,7 +9,8 @@ class SchedulingConfig(AppConfig):
         from apps.tenancy.demo import register_demo
 
         # api: adds the applications' schedule and compare actions; jobs: registers the job kinds
-        from . import api, jobs  # noqa: F401
+        from . import api, jobs, views  # noqa: F401
         from .demo import demo_schedule
 
         register_demo(demo_schedule)
+        views.register()  # the schedule and compare forms and the schedules on the application page

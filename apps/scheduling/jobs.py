@@ -11,6 +11,7 @@ from continuum.engine.device import algorithms
 from continuum.engine.device.compare import compare
 
 from .models import Comparison, Schedule
+from .signals import schedule_stored
 
 FRAME_ARGUMENTS = ("frames", "fps", "period", "batch")
 
@@ -56,6 +57,7 @@ def schedule_application(job, progress) -> tuple[dict, str]:
     progress(97, "storing the schedule")
     with transaction.atomic():
         row = Schedule.store(result, application=application, platform=platform, cluster=cluster, job=job)
+    schedule_stored.send(sender=Schedule, schedule=row, progress=progress)
     return {"schedule": row.pk, "makespan": row.makespan}, f"/api/v1/schedules/{row.pk}/"
 
 
@@ -92,10 +94,14 @@ def compare_algorithms(job, progress) -> tuple[dict, str]:
             result=result,
             best=result["best"],
         )
-        for name in names:
+        stored = [
             Schedule.store(
                 made[name], application=application, platform=platform, cluster=cluster, comparison=comparison
             )
+            for name in names
+        ]
+    for row in stored:
+        schedule_stored.send(sender=Schedule, schedule=row, progress=progress)
     summary = {
         "comparison": comparison.pk,
         "best": result["best"],

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from apps.dashboard.charts import FONT, esc
+from apps.ui.charts import FONT, esc
 
 NODE_COLOURS = ["#2e9e5b", "#e0a526", "#4c78a8", "#b05fb0", "#e4572e", "#59a5a5", "#8c6d31", "#7f7f7f"]
 

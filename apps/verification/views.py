@@ -11,11 +11,11 @@ from django.http import Http404, HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
-from apps.dashboard.charts import to_html
-from apps.dashboard.views import paginate, scoped
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
+from apps.ui.charts import to_html
+from apps.ui.helpers import paginate, scoped
 
 from . import charts
 from .models import AllocationRun, Assertion, Handler, MigrationEvent, Monitor, Violation
@@ -93,7 +93,7 @@ def simulate(request: HttpRequest) -> HttpResponse:
     )
     if job.state == Job.State.SUCCEEDED and (job.result or {}).get("page"):
         return redirect(job.result["page"])
-    return redirect("dashboard:job", pk=job.pk)
+    return redirect("jobs:job", pk=job.pk)
 
 
 @login_required

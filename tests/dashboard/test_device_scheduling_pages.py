@@ -7,10 +7,12 @@ import pytest
 from django.core.files.uploadedfile import SimpleUploadedFile
 from django.urls import reverse
 
-from apps.dashboard import charts
+from apps.devices import charts as device_charts
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
+from apps.scheduling import charts as scheduling_charts
 from apps.scheduling.models import Comparison, Schedule
+from apps.ui import charts
 from apps.workloads.models import Application
 from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.schedule import Assignment
@@ -30,7 +32,7 @@ BOARD_FORM = {"target": "platform", "cpus": 1, "gpus": 1, "shared_memory": "on"}
 def upload(client, filename, content, **fields):
     if isinstance(content, str):
         content = content.encode()
-    return client.post(reverse("dashboard:applications"), {"file": SimpleUploadedFile(filename, content), **fields})
+    return client.post(reverse("workloads:applications"), {"file": SimpleUploadedFile(filename, content), **fields})
 
 
 @pytest.fixture
@@ -61,18 +63,18 @@ def foreign_comparison(fleets):
 # ---- login and scoping ---------------------------------------------------------------------------------
 def test_new_pages_require_login(client, fig31, comparison):
     urls = [
-        reverse("dashboard:comparisons"),
-        reverse("dashboard:comparison", args=[comparison.pk]),
-        reverse("dashboard:devices"),
-        reverse("dashboard:device", args=["jetson-tx2"]),
+        reverse("scheduling:comparisons"),
+        reverse("scheduling:comparison", args=[comparison.pk]),
+        reverse("devices:devices"),
+        reverse("devices:device", args=["jetson-tx2"]),
     ]
     for url in urls:
         response = client.get(url)
         assert response.status_code == 302 and response["Location"].startswith(reverse("login")), url
     posts = [
-        (reverse("dashboard:application-generate"), {"generator": "thesis"}),
-        (reverse("dashboard:application-compare", args=[fig31.pk]), {"compare-algorithms": ["heft"]}),
-        (reverse("dashboard:device", args=["jetson-tx2"]), {"cpu_usage": 1, "gpu_usage": 1}),
+        (reverse("workloads:application-generate"), {"generator": "thesis"}),
+        (reverse("scheduling:application-compare", args=[fig31.pk]), {"compare-algorithms": ["heft"]}),
+        (reverse("devices:device", args=["jetson-tx2"]), {"cpu_usage": 1, "gpu_usage": 1}),
     ]
     before = (Application.objects.count(), Job.objects.count())
     for url, data in posts:
@@ -83,10 +85,10 @@ def test_new_pages_require_login(client, fig31, comparison):
 
 def test_new_pages_render_for_a_member(member, comparison):
     for url in [
-        reverse("dashboard:comparisons"),
-        reverse("dashboard:comparison", args=[comparison.pk]),
-        reverse("dashboard:devices"),
-        reverse("dashboard:device", args=["jetson-agx-xavier"]),
+        reverse("scheduling:comparisons"),
+        reverse("scheduling:comparison", args=[comparison.pk]),
+        reverse("devices:devices"),
+        reverse("devices:device", args=["jetson-agx-xavier"]),
     ]:
         response = member.get(url)
         assert response.status_code == 200, url
@@ -95,18 +97,18 @@ def test_new_pages_render_for_a_member(member, comparison):
 
 
 def test_other_fleets_comparisons_answer_404_and_are_not_listed(member, foreign_comparison, comparison):
-    assert member.get(reverse("dashboard:comparison", args=[foreign_comparison.pk])).status_code == 404
-    url = reverse("dashboard:application-compare", args=[foreign_comparison.application_id])
+    assert member.get(reverse("scheduling:comparison", args=[foreign_comparison.pk])).status_code == 404
+    url = reverse("scheduling:application-compare", args=[foreign_comparison.application_id])
     jobs = Job.objects.count()
     assert member.post(url, {"compare-algorithms": ["heft"], **_prefixed(BOARD_FORM)}).status_code == 404
     assert Job.objects.count() == jobs
-    listing = member.get(reverse("dashboard:comparisons")).content.decode()
+    listing = member.get(reverse("scheduling:comparisons")).content.decode()
     assert f'href="/comparisons/{comparison.pk}/"' in listing
     assert f'href="/comparisons/{foreign_comparison.pk}/"' not in listing
 
 
 def test_unknown_device_is_404(member):
-    assert member.get(reverse("dashboard:device", args=["jetson-orin"])).status_code == 404
+    assert member.get(reverse("devices:device", args=["jetson-orin"])).status_code == 404
 
 
 # ---- import and generate --------------------------------------------------------------------------------
@@ -147,17 +149,17 @@ def test_bad_upload_names_line_or_option_and_stores_nothing(member, filename, co
 
 def test_generate_a_thesis_dag(member):
     response = member.post(
-        reverse("dashboard:application-generate"), {"generator": "thesis", "n": 30, "seed": 4, "dag_class": "linear"}
+        reverse("workloads:application-generate"), {"generator": "thesis", "n": 30, "seed": 4, "dag_class": "linear"}
     )
     app = Application.objects.get()
-    assert response.status_code == 302 and response["Location"] == reverse("dashboard:application", args=[app.pk])
+    assert response.status_code == 302 and response["Location"] == reverse("workloads:application", args=[app.pk])
     assert (app.task_count, app.source_format, app.dag["meta"]["shape"]) == (30, "generator:thesis", "linear")
     assert all(set(t["cost"]) <= {"cpu", "gpu"} for t in app.dag["tasks"])
 
 
 def test_generate_a_layered_dag(member):
     data = {"generator": "layered", "n": 50, "seed": 1, "ccr": 1, "processors": 2, "heterogeneity": 0.5}
-    assert member.post(reverse("dashboard:application-generate"), data).status_code == 302
+    assert member.post(reverse("workloads:application-generate"), data).status_code == 302
     assert Application.objects.get().graph.tasks["0"].cost.keys() == {"p0", "p1"}
 
 
@@ -171,7 +173,7 @@ def test_generate_a_layered_dag(member):
     ],
 )
 def test_bad_generate_requests_show_the_error(member, data, message):
-    response = member.post(reverse("dashboard:application-generate"), {"seed": 0, **data})
+    response = member.post(reverse("workloads:application-generate"), {"seed": 0, **data})
     assert response.status_code == 400 and message in response.content.decode()
     assert Application.objects.count() == 0
 
@@ -179,7 +181,7 @@ def test_bad_generate_requests_show_the_error(member, data, message):
 # ---- frames -------------------------------------------------------------------------------------------------
 def test_schedule_form_with_frames_and_the_figures_on_the_schedule_page(member, fig31):
     response = member.post(
-        reverse("dashboard:application-schedule", args=[fig31.pk]),
+        reverse("scheduling:application-schedule", args=[fig31.pk]),
         {"algorithm": "xeft", **BOARD_FORM, "frames": 3, "period": 10},
     )
     job = Job.objects.get()
@@ -188,7 +190,7 @@ def test_schedule_form_with_frames_and_the_figures_on_the_schedule_page(member, 
     assert schedule.params["frames"] == 3 and schedule.params["period"] == 10
     assert [p["id"] for p in schedule.platform["processors"]] == ["cpu0", "gpu0"]
     assert schedule.assignments.count() == 24
-    page = member.get(reverse("dashboard:schedule", args=[schedule.pk])).content.decode()
+    page = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
     for label in ("Mean frame latency", "Throughput", "Frame buffers used", "Idle time", "Exclusive overlap XO(A)"):
         assert label in page, label
     assert 'id="idle-table"' in page and "<td>gpu0</td>" in page
@@ -205,7 +207,7 @@ def test_schedule_form_with_frames_and_the_figures_on_the_schedule_page(member, 
 )
 def test_bad_frame_options_are_shown_and_start_no_job(member, fig31, data, message):
     response = member.post(
-        reverse("dashboard:application-schedule", args=[fig31.pk]), {"algorithm": "heft", **BOARD_FORM, **data}
+        reverse("scheduling:application-schedule", args=[fig31.pk]), {"algorithm": "heft", **BOARD_FORM, **data}
     )
     assert response.status_code == 400 and message in response.content.decode()
     assert not Job.objects.exists()
@@ -218,27 +220,27 @@ def _prefixed(data: dict) -> dict:
 
 def test_compare_form_runs_a_comparison_job_and_the_page_shows_it(member, fig31):
     response = member.post(
-        reverse("dashboard:application-compare", args=[fig31.pk]),
+        reverse("scheduling:application-compare", args=[fig31.pk]),
         {"compare-algorithms": ["xeft", "heft", "gfl"], "compare-rank_mode": "max", **_prefixed(BOARD_FORM)},
     )
     job = Job.objects.get(kind="compare")
-    assert response.status_code == 302 and response["Location"] == reverse("dashboard:job", args=[job.pk])
+    assert response.status_code == 302 and response["Location"] == reverse("jobs:job", args=[job.pk])
     comparison = Comparison.objects.get(job=job)
     assert comparison.algorithms == ["heft", "xeft", "gfl"]  # in the registry's order
     job_page = member.get(response["Location"]).content.decode()
-    assert reverse("dashboard:comparison", args=[comparison.pk]) in job_page
-    page = member.get(reverse("dashboard:comparison", args=[comparison.pk])).content.decode()
+    assert reverse("scheduling:comparison", args=[comparison.pk]) in job_page
+    page = member.get(reverse("scheduling:comparison", args=[comparison.pk])).content.decode()
     assert 'id="comparison-gantt"' in page and 'id="comparison-bars"' in page and 'id="comparison-table"' in page
     assert "HEFT vs XEFT vs GFL" in page
     for schedule in comparison.schedules.all():  # each algorithm links to its own schedule page
-        assert reverse("dashboard:schedule", args=[schedule.pk]) in page
+        assert reverse("scheduling:schedule", args=[schedule.pk]) in page
     assert '<span class="badge ok">best</span>' in page and "41.4 %" in page  # XEFT vs VisionWorks
-    application_page = member.get(reverse("dashboard:application", args=[fig31.pk])).content.decode()
-    assert reverse("dashboard:comparison", args=[comparison.pk]) in application_page
+    application_page = member.get(reverse("workloads:application", args=[fig31.pk])).content.decode()
+    assert reverse("scheduling:comparison", args=[comparison.pk]) in application_page
 
 
 def test_compare_form_needs_an_algorithm(member, fig31):
-    url = reverse("dashboard:application-compare", args=[fig31.pk])
+    url = reverse("scheduling:application-compare", args=[fig31.pk])
     response = member.post(url, {"compare-rank_mode": "max", **_prefixed(BOARD_FORM)})
     assert response.status_code == 400 and "This field is required" in response.content.decode()
     response = member.post(url, {"compare-algorithms": ["nope"], **_prefixed(BOARD_FORM)})
@@ -249,7 +251,7 @@ def test_compare_form_needs_an_algorithm(member, fig31):
 # ---- devices --------------------------------------------------------------------------------------------------
 def test_device_page_advises_zero_copy_for_shwfs_on_xavier(member):
     response = member.post(
-        reverse("dashboard:device", args=["jetson-agx-xavier"]),
+        reverse("devices:device", args=["jetson-agx-xavier"]),
         {"cpu_usage": 6.1, "gpu_usage": 7.0, "current_model": "SC", "kernel_time": 41.24, "copy_time": 16.88,
          "cpu_workers": 1, "gpu_workers": 1},
     )  # fmt: skip
@@ -261,7 +263,7 @@ def test_device_page_advises_zero_copy_for_shwfs_on_xavier(member):
 
 
 def test_device_page_shows_bad_profiles(member):
-    url = reverse("dashboard:device", args=["jetson-tx2"])
+    url = reverse("devices:device", args=["jetson-tx2"])
     response = member.post(url, {"gpu_usage": 3, "current_model": "SC", "cpu_workers": 1, "gpu_workers": 1})
     assert (
         response.status_code == 400 and "give cpu_usage, or miss_rate_l1 and miss_rate_ll" in response.content.decode()
@@ -281,7 +283,7 @@ def test_comparison_figure_stacks_one_chart_per_algorithm_on_a_shared_time_axis(
     made = {}
     compare(fig31_dag, platform, ["heft", "xeft", "gfl"], frames=2, on_schedule=made.__setitem__)
     schedules = [(name, made[name]) for name in ("heft", "xeft", "gfl")]
-    fig = charts.comparison_figure(schedules, platform=platform, dag=fig31_dag)
+    fig = scheduling_charts.comparison_figure(schedules, platform=platform, dag=fig31_dag)
     layout = fig.layout
     # Three y axes, one per algorithm, stacked; three x axes bound together.
     assert layout.yaxis.domain[0] > layout.yaxis2.domain[1] and layout.yaxis2.domain[0] > layout.yaxis3.domain[1]
@@ -328,24 +330,24 @@ def test_many_frames_share_one_trace_with_a_colour_scale():
 
 def test_comparison_bars_show_each_figure_per_algorithm(fig31_dag):
     out = compare(fig31_dag, board(1), ["heft", "xeft"])
-    fig = charts.comparison_bars_figure(out["results"], ["heft", "xeft"])
+    fig = scheduling_charts.comparison_bars_figure(out["results"], ["heft", "xeft"])
     bars = {t.name: t for t in fig.data}
     assert list(bars["makespan"].x) == ["HEFT", "XEFT"] and list(bars["makespan"].y) == [25, 17]
     assert list(bars["speedup vs VisionWorks (%)"].y) == pytest.approx([100 * 4 / 29, 100 * 12 / 29])
     assert "mean frame latency" not in bars  # one frame: no latency or throughput panels
     with_frames = compare(fig31_dag, board(1), ["heft", "xeft"], frames=2)
-    names = {t.name for t in charts.comparison_bars_figure(with_frames["results"]).data}
+    names = {t.name for t in scheduling_charts.comparison_bars_figure(with_frames["results"]).data}
     assert {"mean frame latency", "throughput (frames per time unit)"} <= names
 
 
 def test_uma_zone_figure_draws_the_boards_zones_and_the_usage():
-    fig = charts.uma_zone_figure(100.0, 16.2, 57.1, cpu_usage=6.1, gpu_usage=7.0)
+    fig = device_charts.uma_zone_figure(100.0, 16.2, 57.1, cpu_usage=6.1, gpu_usage=7.0)
     bands = {t.text[0]: (t.base[0], t.base[0] + t.x[0]) for t in fig.data if t.type == "bar"}
     assert bands["zone 1: ZC = SC"] == (0, 16.2) and bands["zone 2: gap < 200 %"] == pytest.approx((16.2, 57.1))
     assert bands["CPU not cache-dependent"] == (0, 100) and "CPU cache-dependent" not in bands
     marks = {t.name: t.x[0] for t in fig.data if t.type == "scatter"}
     assert marks == {"GPU usage": 7.0, "CPU usage": 6.1}
-    tx2 = charts.uma_zone_figure(15.6, 2.7, None)
+    tx2 = device_charts.uma_zone_figure(15.6, 2.7, None)
     assert {t.text[0] for t in tx2.data if t.type == "bar"} == {
         "zone 1: ZC = SC",
         "zone 3: cache-dependent",

@@ -7,10 +7,10 @@ from django.contrib.staticfiles import finders
 from django.core.files.uploadedfile import SimpleUploadedFile
 from django.urls import reverse
 
-from apps.dashboard import charts
 from apps.jobs.models import Job
 from apps.jobs.registry import HANDLERS
 from apps.scheduling.models import Schedule
+from apps.ui import charts
 from apps.workloads.models import Application
 from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.platform import Platform, Processor
@@ -27,14 +27,14 @@ pytestmark = pytest.mark.django_db
 def page_urls(cluster, application, schedule) -> list[str]:
     return [
         reverse("dashboard:home"),
-        reverse("dashboard:clusters"),
-        reverse("dashboard:cluster", args=[cluster.pk]),
-        reverse("dashboard:applications"),
-        reverse("dashboard:application", args=[application.pk]),
-        reverse("dashboard:schedules"),
-        reverse("dashboard:schedule", args=[schedule.pk]),
-        reverse("dashboard:jobs"),
-        reverse("dashboard:job", args=[schedule.job.pk]),
+        reverse("clusters:clusters"),
+        reverse("clusters:cluster", args=[cluster.pk]),
+        reverse("workloads:applications"),
+        reverse("workloads:application", args=[application.pk]),
+        reverse("scheduling:schedules"),
+        reverse("scheduling:schedule", args=[schedule.pk]),
+        reverse("jobs:jobs"),
+        reverse("jobs:job", args=[schedule.job.pk]),
     ]
 
 
@@ -42,7 +42,7 @@ def upload(client, filename: str, content: bytes | str, **fields):
     if isinstance(content, str):
         content = content.encode()
     data = {"file": SimpleUploadedFile(filename, content, content_type="application/json"), **fields}
-    return client.post(reverse("dashboard:applications"), data)
+    return client.post(reverse("workloads:applications"), data)
 
 
 def dag_doc(tasks, edges, name="bad-dag"):
@@ -61,14 +61,14 @@ def test_forms_require_login_and_store_nothing(client, application, schedule):
     apps_before, jobs_before = Application.objects.count(), Job.objects.count()
     posts = [
         (
-            reverse("dashboard:applications"),
+            reverse("workloads:applications"),
             {"file": SimpleUploadedFile("a.json", (DATA / "topcuoglu.dag.json").read_bytes())},
         ),
         (
-            reverse("dashboard:application-schedule", args=[application.pk]),
+            reverse("scheduling:application-schedule", args=[application.pk]),
             {"algorithm": "heft", "target": "platform", "cpus": 2},
         ),
-        (reverse("dashboard:schedule-push", args=[schedule.pk]), {}),
+        (reverse("scheduling:schedule-push", args=[schedule.pk]), {}),
     ]
     for url, data in posts:
         response = client.post(url, data)
@@ -97,38 +97,38 @@ def test_pages_render_for_a_member(member, cluster, application, schedule):
 # ---- fleet scoping --------------------------------------------------------------------------------
 def test_other_fleets_objects_answer_404(member, foreign):
     urls = [
-        reverse("dashboard:cluster", args=[foreign["cluster"].pk]),
-        reverse("dashboard:application", args=[foreign["application"].pk]),
-        reverse("dashboard:schedule", args=[foreign["schedule"].pk]),
-        reverse("dashboard:job", args=[foreign["job"].pk]),
+        reverse("clusters:cluster", args=[foreign["cluster"].pk]),
+        reverse("workloads:application", args=[foreign["application"].pk]),
+        reverse("scheduling:schedule", args=[foreign["schedule"].pk]),
+        reverse("jobs:job", args=[foreign["job"].pk]),
     ]
     for url in urls:
         assert member.get(url).status_code == 404, url
     jobs_before = Job.objects.count()
-    schedule_url = reverse("dashboard:application-schedule", args=[foreign["application"].pk])
+    schedule_url = reverse("scheduling:application-schedule", args=[foreign["application"].pk])
     assert member.post(schedule_url, {"algorithm": "heft", "target": "platform", "cpus": 3}).status_code == 404
-    assert member.post(reverse("dashboard:schedule-push", args=[foreign["schedule"].pk])).status_code == 404
+    assert member.post(reverse("scheduling:schedule-push", args=[foreign["schedule"].pk])).status_code == 404
     assert Job.objects.count() == jobs_before
 
 
 def test_lists_show_only_own_fleets(member, foreign, cluster, application, schedule):
-    for name in ["home", "clusters", "applications", "schedules", "jobs"]:
-        body = member.get(reverse(f"dashboard:{name}")).content.decode()
+    for name in ["dashboard:home", "clusters:clusters", "workloads:applications", "scheduling:schedules", "jobs:jobs"]:
+        body = member.get(reverse(name)).content.decode()
         assert "beta-secret" not in body, name
         assert str(foreign["job"].pk)[:8] not in body, name
-    assert "edge" in member.get(reverse("dashboard:clusters")).content.decode()
-    assert application.name in member.get(reverse("dashboard:applications")).content.decode()
+    assert "edge" in member.get(reverse("clusters:clusters")).content.decode()
+    assert application.name in member.get(reverse("workloads:applications")).content.decode()
 
 
 def test_superuser_sees_every_fleet(client, foreign, django_user_model):
     admin = django_user_model.objects.create_superuser("root", password="root-pass-123")
     client.force_login(admin)
-    assert client.get(reverse("dashboard:cluster", args=[foreign["cluster"].pk])).status_code == 200
-    assert "beta-secret-app" in client.get(reverse("dashboard:applications")).content.decode()
+    assert client.get(reverse("clusters:cluster", args=[foreign["cluster"].pk])).status_code == 200
+    assert "beta-secret-app" in client.get(reverse("workloads:applications")).content.decode()
 
 
 def test_cannot_schedule_on_another_fleets_cluster(member, application, foreign):
-    url = reverse("dashboard:application-schedule", args=[application.pk])
+    url = reverse("scheduling:application-schedule", args=[application.pk])
     response = member.post(url, {"algorithm": "heft", "target": "cluster", "cluster": foreign["cluster"].pk})
     assert response.status_code == 400
     assert "Select a valid choice" in response.content.decode()
@@ -139,7 +139,7 @@ def test_cannot_schedule_on_another_fleets_cluster(member, application, foreign)
 def test_upload_stores_the_application(member, fleet):
     response = upload(member, "montage.json", (DATA / "montage-chameleon-2mass-005d-001.json").read_bytes())
     app = Application.objects.get()
-    assert response.status_code == 302 and response["Location"] == reverse("dashboard:application", args=[app.pk])
+    assert response.status_code == 302 and response["Location"] == reverse("workloads:application", args=[app.pk])
     assert (app.fleet, app.task_count, app.edge_count, app.source_format) == (fleet, 58, 114, "wfformat")
     page = member.get(response["Location"]).content.decode()
     assert "Imported" in page and "58 tasks" in page and 'id="dag-chart"' in page
@@ -187,7 +187,7 @@ def test_bad_upload_shows_the_error_and_stores_nothing(member, case, content, me
 
 
 def test_upload_without_file_or_with_unknown_format(member):
-    response = member.post(reverse("dashboard:applications"), {})
+    response = member.post(reverse("workloads:applications"), {})
     assert response.status_code == 400 and "This field is required" in response.content.decode()
     response = upload(member, "t.json", (DATA / "topcuoglu.dag.json").read_bytes(), format="yaml")
     assert response.status_code == 400 and "Select a valid choice" in response.content.decode()
@@ -195,13 +195,13 @@ def test_upload_without_file_or_with_unknown_format(member):
 
 
 def test_fleet_choice_only_when_several_and_only_visible(member, operator, fleets, django_user_model):
-    page = member.get(reverse("dashboard:applications")).content.decode()
+    page = member.get(reverse("workloads:applications")).content.decode()
     assert f'<input type="hidden" name="fleet" value="{fleets[0].pk}"' in page
     # A fleet the user is not in is refused.
     response = upload(member, "t.json", (DATA / "topcuoglu.dag.json").read_bytes(), fleet=fleets[1].pk)
     assert response.status_code == 400 and Application.objects.count() == 0
     fleets[1].members.add(operator)
-    page = member.get(reverse("dashboard:applications")).content.decode()
+    page = member.get(reverse("workloads:applications")).content.decode()
     assert '<select name="fleet"' in page and "Beta robots" in page
     upload(member, "t.json", (DATA / "topcuoglu.dag.json").read_bytes(), fleet=fleets[1].pk)
     assert Application.objects.get().fleet == fleets[1]
@@ -210,7 +210,7 @@ def test_fleet_choice_only_when_several_and_only_visible(member, operator, fleet
 def test_user_without_fleet_cannot_upload(client, django_user_model):
     loner = django_user_model.objects.create_user("loner", password="loner-pass-123")
     client.force_login(loner)
-    page = client.get(reverse("dashboard:applications")).content.decode()
+    page = client.get(reverse("workloads:applications")).content.decode()
     assert "not a member of any fleet" in page and 'type="file"' not in page
     response = upload(client, "t.json", (DATA / "topcuoglu.dag.json").read_bytes())
     assert response.status_code == 400 and Application.objects.count() == 0
@@ -219,28 +219,28 @@ def test_user_without_fleet_cannot_upload(client, django_user_model):
 # ---- scheduling form --------------------------------------------------------------------------------
 def test_schedule_on_a_cluster_runs_the_job_and_links_the_gantt_chart(member, fleet, cluster):
     app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
-    page = member.get(reverse("dashboard:application", args=[app.pk])).content.decode()
+    page = member.get(reverse("workloads:application", args=[app.pk])).content.decode()
     assert '<option value="heft" selected>HEFT</option>' in page and f'value="{cluster.pk}"' in page
     response = member.post(
-        reverse("dashboard:application-schedule", args=[app.pk]),
+        reverse("scheduling:application-schedule", args=[app.pk]),
         {"algorithm": "heft", "target": "cluster", "cluster": cluster.pk},
     )
     job = Job.objects.get(kind="schedule")
-    assert response.status_code == 302 and response["Location"] == reverse("dashboard:job", args=[job.pk])
+    assert response.status_code == 302 and response["Location"] == reverse("jobs:job", args=[job.pk])
     assert job.state == "succeeded" and job.arguments["cluster"] == cluster.pk
     schedule = Schedule.objects.get(job=job)
     assert schedule.assignments.count() == 58
     assert not schedule.to_engine().violations(app.graph, schedule.engine_platform())
     job_page = member.get(response["Location"]).content.decode()
-    assert reverse("dashboard:schedule", args=[schedule.pk]) in job_page
-    gantt = member.get(reverse("dashboard:schedule", args=[schedule.pk])).content.decode()
+    assert reverse("scheduling:schedule", args=[schedule.pk]) in job_page
+    gantt = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
     assert 'id="gantt-chart"' in gantt and "critical path" in gantt.lower()
 
 
 def test_schedule_on_cpus_and_gpus(member, fleet):
     app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
     response = member.post(
-        reverse("dashboard:application-schedule", args=[app.pk]),
+        reverse("scheduling:application-schedule", args=[app.pk]),
         {"algorithm": "heft", "target": "platform", "cpus": 2, "gpus": 1, "params": '{"rank_mode": "max"}'},
     )
     assert response.status_code == 302
@@ -266,7 +266,7 @@ def test_schedule_on_cpus_and_gpus(member, fleet):
 )
 def test_bad_schedule_requests_are_shown_and_start_no_job(member, application, data, message):
     response = member.post(
-        reverse("dashboard:application-schedule", args=[application.pk]), {"algorithm": "heft", **data}
+        reverse("scheduling:application-schedule", args=[application.pk]), {"algorithm": "heft", **data}
     )
     assert response.status_code == 400
     assert message in response.content.decode()
@@ -277,7 +277,7 @@ def test_cluster_without_ready_node_is_refused(member, fleet, cluster):
     cluster.nodes.update(status="NotReady")
     app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
     response = member.post(
-        reverse("dashboard:application-schedule", args=[app.pk]),
+        reverse("scheduling:application-schedule", args=[app.pk]),
         {"algorithm": "heft", "target": "cluster", "cluster": cluster.pk},
     )
     assert response.status_code == 400 and "has no Ready node" in response.content.decode()
@@ -286,7 +286,7 @@ def test_cluster_without_ready_node_is_refused(member, fleet, cluster):
 
 # ---- schedule page and push -----------------------------------------------------------------------
 def test_schedule_page_draws_the_gantt_chart_from_static_plotly(member, schedule):
-    body = member.get(reverse("dashboard:schedule", args=[schedule.pk])).content.decode()
+    body = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
     assert '<script src="/static/vendor/plotly.min.js"></script>' in body
     assert "cdn" not in body.lower()
     assert 'id="gantt-chart"' in body and "Plotly.newPlot" in body
@@ -304,14 +304,14 @@ def test_plotly_js_is_a_static_file():
 
 
 def test_push_button_only_with_a_kubeconfig(member, schedule, cluster):
-    url = reverse("dashboard:schedule-push", args=[schedule.pk])
+    url = reverse("scheduling:schedule-push", args=[schedule.pk])
     response = member.post(url, follow=True)
     assert "no Kubernetes API configured" in response.content.decode()
     assert not Job.objects.filter(kind="push_schedule").exists()
     Schedule.objects.filter(pk=schedule.pk).update(cluster=cluster)
     cluster.kubeconfig = "apiVersion: v1\nkind: Config\n"
     cluster.save()
-    body = member.get(reverse("dashboard:schedule", args=[schedule.pk])).content.decode()
+    body = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
     assert "Push to Kubernetes" in body and f'action="{url}"' in body
 
 
@@ -326,11 +326,11 @@ def test_push_starts_a_push_schedule_job(member, schedule, cluster, monkeypatch)
         return {"schedule": job.arguments["schedule"], "bound": 10}, f"/api/v1/schedules/{job.arguments['schedule']}/"
 
     monkeypatch.setitem(HANDLERS, "push_schedule", fake_push)
-    response = member.post(reverse("dashboard:schedule-push", args=[schedule.pk]))
+    response = member.post(reverse("scheduling:schedule-push", args=[schedule.pk]))
     job = Job.objects.get(kind="push_schedule")
-    assert response["Location"] == reverse("dashboard:job", args=[job.pk])
+    assert response["Location"] == reverse("jobs:job", args=[job.pk])
     assert seen == [{"schedule": schedule.pk}] and job.state == "succeeded"
-    assert reverse("dashboard:schedule", args=[schedule.pk]) in member.get(response["Location"]).content.decode()
+    assert reverse("scheduling:schedule", args=[schedule.pk]) in member.get(response["Location"]).content.decode()
 
 
 def test_push_without_a_push_handler_says_so(member, schedule, cluster, monkeypatch):
@@ -338,7 +338,7 @@ def test_push_without_a_push_handler_says_so(member, schedule, cluster, monkeypa
     cluster.save()
     Schedule.objects.filter(pk=schedule.pk).update(cluster=cluster)
     monkeypatch.delitem(HANDLERS, "push_schedule", raising=False)
-    response = member.post(reverse("dashboard:schedule-push", args=[schedule.pk]), follow=True)
+    response = member.post(reverse("scheduling:schedule-push", args=[schedule.pk]), follow=True)
     assert "not available" in response.content.decode()
     assert not Job.objects.filter(kind="push_schedule").exists()
 
@@ -346,7 +346,7 @@ def test_push_without_a_push_handler_says_so(member, schedule, cluster, monkeypa
 # ---- jobs -------------------------------------------------------------------------------------------
 def test_running_job_page_polls_the_api(member, fleet):
     job = Job.objects.create(fleet=fleet, kind="schedule", state="running", progress=42, message="placed 4/10 tasks")
-    body = member.get(reverse("dashboard:job", args=[job.pk])).content.decode()
+    body = member.get(reverse("jobs:job", args=[job.pk])).content.decode()
     assert f'data-api-url="/api/v1/jobs/{job.pk}/"' in body and 'data-done="false"' in body
     assert 'style="width: 42%"' in body and "placed 4/10 tasks" in body
     assert '<script src="/static/js/job-progress.js"></script>' in body
@@ -359,7 +359,7 @@ def test_failed_job_shows_its_error(member, fleet):
     job = Job.objects.create(
         fleet=fleet, kind="schedule", state="failed", progress=3, error="task 'x' cannot run on any processor"
     )
-    body = member.get(reverse("dashboard:job", args=[job.pk])).content.decode()
+    body = member.get(reverse("jobs:job", args=[job.pk])).content.decode()
     assert "task &#x27;x&#x27; cannot run on any processor" in body and 'data-done="true"' in body
     assert "Open the result" not in body
 
@@ -367,7 +367,7 @@ def test_failed_job_shows_its_error(member, fleet):
 def test_job_list_filters_by_state(member, fleet):
     Job.objects.create(fleet=fleet, kind="schedule", state="failed")
     Job.objects.create(fleet=fleet, kind="push_schedule", state="running")
-    body = member.get(reverse("dashboard:jobs") + "?state=failed").content.decode()
+    body = member.get(reverse("jobs:jobs") + "?state=failed").content.decode()
     assert ">schedule</a>" in body and ">push_schedule</a>" not in body
 
 
@@ -415,11 +415,11 @@ def test_gantt_highlights_the_critical_path():
 def test_gantt_hover_names_task_start_finish_and_frame():
     dag, platform, sched = topcuoglu()
     trace = bars(charts.gantt_figure(sched, platform=platform, dag=dag))[0]
-    # Written in Python (tests/dashboard/test_gantt_hover.py checks the duration): no template arithmetic.
+    # Written in Python (tests/ui/test_gantt_hover.py checks the duration): no template arithmetic.
     for (task, frame, processor, start, finish, *_), text in zip(trace.customdata, trace.hovertext, strict=True):
         assert text.startswith(f"<b>{task}</b> (frame {frame})<br>processor: {processor}<br>")
-        assert f"start: {charts._fmt(start)} {dag.time_unit}" in text
-        assert f"finish: {charts._fmt(finish)} {dag.time_unit}" in text
+        assert f"start: {charts.fmt(start)} {dag.time_unit}" in text
+        assert f"finish: {charts.fmt(finish)} {dag.time_unit}" in text
 
 
 def test_gantt_keeps_idle_processors_and_labels_frames():
@@ -542,7 +542,7 @@ def test_wide_cost_ranges_get_a_log_colour_scale():
 
 
 def test_num_filter_trims_zeros_but_keeps_precision():
-    from apps.dashboard.templatetags.dashboard import num
+    from apps.ui.templatetags.ui import num
 
     assert [num(0.5), num(1000.0), num(54026.0021), num(-0.0001), num(None), num("x")] == [
         "0.5",

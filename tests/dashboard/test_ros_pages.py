@@ -172,7 +172,7 @@ def test_cluster_form_starts_a_job_that_links_the_clustering(member, autoware):
             "distro_mib": 0, "platforms": ["amd64", "arm64"], "repository": "continuum", "tag": "latest"}  # fmt: skip
     response = member.post(url, data)
     job = Job.objects.get(kind="cluster_ros")
-    assert response.status_code == 302 and response["Location"] == reverse("dashboard:job", args=[job.pk])
+    assert response.status_code == 302 and response["Location"] == reverse("jobs:job", args=[job.pk])
     clustering = Clustering.objects.get(job=job)
     assert clustering.container_count == 3
     job_page = member.get(response["Location"]).content.decode()
@@ -302,7 +302,7 @@ def test_push_button_only_with_a_kubeconfig_and_push_starts_a_job(member, placed
     monkeypatch.setitem(HANDLERS, "push_placement", fake_push)
     response = member.post(push)
     job = Job.objects.get(kind="push_placement")
-    assert response["Location"] == reverse("dashboard:job", args=[job.pk]) and seen == [{"placement": placed.pk}]
+    assert response["Location"] == reverse("jobs:job", args=[job.pk]) and seen == [{"placement": placed.pk}]
     assert f'href="{url}"' in member.get(response["Location"]).content.decode()
 
 

@@ -52,7 +52,7 @@ def make_schedules(app, cluster, n: int, tasks: int = 4) -> None:
 
 def list_page(client):
     with CaptureQueriesContext(connection) as ctx:
-        response = client.get(reverse("dashboard:schedules"))
+        response = client.get(reverse("scheduling:schedules"))
     assert response.status_code == 200
     return response, [q["sql"] for q in ctx.captured_queries]
 

@@ -12,7 +12,7 @@ pytestmark = pytest.mark.django_db
 
 def test_upload_of_a_dummy_counting_stg_shows_the_warning(member):
     content = counting_dummies("sample00.stg").encode()
-    response = member.post(reverse("dashboard:applications"), {"file": SimpleUploadedFile("s.stg", content)})
+    response = member.post(reverse("workloads:applications"), {"file": SimpleUploadedFile("s.stg", content)})
     app = Application.objects.get()
     assert response.status_code == 302 and app.task_count == 10
     assert "warnings" not in app.graph.meta

@@ -8,10 +8,10 @@ import pytest
 from django.urls import reverse
 from django.utils.html import escape
 
-from apps.dashboard import charts
-from apps.dashboard.views import job_result_link
 from apps.heft4k.models import RemapEvent
 from apps.jobs.models import Job
+from apps.jobs.views import job_result_link
+from apps.ui import charts
 from continuum.engine.core.cluster import cluster_platform
 from continuum.engine.core.dag import TaskGraph
 from continuum.engine.heft4k.heft4k import heft4k
@@ -39,7 +39,7 @@ def whatif(member, schedule, node="node1", **extra):
 
 
 def test_heft4k_schedule_page_shows_niceness_and_predicted_vs_simulated(member, fan):
-    body = member.get(reverse("dashboard:schedule", args=[fan.pk])).content.decode()
+    body = member.get(reverse("scheduling:schedule", args=[fan.pk])).content.decode()
     # Niceness per task in the table.
     assert '<th class="num" title="Linux niceness' in body
     for a in fan.assignments.all():
@@ -68,7 +68,7 @@ def test_plain_heft_schedules_have_no_heft4k_panel(member, api, cluster):
     app = api.post("/api/v1/applications/", {"name": "fan", "dag": FAN_DAG}, format="json").data
     job = run(api, f"/api/v1/applications/{app['id']}/schedule/", {"algorithm": "heft", "cluster": cluster.pk})
     schedule = Schedule.objects.get(pk=job["result"]["schedule"])
-    body = member.get(reverse("dashboard:schedule", args=[schedule.pk])).content.decode()
+    body = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
     assert "what-if" not in body and "Simulated on Kubernetes" not in body and "Linux niceness" not in body
 
 
@@ -99,11 +99,11 @@ def test_what_if_shows_the_remap_before_anything_is_pushed_and_applies_it(member
     assert 'id="apply-remap"' not in body
 
     # The schedule pages link both ways, and the application keeps the history.
-    new_page = member.get(reverse("dashboard:schedule", args=[event.new_schedule_id])).content.decode()
+    new_page = member.get(reverse("scheduling:schedule", args=[event.new_schedule_id])).content.decode()
     assert f'Produced by <a href="/remaps/{event.pk}/">remap #{event.pk}</a>' in new_page
-    old_page = member.get(reverse("dashboard:schedule", args=[fan.pk])).content.decode()
+    old_page = member.get(reverse("scheduling:schedule", args=[fan.pk])).content.decode()
     assert f'<a href="/remaps/{event.pk}/">#{event.pk}</a>' in old_page
-    app_page = member.get(reverse("dashboard:application", args=[fan.application_id])).content.decode()
+    app_page = member.get(reverse("workloads:application", args=[fan.application_id])).content.decode()
     history = app_page[app_page.index("Remapping history") :]
     assert f'<a href="/remaps/{event.pk}/">#{event.pk}</a>' in history and "partial" in history
     assert "4 / 4" in history  # lost / moved
@@ -163,7 +163,7 @@ def test_a_remap_job_links_to_its_remap_page(member, fan):
     whatif(member, fan)
     event = RemapEvent.objects.get()
     assert job_result_link(event.job) == reverse("heft4k:remap", args=[event.pk])
-    body = member.get(reverse("dashboard:job", args=[event.job.pk])).content.decode()
+    body = member.get(reverse("jobs:job", args=[event.job.pk])).content.decode()
     assert f'href="/remaps/{event.pk}/"' in body
 
 
@@ -234,7 +234,7 @@ def test_gantt_hover_shows_niceness_and_notes_only_when_there_are_some():
 def test_multi_frame_heft4k_page_shows_the_frame_figures_and_the_heft4k_panel(member, api, cluster):
     schedule = heft4k_schedule(api, cluster, frames=2)
     assert schedule.metrics["frames"] == 2
-    body = member.get(reverse("dashboard:schedule", args=[schedule.pk])).content.decode()
+    body = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
     # The frame figures (device-level scheduling) ...
     assert 'id="metrics"' in body and "Mean frame latency" in body and "Frame buffers used" in body
     # ... with idle time per CPU of the 4-CPU nodes: never negative, the CPUs shown.

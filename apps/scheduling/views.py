@@ -1,0 +1,295 @@
+"""Scheduling pages: schedules (Gantt chart, figures, push to Kubernetes), comparisons, and the actions of
+the application page that start scheduling and comparison jobs. Login required, fleet-scoped.
+
+Apps above this one extend the schedule page with panels (``apps.ui.panels``, host
+``"scheduling.schedule"``, slots ``notice``, ``gantt_intro`` and ``after_gantt``); the page never imports
+them. A panel function is called as ``fn(request, schedule, engine=..., platform=..., dag=..., critical=...,
+**state)`` with the stored schedule as an engine schedule, its platform, the application's DAG, the critical
+path and what :func:`schedule_page` was given; a panel may return ``figure`` (HTML) to replace the page's
+Gantt chart and ``gantt_title`` to complete its heading. This app's own panel on the application page
+(host ``"workloads.application"``) holds the schedule and compare forms and the schedules made.
+"""
+
+from __future__ import annotations
+
+from django.contrib import messages
+from django.contrib.auth.decorators import login_required
+from django.http import HttpRequest, HttpResponse
+from django.shortcuts import get_object_or_404, redirect, render
+from django.views.decorators.http import require_POST
+
+from apps.dashboard.forms import CompareForm, ScheduleForm
+from apps.jobs.registry import HANDLERS
+from apps.jobs.services import start_job
+from apps.ui import charts
+from apps.ui.helpers import paginate, scoped
+from apps.ui.links import register_result_page
+from apps.ui.panels import register_panel, render_panels
+from apps.workloads.models import Application
+from apps.workloads.views import APPLICATION_PAGE, application_page
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.platform import Platform
+
+from . import charts as scheduling_charts
+from .models import Assignment, Comparison, Schedule
+
+SCHEDULE_PAGE = "scheduling.schedule"
+
+
+# ---- the application page's scheduling panel -------------------------------------------------------
+def application_panel(
+    request: HttpRequest,
+    app: Application,
+    *,
+    schedule_form: ScheduleForm | None = None,
+    compare_form: CompareForm | None = None,
+    **_: object,
+) -> dict:
+    """The schedule and compare forms (bound ones when a POST was refused) and the schedules made."""
+    return {
+        "form": schedule_form or ScheduleForm(application=app),
+        "compare": compare_form or CompareForm(application=app, prefix="compare"),
+        "schedules": app.schedules.filter(comparison=None).select_related("cluster")[:20],
+        "comparisons": app.comparisons.select_related("cluster")[:10],
+    }
+
+
+def register() -> None:
+    """Add the scheduling panel to the application page and the schedule and comparison pages as the pages
+    of job results naming them (called by the app's ``ready()``)."""
+    register_result_page("schedule", "scheduling:schedule", order=20)
+    register_result_page("comparison", "scheduling:comparison", order=40)
+    register_panel(
+        APPLICATION_PAGE,
+        "scheduling",
+        application_panel,
+        templates={
+            "side": "scheduling/includes/application_forms.html",
+            "main": "scheduling/includes/application_schedules.html",
+        },
+        order=10,
+    )
+
+
+@login_required
+@require_POST
+def application_schedule(request: HttpRequest, pk: int) -> HttpResponse:
+    app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
+    form = ScheduleForm(request.POST, application=app)
+    if not form.is_valid():
+        return application_page(request, app, status=400, schedule_form=form)
+    job = start_job("schedule", app.fleet, form.job_arguments(), request.user)
+    return redirect("jobs:job", pk=job.pk)
+
+
+@login_required
+@require_POST
+def application_compare(request: HttpRequest, pk: int) -> HttpResponse:
+    app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
+    form = CompareForm(request.POST, application=app, prefix="compare")
+    if not form.is_valid():
+        return application_page(request, app, status=400, compare_form=form)
+    job = start_job("compare", app.fleet, form.job_arguments(), request.user)
+    return redirect("jobs:job", pk=job.pk)
+
+
+# ---- schedules ----------------------------------------------------------------------------------------
+@login_required
+def schedule_list(request: HttpRequest) -> HttpResponse:
+    schedules = scoped(request, Schedule.objects.for_list()).order_by("-created", "-pk")
+    return render(request, "scheduling/schedule_list.html", {"page": paginate(request, schedules), "nav": "schedules"})
+
+
+@login_required
+def schedule_detail(request: HttpRequest, pk: int) -> HttpResponse:
+    schedule = get_object_or_404(
+        scoped(request, Schedule.objects.select_related("fleet", "application", "cluster", "job")), pk=pk
+    )
+    return schedule_page(request, schedule)
+
+
+def schedule_page(request: HttpRequest, schedule: Schedule, status: int = 200, **state) -> HttpResponse:
+    """The schedule page with every registered panel; ``state`` goes to the panels (HEFT4K's bound what-if
+    form, for instance)."""
+    rows = list(schedule.assignments.all())
+    engine = schedule.to_engine()
+    dag = schedule.application.graph
+    gantt = _gantt(request, schedule, engine, dag, state)
+    on_path = set(gantt["critical"])
+    for row in rows:
+        row.on_critical_path = (row.task, row.frame) in on_path
+        row.duration = row.finish - row.start
+    return render(
+        request,
+        "scheduling/schedule_detail.html",
+        {
+            "schedule": schedule,
+            **_figures(schedule, dag.time_unit),
+            **_assignment_context(schedule, rows, gantt["critical"]),
+            **gantt,
+            "nav": "schedules",
+        },
+        status=status,
+    )
+
+
+def _gantt(request: HttpRequest, schedule: Schedule, engine, dag, state: dict) -> dict:
+    """The Gantt chart (a panel's when one draws it), the critical path, the panels and any problem."""
+    critical: list[tuple[str, int]] = []
+    panels = []
+    gantt_title = ""
+    problem = ""
+    try:
+        platform = schedule.engine_platform()
+        critical = engine.critical_path(dag, platform)
+        panels = render_panels(
+            SCHEDULE_PAGE, request, schedule, engine=engine, platform=platform, dag=dag, critical=critical, **state
+        )
+        figure = None
+        for panel in panels:
+            if "figure" in panel.context:
+                figure = panel.context.pop("figure")
+                gantt_title = panel.context.get("gantt_title", "")
+        if figure is None:
+            fig = charts.gantt_figure(engine, platform=platform, dag=dag, critical=critical)
+            figure = charts.to_html(fig, div_id="gantt-chart")
+    except (InputError, KeyError) as exc:
+        # The application's DAG changed since this schedule was made; draw what was stored.
+        problem = f"the application changed since this schedule was made ({exc}); the critical path is not shown"
+        panels, gantt_title = [], ""
+        nice = any(a.niceness is not None for a in engine.assignments)
+        fig = charts.gantt_figure(engine, time_unit=dag.time_unit, colour_by_niceness=nice)
+        figure = charts.to_html(fig, div_id="gantt-chart")
+    return {"figure": figure, "critical": critical, "panels": panels, "gantt_title": gantt_title, "problem": problem}
+
+
+def _figures(schedule: Schedule, unit: str) -> dict:
+    """The schedule's headline figures and idle time per processor."""
+    cpus = {p["id"]: p.get("cores", 1) for p in schedule.platform.get("processors", []) if "id" in p}
+    return {
+        "metrics": schedule_metrics(schedule.metrics, unit),
+        "idle_rows": idle_rows(schedule.metrics, schedule.makespan, cpus),
+        "multicore": any(n > 1 for n in cpus.values()),
+    }
+
+
+def _assignment_context(schedule: Schedule, rows: list, critical: list[tuple[str, int]]) -> dict:
+    """The assignment table's rows and what the page says about them."""
+    placement = [
+        (value, label, sum(1 for r in rows if r.placement == value)) for value, label in Assignment.Placement.choices
+    ]
+    return {
+        "rows": rows,
+        "critical_tasks": [t if len({r.frame for r in rows}) <= 1 else f"{t} [{f}]" for t, f in critical],
+        "placement": placement,
+        "can_push": bool(schedule.cluster and schedule.cluster.kubeconfig),
+        "processor_count": len(schedule.platform.get("processors", [])),
+        "has_niceness": any(r.niceness is not None for r in rows),
+    }
+
+
+def schedule_metrics(metrics: dict, unit: str) -> list[tuple[str, object, str]]:
+    """The figures of a schedule worth a headline: (label, value, unit or "%"), only those it has."""
+    u = f" {unit}" if unit else ""
+    rows: list[tuple[str, object, str]] = []
+    frames = metrics.get("frames") or 1
+    if frames > 1:
+        rows.append(("Frames", frames, ""))
+        rows.append(("Mean frame latency", metrics.get("mean_latency"), u))
+        if metrics.get("throughput") is not None:
+            rows.append(("Throughput", metrics["throughput"], f" frames per{u or ' time unit'}"))
+        if metrics.get("throughput_per_s") is not None:
+            rows.append(("Throughput", metrics["throughput_per_s"], " frames/s"))
+        if metrics.get("pipeline_gain") is not None:
+            rows.append(("Pipeline gain", 100 * metrics["pipeline_gain"], " %"))
+        rows.append(("Frame buffers used", metrics.get("buffers_used"), ""))
+    for key, label, scale, suffix in (
+        ("slr", "SLR", 1, ""),
+        ("idle", "Idle time", 100, " %"),
+        ("overlap", "Overlap O(A)", 1, u),
+        ("xo", "Exclusive overlap XO(A)", 1, u),
+        ("xo_efficiency", "XO efficiency", 100, " %"),
+    ):
+        if metrics.get(key) is not None:
+            rows.append((label, scale * metrics[key], suffix))
+    return rows
+
+
+def idle_rows(
+    metrics: dict, makespan: float, cpus: dict[str, int] | None = None
+) -> list[tuple[str, int, float, float | None]]:
+    """(processor, CPUs, idle time, idle %) for the idle-per-processor table; a multi-core processor's idle
+    time is CPU time (summed over its CPUs), so its % is of ``CPUs * makespan``."""
+    idle = metrics.get("idle_per_processor") or {}
+    cpus = cpus or {}
+    rows = []
+    for p, t in idle.items():
+        n = cpus.get(p, 1)
+        rows.append((p, n, t, 100 * t / (n * makespan) if makespan else None))
+    return rows
+
+
+@login_required
+@require_POST
+def schedule_push(request: HttpRequest, pk: int) -> HttpResponse:
+    schedule = get_object_or_404(scoped(request, Schedule.objects.select_related("fleet", "cluster")), pk=pk)
+    if schedule.cluster is None or not schedule.cluster.kubeconfig:
+        messages.error(request, "This schedule's cluster has no Kubernetes API configured: nothing to push to.")
+        return redirect("scheduling:schedule", pk=schedule.pk)
+    if "push_schedule" not in HANDLERS:
+        messages.error(request, "Pushing to Kubernetes is not available in this installation.")
+        return redirect("scheduling:schedule", pk=schedule.pk)
+    job = start_job("push_schedule", schedule.fleet, {"schedule": schedule.pk}, request.user)
+    return redirect("jobs:job", pk=job.pk)
+
+
+# ---- comparisons ----------------------------------------------------------------------------------
+@login_required
+def comparison_list(request: HttpRequest) -> HttpResponse:
+    comparisons = scoped(request, Comparison.objects.select_related("fleet", "application", "cluster")).order_by(
+        "-created", "-pk"
+    )
+    return render(
+        request, "scheduling/comparison_list.html", {"page": paginate(request, comparisons), "nav": "comparisons"}
+    )
+
+
+@login_required
+def comparison_detail(request: HttpRequest, pk: int) -> HttpResponse:
+    comparison = get_object_or_404(
+        scoped(request, Comparison.objects.select_related("fleet", "application", "cluster", "job")), pk=pk
+    )
+    schedules = comparison.ordered_schedules()
+    dag = comparison.application.graph
+    platform = Platform.from_dict(comparison.platform)
+    engine = [(s.algorithm, s.to_engine()) for s in schedules]
+    problem = ""
+    try:
+        fig = scheduling_charts.comparison_figure(engine, platform=platform, dag=dag)
+    except (InputError, KeyError) as exc:
+        problem = f"the application changed since this comparison was made ({exc}); critical paths are not shown"
+        fig = scheduling_charts.comparison_figure(engine, platform=platform, time_unit=dag.time_unit)
+    results = comparison.result.get("results", {})
+    shown = [a for a in comparison.algorithms if a in results]
+    rows = [
+        {"algorithm": a, "schedule": next((s for s in schedules if s.algorithm == a), None), **results[a]}
+        for a in shown
+    ]
+    frames = comparison.result.get("frames", 1)
+    return render(
+        request,
+        "scheduling/comparison_detail.html",
+        {
+            "comparison": comparison,
+            "title": " vs ".join(a.upper() for a in comparison.algorithms),
+            "rows": rows,
+            "frames": frames,
+            "unit": dag.time_unit,
+            "problem": problem,
+            "gantt": charts.to_html(fig, div_id="comparison-gantt"),
+            "bars": charts.to_html(scheduling_charts.comparison_bars_figure(results, shown), div_id="comparison-bars"),
+            "processor_count": len(platform.processors),
+            "relative": [(a, [comparison.result["relative"][a].get(b) for b in shown]) for a in shown],
+            "nav": "comparisons",
+        },
+    )

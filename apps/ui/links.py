@@ -1,0 +1,39 @@
+"""Which page shows a finished job's result, registered by the apps that own the pages, so that the job
+pages (``apps.jobs``, below them) name none of them.
+
+A job's result names what it made by a key (``{"schedule": 12}``, ``{"remap": 3}``); the app that owns the
+page registers the key with its URL name. Keys are tried by ``order`` (a remap also names its new schedule:
+the remap page wins). A job may also name its page itself (``{"page": "/ros/clusterings/4/"}``), tried at
+:data:`PAGE_ORDER`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from django.urls import reverse
+
+#: Where a job's own ``page`` comes among the registered keys.
+PAGE_ORDER = 30
+
+_RESULT_PAGES: dict[str, tuple[int, str]] = {}
+
+
+def register_result_page(key: str, url_name: str, *, order: int = 100) -> None:
+    """An integer ``key`` in a job's result is the pk of an object shown at the URL named ``url_name``."""
+    _RESULT_PAGES[key] = (order, url_name)
+
+
+def result_page(result: Mapping[str, Any]) -> str | None:
+    """The page that shows a succeeded job's ``result``, or None when no page is registered for it."""
+    own = result.get("page")
+    candidates = sorted([*_RESULT_PAGES.items(), ("page", (PAGE_ORDER, ""))], key=lambda kv: (kv[1][0], kv[0]))
+    for key, (_, url_name) in candidates:
+        value = result.get(key)
+        if key == "page" and not url_name:
+            if isinstance(own, str) and own.startswith("/"):
+                return own  # the job names its dashboard page itself
+        elif isinstance(value, int) and not isinstance(value, bool):
+            return reverse(url_name, args=[value])
+    return None
