@@ -26,8 +26,8 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Schedule
 from continuum.engine.device import overlap as ov
-from continuum.engine.device.algorithms import SCHEDULERS
 from continuum.engine.device.pipeline import pipeline
+from continuum.engine.device.registry import SCHEDULERS
 
 #: ``progress(algorithm, index, count, done, total)``, see the module docstring.
 CompareProgress = Callable[[str, int, int, int, int], None]

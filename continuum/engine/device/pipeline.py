@@ -51,6 +51,7 @@ from continuum.engine.device.heft import (
     schedule_list,
     to_assignments,
 )
+from continuum.engine.device.registry import SCHEDULERS, call, unknown
 from continuum.engine.device.visionworks import visionworks_frames
 from continuum.engine.device.xeft import xeft_order
 
@@ -201,8 +202,6 @@ def pipeline(
     **params: Any,
 ) -> Schedule:
     """Schedule ``frames`` instances of ``dag`` with ``algorithm``; see the module docstring."""
-    from continuum.engine.device.algorithms import SCHEDULERS, call
-
     release = releases(frames, fps=fps, period=period, batch=batch, time_unit=dag.time_unit)
     most = limits.get().frame_tasks
     if len(release) * len(dag) > most:
@@ -219,7 +218,7 @@ def pipeline(
         single = call(algorithm, SCHEDULERS[algorithm], dag, platform, progress=progress, **params)
         schedule = Schedule(algorithm, replicate(single, release), single.ranks, dict(single.params))
     else:
-        raise InputError(f"unknown algorithm {algorithm!r} (choose from {', '.join(sorted(SCHEDULERS))})", "algorithm")
+        raise unknown(algorithm)
     schedule.algorithm = algorithm
     schedule.params.update({"frames": frames, "in_order": in_order})
     for key, value in (("fps", fps), ("period", period), ("batch", batch)):

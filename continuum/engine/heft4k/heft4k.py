@@ -41,6 +41,7 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 from continuum.engine.device.heft import earliest_slot, upward_ranks
+from continuum.engine.device.registry import register
 
 NICE_MIN, NICE_MAX = -20, 19
 ROUNDINGS = ("half-up", "floor", "ceil")
@@ -393,3 +394,6 @@ def nice_container(
     if niceness < 0:
         spec["securityContext"] = {"capabilities": {"add": ["SYS_NICE"]}}
     return spec
+
+
+register("heft4k", heft4k)
