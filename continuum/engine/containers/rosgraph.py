@@ -30,7 +30,7 @@ import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeGuard
 
 from continuum.engine.core import limits
 from continuum.engine.core.artifact_names import check_package
@@ -919,11 +919,11 @@ def parse_dot(text: str) -> dict[str, Any]:
 
 
 # ---- contract parsing helpers -------------------------------------------------------------------
-def _finite_nonneg(x: Any) -> bool:
+def _finite_nonneg(x: Any) -> TypeGuard[int | float]:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x >= 0
 
 
-def _positive(x: Any) -> bool:
+def _positive(x: Any) -> TypeGuard[int | float]:
     return _finite_nonneg(x) and x > 0
 
 

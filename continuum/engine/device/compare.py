@@ -64,7 +64,9 @@ def compare(
     names = list(dict.fromkeys([*algorithms, REFERENCE]))  # the reference always runs, once
     for index, name in enumerate(names):
         accepted = inspect.signature(SCHEDULERS[name]).parameters
-        params = {k: v for k, v in (("rank_mode", rank_mode), ("comm_mode", comm_mode)) if k in accepted}
+        params: dict[str, Any] = {
+            k: v for k, v in (("rank_mode", rank_mode), ("comm_mode", comm_mode)) if k in accepted
+        }
         report = None
         if progress is not None:
             progress(name, index, len(names), 0, 0)
@@ -73,7 +75,9 @@ def compare(
                 progress(name, index, len(names), done, total)
 
         started = time.perf_counter()
-        schedule = pipeline(name, dag, platform, progress=report, **frame_args, **params)
+        schedule = pipeline(
+            name, dag, platform, progress=report, frames=frames, fps=fps, period=period, batch=batch, **params
+        )
         elapsed = time.perf_counter() - started
         if on_schedule is not None:
             on_schedule(name, schedule)

@@ -151,13 +151,13 @@ def _cost_rows(dag: TaskGraph, platform: Platform) -> list[list[tuple[int, float
         else:
             row = []
             for i, pid, cls, speed in procs:
-                c = cost.get(pid)
-                if c is None:
-                    c = cost.get(cls)
-                    if c is None:
+                own = cost.get(pid)
+                if own is None:
+                    class_cost = cost.get(cls)
+                    if class_cost is None:
                         continue
-                    c = c / speed
-                row.append((i, c))
+                    own = class_cost / speed
+                row.append((i, own))
         if not row:
             keys = ", ".join(sorted(cost))
             raise InputError(f"task {task.id!r} cannot run on any processor (its costs name {keys})", "tasks")
@@ -336,7 +336,7 @@ def schedule_list(
         base = f * n
         lower = release[f] if release is not None else 0.0
         min_finish = 0.0
-        if f and is_source is not None:
+        if f and is_source is not None and is_sink is not None:
             prev = item - n
             if is_source[t] and proc[prev] >= 0 and start[prev] > lower:
                 lower = start[prev]

@@ -272,15 +272,15 @@ def frame_violations(schedule: Schedule, dag: TaskGraph, release: Sequence[float
         return problems
     for tid in dag.tasks:
         for f in range(1, len(release)):
-            a, b = table.get((tid, f - 1)), table.get((tid, f))
-            if a is None or b is None:
+            earlier, later = table.get((tid, f - 1)), table.get((tid, f))
+            if earlier is None or later is None:
                 continue
-            if not pred[tid] and b.start + EPS * max(1.0, a.start) < a.start:
+            if not pred[tid] and later.start + EPS * max(1.0, earlier.start) < earlier.start:
                 problems.append(
-                    f"source {tid!r}: frame {f} starts at {b.start} before frame {f - 1} ({a.start}), Eq. 3.5"
+                    f"source {tid!r}: frame {f} starts at {later.start} before frame {f - 1} ({earlier.start}), Eq. 3.5"
                 )
-            if not succ[tid] and b.finish + EPS * max(1.0, a.finish) < a.finish:
+            if not succ[tid] and later.finish + EPS * max(1.0, earlier.finish) < earlier.finish:
                 problems.append(
-                    f"sink {tid!r}: frame {f} ends at {b.finish} before frame {f - 1} ({a.finish}), Eq. 3.6"
+                    f"sink {tid!r}: frame {f} ends at {later.finish} before frame {f - 1} ({earlier.finish}), Eq. 3.6"
                 )
     return problems

@@ -110,11 +110,12 @@ def read(
     tasks = []
     for tid in sorted(keep):
         c = float(costs[tid])
+        task_cost: dict[str, float]
         if processors:
-            cost = {f"p{j}": c * rng.uniform(1 - beta / 2, 1 + beta / 2) for j in range(processors)}
+            task_cost = {f"p{j}": c * rng.uniform(1 - beta / 2, 1 + beta / 2) for j in range(processors)}
         else:
-            cost = {"cpu": c}
-        tasks.append(Task(str(tid), cost))
+            task_cost = {"cpu": c}
+        tasks.append(Task(str(tid), task_cost))
     edges = []
     for tid in sorted(keep):
         for p in preds[tid]:

@@ -110,7 +110,7 @@ def simulate(
     missing = {t: len(pred[t]) for t in dag.tasks}
     start: dict[str, float] = {}
     finish: dict[str, float] = {}
-    segments: dict[str, list[list[float]]] = {t: [] for t in dag.tasks} if trace else {}
+    segments: dict[str, list[list[float | None]]] = {t: [] for t in dag.tasks} if trace else {}
     transfers: list[dict[str, Any]] = []
     stats = {"preemptions": 0, "traffic": 0.0}
     heap: list[tuple[float, int, int, str]] = []  # (time, seq, kind, key); kind 0 = input arrives, 1 = node

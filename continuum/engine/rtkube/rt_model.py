@@ -87,12 +87,15 @@ class RTContainer:
 
     def utilization(self, node: str) -> float | None:
         """``WCET(node) / P`` (Eq. 2.4 term); ``None`` when the container has no WCET for that node."""
-        if not self.is_rt or node not in self.wcet:
+        if not self.is_rt or self.period is None or node not in self.wcet:
             return None
         return self.wcet[node] / self.period
 
     def max_utilization(self) -> float:
-        return max((w / self.period for w in self.wcet.values()), default=0.0) if self.is_rt else 0.0
+        if not self.is_rt or self.period is None:
+            return 0.0
+        period = self.period
+        return max((w / period for w in self.wcet.values()), default=0.0)
 
     def to_dict(self) -> dict[str, Any]:
         doc: dict[str, Any] = {"name": self.name, "criticality": self.criticality}

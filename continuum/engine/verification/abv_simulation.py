@@ -150,9 +150,9 @@ class Scenario:
         for m in self.monitors:
             if m.node not in names:
                 raise InputError(f"monitor {m.name!r}: unknown node {m.node!r}", "monitors")
-            for t in m.topics:
-                if t not in topics:
-                    raise InputError(f"monitor {m.name!r}: unknown topic {t!r}", "monitors")
+            for topic in m.topics:
+                if topic not in topics:
+                    raise InputError(f"monitor {m.name!r}: unknown topic {topic!r}", "monitors")
             missing = [n for n in names if n not in m.cpu]
             if missing:
                 raise InputError(f"monitor {m.name!r}: no CPU figure for node {missing[0]!r}", "monitors")
@@ -443,7 +443,8 @@ def _navigate(nav: Navigation, periods: list[Period], period_s: float) -> tuple[
     span = {round(p.t, 9): p.makespan_ms for p in periods}
 
     def makespan_at(t: float) -> float:
-        return span.get(round(math.floor(t / period_s + 1e-9) * period_s, 9), nav.base_ms)
+        value = span.get(round(math.floor(t / period_s + 1e-9) * period_s, 9))
+        return nav.base_ms if value is None else value
 
     events: list[tuple[str, Any, float]] = []
     legs = []
