@@ -91,6 +91,12 @@ class RTContainer:
             return None
         return self.wcet[node] / self.period
 
+    def timing(self) -> tuple[float, float]:
+        """``(P, D)`` of an RT container; a standard container has neither (ValueError)."""
+        if self.period is None or self.deadline is None:
+            raise ValueError(f"container {self.name!r} is not a real-time container")
+        return self.period, self.deadline
+
     def max_utilization(self) -> float:
         if not self.is_rt or self.period is None:
             return 0.0
