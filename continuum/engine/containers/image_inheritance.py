@@ -44,6 +44,21 @@ from continuum.engine.core import artifact_names
 from continuum.engine.core.cluster import normalize_arch
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "DEFAULT_PLATFORMS",
+    "TABLE_4_16",
+    "TABLE_4_16_PRINTED_TOTALS",
+    "Image",
+    "ImagePlan",
+    "apt_package",
+    "check_plan_inputs",
+    "dependency_sets",
+    "image_name",
+    "plan_from_graph",
+    "plan_images",
+    "reduction",
+]
+
 #: Table 4.16 (GB): image -> (size, optimized); parents have no standalone size. Reference data.
 TABLE_4_16 = {
     "mission-rb": (4.087, 0.367),
@@ -477,4 +492,3 @@ def _docker_string(value: str) -> str:
     Dockerfile instruction cannot hold one."""
     escaped = re.sub(r'(["$\\])', r"\\\1", _one_line(value))
     return f'"{escaped}"'
-

@@ -36,6 +36,17 @@ from typing import Any
 from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "OVERHEAD_MIB",
+    "Clustering",
+    "Container",
+    "cluster_nodes",
+    "cluster_ros",
+    "max_containers",
+    "split_bandwidth",
+    "split_heavy_nodes",
+]
+
 #: Measured per-container memory overheads (MiB) that can seed Eq. (3.13).
 OVERHEAD_MIB = {"docker": 29.0, "k3s": 39.0, "runc-riscv": 1.9}
 

@@ -37,6 +37,29 @@ from continuum.engine.core.artifact_names import check_package
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.safeload import check_text_file, loads_json
 
+__all__ = [
+    "FORMAT",
+    "IROBOT_HEADER_BYTES",
+    "LEVELS",
+    "LEVEL_ALIASES",
+    "MODES",
+    "READERS",
+    "RosGraph",
+    "RosNode",
+    "Topic",
+    "eq_3_12",
+    "from_autoware",
+    "from_dot",
+    "from_irobot",
+    "guess_json_format",
+    "irobot_msg_bytes",
+    "load_rosgraph",
+    "natural_key",
+    "pair",
+    "parse_dot",
+    "propose_levels",
+]
+
 FORMAT = "continuum.rosgraph/v1"
 LEVELS = ("mission", "macro", "functionality", "driver")
 #: Long names used in the spec / thesis figure, accepted as aliases.

@@ -42,6 +42,29 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision, NodeVerdict, PlacementPlan
 from continuum.engine.core.taints import Toleration, untolerated
 
+__all__ = [
+    "ALIASES",
+    "CONTAINERS_FORMAT",
+    "DEFAULT_PLATFORMS",
+    "FILTERS",
+    "KUBERNETES_WEIGHTS",
+    "OPERATORS",
+    "POLICIES",
+    "SCORERS",
+    "SUPERCLUSTERING_WEIGHTS",
+    "ContainerSpec",
+    "FilterFn",
+    "Requirement",
+    "Workload",
+    "container_bandwidth",
+    "default_kubernetes",
+    "inter_node_bandwidth",
+    "load_workload",
+    "place",
+    "plan_metrics",
+    "superclustering",
+]
+
 CONTAINERS_FORMAT = "continuum.containers/v1"
 #: Platforms assumed for an image that declares none: what the thesis builds with ``docker buildx``
 #: (linux/amd64 and linux/arm64/v8, Section 4.2.1). RISC-V needs an explicit build.

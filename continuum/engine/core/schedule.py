@@ -16,6 +16,8 @@ from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 
+__all__ = ["EPS", "FORMAT", "Assignment", "Schedule"]
+
 FORMAT = "continuum.schedule/v1"
 #: Slack for float comparisons when checking a schedule.
 EPS = 1e-6

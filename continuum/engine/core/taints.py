@@ -14,6 +14,8 @@ from typing import Any
 
 from continuum.engine.core.errors import InputError
 
+__all__ = ["TAINT_EFFECTS", "TOLERATION_OPERATORS", "Taint", "Toleration", "untolerated"]
+
 TAINT_EFFECTS = ("NoSchedule", "PreferNoSchedule", "NoExecute")
 TOLERATION_OPERATORS = ("Equal", "Exists")
 

@@ -29,6 +29,8 @@ from continuum.engine.device import overlap as ov
 from continuum.engine.device.pipeline import pipeline
 from continuum.engine.device.registry import SCHEDULERS
 
+__all__ = ["DEFAULT_ALGORITHMS", "FIGURES", "REFERENCE", "CompareProgress", "compare"]
+
 #: ``progress(algorithm, index, count, done, total)``, see the module docstring.
 CompareProgress = Callable[[str, int, int, int, int], None]
 

@@ -37,6 +37,8 @@ from continuum.engine.device.heft import (
     schedule_list,
 )
 
+__all__ = ["MAPPINGS", "TIES", "gfl", "gfl_c", "gfl_frames", "gfl_mapping"]
+
 MAPPINGS = ("local_best", "heft")
 TIES = ("id", "rank")
 

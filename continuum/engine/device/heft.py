@@ -45,6 +45,24 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 
+__all__ = [
+    "COMM_MODES",
+    "RANK_MODES",
+    "VECTOR_FROM",
+    "Compiled",
+    "Placed",
+    "Progress",
+    "breadth_first",
+    "compile_problem",
+    "compiled_ranks",
+    "earliest_slot",
+    "heft",
+    "priority_list",
+    "schedule_list",
+    "to_assignments",
+    "upward_ranks",
+]
+
 Progress = Callable[[int, int], None]
 #: From this many processors, per-link ready times are computed with numpy (measured faster from here).
 VECTOR_FROM = 48

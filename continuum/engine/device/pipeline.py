@@ -55,6 +55,8 @@ from continuum.engine.device.registry import SCHEDULERS, call, unknown
 from continuum.engine.device.visionworks import visionworks_frames
 from continuum.engine.device.xeft import xeft_order
 
+__all__ = ["NATIVE", "UNIT_SECONDS", "frame_metrics", "frame_violations", "pipeline", "releases", "replicate"]
+
 #: Seconds per time unit, to turn a camera rate into a period.
 UNIT_SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
 

@@ -45,6 +45,8 @@ from continuum.engine.device.heft import (
     to_assignments,
 )
 
+__all__ = ["apply_cluster", "build_cluster", "class_times", "descendants", "xeft", "xeft_list", "xeft_order"]
+
 
 def descendants(prob: Compiled) -> list[int]:
     """Per task, a bitset (Python int) of every task reachable from it."""

@@ -24,6 +24,8 @@ import random
 from continuum.engine.core.dag import Edge, Task, TaskGraph
 from continuum.engine.core.errors import InputError
 
+__all__ = ["MAX_PROCESSORS", "read"]
+
 #: Most processors the ``processors`` option may cost tasks on (one cost per processor and task).
 MAX_PROCESSORS = 1024
 

@@ -37,6 +37,8 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 
+__all__ = ["NICE_WEIGHTS", "cpu_rates", "nice_weight", "simulate"]
+
 #: Linux ``sched_prio_to_weight`` (kernel/sched/core.c): CFS load weight of nice -20 ... 19; nice 0 is 1024.
 NICE_WEIGHTS: tuple[int, ...] = (
     88761, 71755, 56483, 46273, 36291,

@@ -43,6 +43,19 @@ from continuum.engine.core.schedule import Assignment, Schedule
 from continuum.engine.device.heft import earliest_slot, upward_ranks
 from continuum.engine.device.registry import register
 
+__all__ = [
+    "NICE_MAX",
+    "NICE_MIN",
+    "NUMPY_MIN_WORK",
+    "ROUNDINGS",
+    "heft4k",
+    "map_dag",
+    "nice_container",
+    "niceness",
+    "placements",
+    "with_niceness",
+]
+
 NICE_MIN, NICE_MAX = -20, 19
 ROUNDINGS = ("half-up", "floor", "ceil")
 

@@ -41,7 +41,41 @@ from continuum.engine.core.cluster import (
 from continuum.engine.core.cluster import node_from_dict as parse_cluster_node
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.safeload import load_yaml_all
-from continuum.engine.core.taints import TAINT_EFFECTS, Taint, Toleration, untolerated  # noqa: F401 - re-exported
+from continuum.engine.core.taints import TAINT_EFFECTS, Taint, Toleration, untolerated
+
+__all__ = [
+    "CRITICALITY_RANK",
+    "NONE",
+    "REALTIME_API_VERSION",
+    "REALTIME_KIND",
+    "RTSET_FORMAT",
+    "RT_CLASSES",
+    "RT_LABEL",
+    "RT_SCHEDULER_NAME",
+    "RT_TAINT",
+    "RT_TOLERATION",
+    "TAINT_EFFECTS",
+    "RTContainer",
+    "RTNode",
+    "Taint",
+    "Toleration",
+    "cluster_from_dict",
+    "cluster_to_dict",
+    "container_from_dict",
+    "default_tolerations",
+    "deployment_manifest",
+    "node_from_dict",
+    "parse_criticality",
+    "realtime_from_dict",
+    "realtime_from_yaml",
+    "realtime_resource",
+    "realtime_to_yaml",
+    "rt_node",
+    "rt_nodes",
+    "rtset_from_dict",
+    "rtset_to_dict",
+    "untolerated",
+]
 
 RTSET_FORMAT = "continuum.rtset/v1"
 REALTIME_API_VERSION = "rt.scheduling/v1"

@@ -54,6 +54,21 @@ from continuum.engine.rtkube.rt_victims import (
     response_time,
 )
 
+__all__ = [
+    "US",
+    "ContainerStats",
+    "Eviction",
+    "NodeCPU",
+    "Placer",
+    "SimParams",
+    "SimResult",
+    "Simulator",
+    "fixed_placer",
+    "kube_default_placer",
+    "rt_kube_placer",
+    "simulate",
+]
+
 US = 1000  # microseconds per millisecond
 
 

@@ -46,6 +46,26 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.verification.monitor_milp import MonitorAllocator
 from continuum.engine.verification.stl_monitor import Monitor
 
+__all__ = [
+    "FORMAT",
+    "KAIROS_TOPICS",
+    "NAVIGATION_ASSERTION",
+    "SCENARIOS",
+    "Migration",
+    "Navigation",
+    "Period",
+    "Scenario",
+    "SimMonitor",
+    "SimNode",
+    "SimTopic",
+    "SimulationResult",
+    "kairos_scenario",
+    "scenario",
+    "simulate",
+    "stats_document",
+    "synthetic_scenario",
+]
+
 FORMAT = "continuum.abvsimulation/v1"
 NAVIGATION_ASSERTION = "G((robot_x == x1 && robot_y == y1 && newGoal) -> F[0,timeout](robot_x == x2 && robot_y == y2))"
 

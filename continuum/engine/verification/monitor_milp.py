@@ -65,6 +65,18 @@ from scipy.sparse import coo_matrix, csr_matrix
 
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "FORMAT",
+    "HIGHS_OPTIONS",
+    "Allocation",
+    "MonitorAllocator",
+    "MonitorStats",
+    "StatsFilter",
+    "allocate",
+    "complete_cpu",
+    "overload_plan",
+]
+
 FORMAT = "continuum.monitorstats/v1"
 
 

@@ -51,6 +51,35 @@ from typing import Any, cast
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "Arith",
+    "Assertion",
+    "BoolLit",
+    "BoolOp",
+    "Cmp",
+    "Const",
+    "Eventually",
+    "Expr",
+    "Formula",
+    "HostBool",
+    "HostNot",
+    "Neg",
+    "Next",
+    "Not",
+    "Num",
+    "Prop",
+    "Token",
+    "Until",
+    "Values",
+    "Var",
+    "compile_expr",
+    "compile_prop",
+    "parse_assertion",
+    "parse_formula",
+    "tokenize",
+    "variables",
+]
+
 # ---------------------------------------------------------------------------------------------------
 # AST: host expressions (the propositions' insides)
 # ---------------------------------------------------------------------------------------------------
