@@ -12,7 +12,7 @@ import gzip
 from collections.abc import Mapping
 from typing import Any
 
-from apps.clusters.models import Cluster, ComputeNode
+from apps.clusters.models import Cluster
 from continuum.engine.containers.image_inheritance import DEFAULT_PLATFORMS, ImagePlan, plan_from_graph
 from continuum.engine.containers.rosgraph import (
     LEVEL_ALIASES,
@@ -45,11 +45,6 @@ OVERRIDE_KEYS = (
     "cpu", "memory_mib", "storage_mib", "priority", "archs", "node", "node_selector", "affinity", "tolerations",
     "image",
 )  # fmt: skip
-#: Taints Kubernetes puts on nodes that are not Ready; a model-only cluster gets them from the node status.
-STATUS_TAINTS = {
-    ComputeNode.Status.NOT_READY: "node.kubernetes.io/not-ready",
-    ComputeNode.Status.UNKNOWN: "node.kubernetes.io/unreachable",
-}
 ARCHIVES = {
     "tar.gz": ("application/gzip", "tar.gz"),
     "zip": ("application/zip", "zip"),
@@ -162,36 +157,10 @@ def _set_or_drop(item: dict, key: str, value: Any) -> None:
 
 # ---- clusters -----------------------------------------------------------------------------------------
 def engine_cluster(cluster: Cluster) -> EngineCluster:
-    """The cluster's nodes and links as the node-level placers see them.
-
-    A node that is not Ready carries the taint Kubernetes would give it (``node.kubernetes.io/not-ready`` or
-    ``unreachable``), so the placement rejects it with that reason instead of silently dropping it. A storage
-    capacity of 0 means "not known" (model-only nodes), not "full".
-    """
-    nodes = []
-    for n in cluster.nodes.order_by("name"):
-        taints = [dict(t) for t in n.taints or []]
-        status_taint = STATUS_TAINTS.get(n.status)
-        if status_taint and not any(t.get("key") == status_taint for t in taints):
-            taints.append({"key": status_taint, "value": "", "effect": "NoSchedule"})
-        nodes.append(
-            {
-                "name": n.name,
-                "arch": n.arch,
-                "cpu": float(n.cpu),
-                "memory_mib": float(n.memory_mib),
-                "storage_mib": float(n.storage_mib) if n.storage_mib else None,
-                "labels": dict(n.labels or {}),
-                "taints": taints,
-            }
-        )
-    if not nodes:
-        raise InputError(f"cluster {cluster.name!r} has no nodes", "cluster")
-    links = [
-        {"src": lk.src.name, "dst": lk.dst.name, "bandwidth_mbps": lk.bandwidth_mbps, "latency_ms": lk.latency_ms}
-        for lk in cluster.links.select_related("src", "dst")
-    ]
-    return EngineCluster.from_dict({"name": cluster.name, "nodes": nodes, "links": links})
+    """The cluster's nodes and links as the node-level placers see them: :meth:`Cluster.to_engine`, whose nodes
+    that are not Ready carry the taint Kubernetes would give them, so the placement rejects them with that
+    reason instead of silently dropping them."""
+    return cluster.to_engine()
 
 
 # ---- images -------------------------------------------------------------------------------------------

@@ -27,7 +27,7 @@ from typing import Any
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Link, Platform, Processor
-from continuum.engine.core.taints import Taint
+from continuum.engine.core.taints import STATUS_TAINTS, Taint
 
 __all__ = [
     "ARCHS",
@@ -46,6 +46,7 @@ __all__ = [
 ]
 
 FORMAT = "continuum.cluster/v1"
+_STATUS_KEYS = {t.key for t in STATUS_TAINTS.values()}
 #: The kernel's RT bandwidth defaults (``/proc/sys/kernel/sched_rt_{runtime,period}_us``, spec 03 section 3.3).
 DEFAULT_RT_RUNTIME_US = 950_000
 DEFAULT_RT_PERIOD_US = 1_000_000
@@ -56,8 +57,9 @@ RT_FRACTION = DEFAULT_RT_RUNTIME_US / DEFAULT_RT_PERIOD_US
 def default_rt_threshold(
     cpu: float, runtime_us: float = DEFAULT_RT_RUNTIME_US, period_us: float = DEFAULT_RT_PERIOD_US
 ) -> float:
-    """A node's admissible RT utilization when none is given: ``M * sched_rt_runtime_us / sched_rt_period_us``."""
-    return cpu * runtime_us / period_us
+    """A node's admissible RT utilization when none is given: ``M * sched_rt_runtime_us / sched_rt_period_us``
+    (``M * 0.95`` by default, computed as ``M * RT_FRACTION``)."""
+    return cpu * (runtime_us / period_us)
 
 
 #: Kubernetes GOARCH names; aliases below map the usual ``uname -m`` spellings onto them.
@@ -291,6 +293,19 @@ class Cluster:
         except nx.NetworkXNoPath:
             return []
 
+    def ready(self) -> Cluster:
+        """This cluster without the nodes that are not Ready (those carrying a taint of
+        :data:`~continuum.engine.core.taints.STATUS_TAINTS`) and their links: for the DAG schedulers, which have
+        no notion of taints. Raises :class:`InputError` when no node is left."""
+        down = {n.name for n in self.nodes.values() if any(t.key in _STATUS_KEYS for t in n.taints)}
+        if not down:
+            return self
+        nodes = {name: n for name, n in self.nodes.items() if name not in down}
+        if not nodes:
+            raise InputError(f"cluster {self.name!r} has no Ready node", "cluster")
+        links = [lk for lk in self.links if lk.src not in down and lk.dst not in down]
+        return Cluster(nodes, links, self.name, self.default_bandwidth_mbps, self.default_latency_ms)
+
     def __len__(self) -> int:
         return len(self.nodes)
 
@@ -304,10 +319,11 @@ def _limit(where: str, raw: Mapping[str, Any], key: str) -> float | None:
     return float(value)
 
 
-def _positive(where: str, raw: Mapping[str, Any], key: str) -> float | None:
+def _positive(where: str, raw: Mapping[str, Any], key: str, *, zero: bool = False) -> float | None:
+    """``raw[key]`` as a positive number (or 0 with ``zero``), ``None`` when absent."""
     value = raw.get(key)
-    if isinstance(value, (int, float)) and not isinstance(value, bool) and value <= 0:
-        raise InputError(f"{where}: {key} must be positive, got {value!r}", "nodes")
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and (value < 0 or (value == 0 and not zero)):
+        raise InputError(f"{where}: {key} must be positive{' or 0' if zero else ''}, got {value!r}", "nodes")
     return _limit(where, raw, key)
 
 
@@ -339,7 +355,7 @@ def node_from_dict(raw: Any, index: int = 0) -> ClusterNode:
     rt = raw.get("rt", False)
     if not isinstance(rt, bool):
         raise InputError(f"{where}: rt must be true or false (a JSON boolean), not {rt!r}", "nodes")
-    rt_threshold = _positive(where, raw, "rt_threshold")
+    rt_threshold = _positive(where, raw, "rt_threshold", zero=True)  # 0 admits no RT load
     runtime, period = _positive(where, raw, "sched_rt_runtime_us"), _positive(where, raw, "sched_rt_period_us")
     if (runtime or DEFAULT_RT_RUNTIME_US) > (period or DEFAULT_RT_PERIOD_US):
         raise InputError(f"{where}: sched_rt_runtime_us exceeds sched_rt_period_us", "nodes")
