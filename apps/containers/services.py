@@ -27,6 +27,7 @@ from continuum.engine.containers.superclustering import CONTAINERS_FORMAT, SCORE
 from continuum.engine.core import artifact_names
 from continuum.engine.core.cluster import Cluster as EngineCluster
 from continuum.engine.core.errors import InputError
+from continuum.engine.core.placement import PlacementPlan
 from continuum.engine.core.safeload import loads_json
 
 from .models import Clustering, Placement
@@ -280,27 +281,30 @@ def resolve_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> t
 
 
 # ---- read-outs ----------------------------------------------------------------------------------------
-def why_table(plan: Mapping[str, Any], container: str) -> dict[str, Any]:
+def why_table(plan: PlacementPlan | Mapping[str, Any], container: str) -> dict[str, Any]:
     """Why ``container`` went where it went: for every node, the filter that rejected it and the reason, or
-    what each scoring policy gave it and the total (the chosen node first, then by total, rejected last)."""
-    order = [d["item"] for d in plan.get("decisions", [])]
+    what each scoring policy gave it and the total (the chosen node first, then by total, rejected last).
+    ``plan`` is the engine's plan or its stored form (``PlacementPlan.to_dict()``)."""
+    if not isinstance(plan, PlacementPlan):
+        plan = PlacementPlan.from_dict(plan) if plan.get("decisions") is not None else PlacementPlan("", [])
+    order = [d.item for d in plan.decisions]
     if container not in order:
         raise KeyError(container)
-    decision = plan["decisions"][order.index(container)]
+    decision = plan.decisions[order.index(container)]
     # A fixed order: JSON stored in PostgreSQL (jsonb) does not keep the order of a plan's keys.
-    used = {p for v in decision["verdicts"] for p in v.get("scores", {})}
+    used = {p for v in decision.verdicts for p in v.scores}
     policies = sorted(used, key=lambda p: (SCORERS.index(p) if p in SCORERS else len(SCORERS), p))
     rows = []
-    for v in decision["verdicts"]:
-        chosen = v["node"] == decision["node"]
+    for v in decision.verdicts:
+        chosen = v.node == decision.node
         rows.append(
             {
-                "node": v["node"],
-                "verdict": "chosen" if chosen else ("rejected" if v["rejected_by"] else "feasible"),
-                "rejected_by": v["rejected_by"],
-                "reason": v["reason"],
-                "scores": dict(v.get("scores", {})),
-                "total": v.get("total"),
+                "node": v.node,
+                "verdict": "chosen" if chosen else ("rejected" if v.rejected_by else "feasible"),
+                "rejected_by": v.rejected_by,
+                "reason": v.reason,
+                "scores": dict(v.scores),
+                "total": v.total,
             }
         )
     rank = {"chosen": 0, "feasible": 1, "rejected": 2}
@@ -308,10 +312,10 @@ def why_table(plan: Mapping[str, Any], container: str) -> dict[str, Any]:
     return {
         "container": container,
         "position": order.index(container) + 1,
-        "node": decision["node"],
-        "score": decision["score"],
-        "pending": decision["node"] is None,
-        "policy": plan.get("policy"),
+        "node": decision.node,
+        "score": decision.score,
+        "pending": decision.pending,
+        "policy": plan.policy,
         "policies": policies,
         "rows": rows,
     }
