@@ -7,6 +7,7 @@ from django.db import models
 from apps.kube.credentials import EncryptedTextField
 from apps.tenancy.models import FleetOwned
 from continuum.engine.core.cluster import Cluster as EngineCluster
+from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.taints import status_taint
@@ -120,6 +121,11 @@ class ComputeNode(models.Model):
 
     def __str__(self) -> str:
         return self.name
+
+    @property
+    def rt_capacity(self) -> float:
+        """The admissible RT utilization: ``rt_threshold``, else ``M x 0.95`` (the engine's default_rt_threshold)."""
+        return self.rt_threshold if self.rt_threshold is not None else default_rt_threshold(self.cpu)
 
     def to_document(self) -> dict:
         """This node as a ``continuum.cluster/v1`` node; one that is not Ready carries its status taint

@@ -67,3 +67,13 @@ def test_one_rule_for_nodes_that_are_not_ready(cluster):
     cluster.nodes.update(status=ComputeNode.Status.NOT_READY)
     with pytest.raises(InputError, match="has no Ready node"):
         cluster.to_platform()
+
+
+def test_rt_capacity_is_the_engines_default(cluster):
+    from continuum.engine.core.cluster import RT_FRACTION
+
+    node = cluster.nodes.get(name="node0")
+    assert node.rt_threshold is None and node.rt_capacity == node.cpu * RT_FRACTION == 4 * 0.95
+    assert cluster.to_engine().nodes["node0"].rt_capacity == node.rt_capacity
+    node.rt_threshold = 2.5
+    assert node.rt_capacity == 2.5
