@@ -7,8 +7,10 @@ from django.db import models
 from apps.kube.credentials import EncryptedTextField
 from apps.tenancy.models import FleetOwned
 from continuum.engine.core.cluster import Cluster as EngineCluster
+from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
+from continuum.engine.core.taints import status_taint
 
 
 class Cluster(FleetOwned):
@@ -41,15 +43,19 @@ class Cluster(FleetOwned):
     def __str__(self) -> str:
         return self.name
 
-    def to_engine(self, ready_only: bool = True) -> EngineCluster:
-        """The engine's view of this cluster (``continuum.cluster/v1``), with only Ready nodes by default."""
-        nodes = self.nodes.all()
-        if ready_only:
-            nodes = nodes.filter(status=ComputeNode.Status.READY)
-        nodes = list(nodes.order_by("name"))
+    def to_engine(self) -> EngineCluster:
+        """This cluster as the engine sees it (``continuum.cluster/v1``, read by the engine's one parser).
+
+        The one rule for nodes that are not Ready: every node is in it (name order), and a node that is not
+        Ready carries the NoSchedule taint Kubernetes gives such a node (``node.kubernetes.io/not-ready`` when
+        NotReady, ``node.kubernetes.io/unreachable`` when Unknown; ``continuum.engine.core.taints.STATUS_TAINTS``),
+        so it is excluded from placement by every placer that honours taints (super-clustering, RT-Kube), with
+        that taint as the reason, while the pods already bound there still count. The DAG schedulers, which
+        know no taints, get the cluster without those nodes (:meth:`to_platform`, ``EngineCluster.ready``).
+        """
+        nodes = list(self.nodes.order_by("name"))
         if not nodes:
-            raise InputError(f"cluster {self.name!r} has no Ready node", "cluster")
-        names = {n.name for n in nodes}
+            raise InputError(f"cluster {self.name!r} has no nodes", "cluster")
         doc = {
             "name": self.name,
             "nodes": [n.to_document() for n in nodes],
@@ -61,7 +67,6 @@ class Cluster(FleetOwned):
                     "latency_ms": lk.latency_ms,
                 }
                 for lk in self.links.select_related("src", "dst")
-                if lk.src.name in names and lk.dst.name in names
             ],
             "default_bandwidth_mbps": self.default_bandwidth_mbps,
             "default_latency_ms": self.default_latency_ms,
@@ -69,8 +74,10 @@ class Cluster(FleetOwned):
         return EngineCluster.from_dict(doc)
 
     def to_platform(self, ready_only: bool = True) -> Platform:
-        """The cluster graph the DAG schedulers use: one multi-core processor per (Ready) node, ms and Mbit."""
-        return self.to_engine(ready_only).to_platform(settings.CONTINUUM_CLUSTER_ROUTING)
+        """The cluster graph the DAG schedulers use: one multi-core processor per Ready node (every node with
+        ``ready_only=False``, e.g. to draw the cluster), times in ms and data in Mbit."""
+        engine = self.to_engine()
+        return (engine.ready() if ready_only else engine).to_platform(settings.CONTINUUM_CLUSTER_ROUTING)
 
 
 class ComputeNode(models.Model):
@@ -115,8 +122,18 @@ class ComputeNode(models.Model):
     def __str__(self) -> str:
         return self.name
 
+    @property
+    def rt_capacity(self) -> float:
+        """The admissible RT utilization: ``rt_threshold``, else ``M x 0.95`` (the engine's default_rt_threshold)."""
+        return self.rt_threshold if self.rt_threshold is not None else default_rt_threshold(self.cpu)
+
     def to_document(self) -> dict:
-        """This node as a ``continuum.cluster/v1`` node."""
+        """This node as a ``continuum.cluster/v1`` node; one that is not Ready carries its status taint
+        (see :meth:`Cluster.to_engine`). A storage capacity of 0 means "not known", not "full"."""
+        taints = [dict(t) for t in self.taints or []]
+        status = status_taint(self.status)
+        if status is not None and not any(t.get("key") == status.key for t in taints):
+            taints.append({"key": status.key, "value": status.value, "effect": status.effect})
         doc = {
             "name": self.name,
             "arch": self.arch,
@@ -124,7 +141,7 @@ class ComputeNode(models.Model):
             "memory_mib": self.memory_mib,
             "storage_mib": self.storage_mib or None,
             "labels": self.labels,
-            "taints": self.taints,
+            "taints": taints,
             "rt": self.rt,
             "class": self.processor_class,
             "speed": self.speed,

@@ -16,6 +16,7 @@ from apps.tenancy.models import FleetOwned
 from continuum.engine.containers.rosgraph import RosGraph as EngineRosGraph
 from continuum.engine.containers.superclustering import Workload, load_workload
 from continuum.engine.core.cluster import Cluster as EngineCluster
+from continuum.engine.core.placement import PlacementPlan
 
 
 class RosGraph(FleetOwned):
@@ -126,8 +127,12 @@ class Placement(FleetOwned):
     def engine_cluster(self) -> EngineCluster:
         return EngineCluster.from_dict(self.cluster_document)
 
+    def engine_plan(self) -> PlacementPlan:
+        """The stored plan read back as the engine's type (``plan`` is ``PlacementPlan.to_dict()``)."""
+        return PlacementPlan.from_dict(self.plan)
+
     def placed(self) -> dict[str, str]:
-        return {p["container"]: p["node"] for p in self.plan.get("placements", [])}
+        return self.engine_plan().placed()
 
 
 class ContainerDeployment(models.Model):

@@ -12,7 +12,7 @@ import gzip
 from collections.abc import Mapping
 from typing import Any
 
-from apps.clusters.models import Cluster, ComputeNode
+from apps.clusters.models import Cluster
 from continuum.engine.containers.image_inheritance import DEFAULT_PLATFORMS, ImagePlan, plan_from_graph
 from continuum.engine.containers.rosgraph import (
     LEVEL_ALIASES,
@@ -27,6 +27,7 @@ from continuum.engine.containers.superclustering import CONTAINERS_FORMAT, SCORE
 from continuum.engine.core import artifact_names
 from continuum.engine.core.cluster import Cluster as EngineCluster
 from continuum.engine.core.errors import InputError
+from continuum.engine.core.placement import PlacementPlan
 from continuum.engine.core.safeload import loads_json
 
 from .models import Clustering, Placement
@@ -45,11 +46,6 @@ OVERRIDE_KEYS = (
     "cpu", "memory_mib", "storage_mib", "priority", "archs", "node", "node_selector", "affinity", "tolerations",
     "image",
 )  # fmt: skip
-#: Taints Kubernetes puts on nodes that are not Ready; a model-only cluster gets them from the node status.
-STATUS_TAINTS = {
-    ComputeNode.Status.NOT_READY: "node.kubernetes.io/not-ready",
-    ComputeNode.Status.UNKNOWN: "node.kubernetes.io/unreachable",
-}
 ARCHIVES = {
     "tar.gz": ("application/gzip", "tar.gz"),
     "zip": ("application/zip", "zip"),
@@ -162,36 +158,10 @@ def _set_or_drop(item: dict, key: str, value: Any) -> None:
 
 # ---- clusters -----------------------------------------------------------------------------------------
 def engine_cluster(cluster: Cluster) -> EngineCluster:
-    """The cluster's nodes and links as the node-level placers see them.
-
-    A node that is not Ready carries the taint Kubernetes would give it (``node.kubernetes.io/not-ready`` or
-    ``unreachable``), so the placement rejects it with that reason instead of silently dropping it. A storage
-    capacity of 0 means "not known" (model-only nodes), not "full".
-    """
-    nodes = []
-    for n in cluster.nodes.order_by("name"):
-        taints = [dict(t) for t in n.taints or []]
-        status_taint = STATUS_TAINTS.get(n.status)
-        if status_taint and not any(t.get("key") == status_taint for t in taints):
-            taints.append({"key": status_taint, "value": "", "effect": "NoSchedule"})
-        nodes.append(
-            {
-                "name": n.name,
-                "arch": n.arch,
-                "cpu": float(n.cpu),
-                "memory_mib": float(n.memory_mib),
-                "storage_mib": float(n.storage_mib) if n.storage_mib else None,
-                "labels": dict(n.labels or {}),
-                "taints": taints,
-            }
-        )
-    if not nodes:
-        raise InputError(f"cluster {cluster.name!r} has no nodes", "cluster")
-    links = [
-        {"src": lk.src.name, "dst": lk.dst.name, "bandwidth_mbps": lk.bandwidth_mbps, "latency_ms": lk.latency_ms}
-        for lk in cluster.links.select_related("src", "dst")
-    ]
-    return EngineCluster.from_dict({"name": cluster.name, "nodes": nodes, "links": links})
+    """The cluster's nodes and links as the node-level placers see them: :meth:`Cluster.to_engine`, whose nodes
+    that are not Ready carry the taint Kubernetes would give them, so the placement rejects them with that
+    reason instead of silently dropping them."""
+    return cluster.to_engine()
 
 
 # ---- images -------------------------------------------------------------------------------------------
@@ -311,27 +281,30 @@ def resolve_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> t
 
 
 # ---- read-outs ----------------------------------------------------------------------------------------
-def why_table(plan: Mapping[str, Any], container: str) -> dict[str, Any]:
+def why_table(plan: PlacementPlan | Mapping[str, Any], container: str) -> dict[str, Any]:
     """Why ``container`` went where it went: for every node, the filter that rejected it and the reason, or
-    what each scoring policy gave it and the total (the chosen node first, then by total, rejected last)."""
-    order = [d["item"] for d in plan.get("decisions", [])]
+    what each scoring policy gave it and the total (the chosen node first, then by total, rejected last).
+    ``plan`` is the engine's plan or its stored form (``PlacementPlan.to_dict()``)."""
+    if not isinstance(plan, PlacementPlan):
+        plan = PlacementPlan.from_dict(plan) if plan.get("decisions") is not None else PlacementPlan("", [])
+    order = [d.item for d in plan.decisions]
     if container not in order:
         raise KeyError(container)
-    decision = plan["decisions"][order.index(container)]
+    decision = plan.decisions[order.index(container)]
     # A fixed order: JSON stored in PostgreSQL (jsonb) does not keep the order of a plan's keys.
-    used = {p for v in decision["verdicts"] for p in v.get("scores", {})}
+    used = {p for v in decision.verdicts for p in v.scores}
     policies = sorted(used, key=lambda p: (SCORERS.index(p) if p in SCORERS else len(SCORERS), p))
     rows = []
-    for v in decision["verdicts"]:
-        chosen = v["node"] == decision["node"]
+    for v in decision.verdicts:
+        chosen = v.node == decision.node
         rows.append(
             {
-                "node": v["node"],
-                "verdict": "chosen" if chosen else ("rejected" if v["rejected_by"] else "feasible"),
-                "rejected_by": v["rejected_by"],
-                "reason": v["reason"],
-                "scores": dict(v.get("scores", {})),
-                "total": v.get("total"),
+                "node": v.node,
+                "verdict": "chosen" if chosen else ("rejected" if v.rejected_by else "feasible"),
+                "rejected_by": v.rejected_by,
+                "reason": v.reason,
+                "scores": dict(v.scores),
+                "total": v.total,
             }
         )
     rank = {"chosen": 0, "feasible": 1, "rejected": 2}
@@ -339,10 +312,10 @@ def why_table(plan: Mapping[str, Any], container: str) -> dict[str, Any]:
     return {
         "container": container,
         "position": order.index(container) + 1,
-        "node": decision["node"],
-        "score": decision["score"],
-        "pending": decision["node"] is None,
-        "policy": plan.get("policy"),
+        "node": decision.node,
+        "score": decision.score,
+        "pending": decision.pending,
+        "policy": plan.policy,
         "policies": policies,
         "rows": rows,
     }

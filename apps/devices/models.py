@@ -2,7 +2,7 @@
 
 A profile holds the board's micro-benchmark results (spec 01 section 9.6): the CPU cache threshold, the GPU
 thresholds of zones 1-2, the maximum ZC->SC and SC->ZC speedups and the peak LL->L1 throughputs. The three
-published boards (Jetson Nano, TX2, AGX Xavier) are seeded from ``continuum/engine/data/uma_devices.json``;
+published boards (Jetson Nano, TX2, AGX Xavier) are seeded from ``continuum/engine/device/data/uma_devices.json``;
 administrators add their own. Profiles are global (a board is a board in every fleet); fleets read them.
 """
 

@@ -28,6 +28,7 @@ from django.db import models
 
 from apps.clusters.models import Cluster, ComputeNode
 from continuum.engine.core.errors import InputError
+from continuum.engine.core.placement import PlacementPlan
 from continuum.engine.rtkube.rt_kube import RTKubeParams
 from continuum.engine.rtkube.rt_model import (
     RTContainer,
@@ -305,6 +306,10 @@ class RTPlan(models.Model):
 
     def __str__(self) -> str:
         return f"{self.get_kind_display()} on {self.cluster} ({self.placed} placed, {self.pending} pending)"
+
+    def engine_plan(self) -> PlacementPlan:
+        """The stored plan read back as the engine's type (the ``explain`` stored beside it is left out)."""
+        return PlacementPlan.from_dict(self.plan, ignore=("explain",))
 
 
 class RTDecision(models.Model):

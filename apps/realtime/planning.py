@@ -9,55 +9,44 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable, Mapping
+from dataclasses import replace
 from typing import Any
 
 from django.utils import timezone
 
-from apps.clusters.models import Cluster, ComputeNode
+from apps.clusters.models import Cluster
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import PlacementPlan
+from continuum.engine.core.taints import STATUS_TAINTS
 from continuum.engine.rtkube import rt_kube
-from continuum.engine.rtkube.rt_model import RT_TAINT, RTContainer, RTNode, Taint, rtset_from_dict
+from continuum.engine.rtkube.rt_model import RT_TAINT, RTContainer, RTNode, Taint, rt_nodes, rtset_from_dict
 
 from .models import NodeTaint, RealTime, RTPod, RTPolicy
 
-NOT_READY = Taint("node.kubernetes.io/not-ready", "", "NoSchedule")
 PARAM_KEYS = ("k", "b_score_argument", "sort_tiebreak")
 
 
 def db_rt_nodes(cluster: Cluster) -> list[RTNode]:
-    """The engine's nodes of a stored cluster; the monitor's taints carry their expiry (``until``)."""
+    """RT-Kube's view of :meth:`Cluster.to_engine` (nodes that are not Ready carry their status taint), with the
+    monitor's active taints, which carry their expiry (``until``), and the RealTime taint on every RT node."""
+    if not cluster.nodes.exists():
+        return []
     now = timezone.now()
+    ids = dict(cluster.nodes.values_list("name", "pk"))
     timed: dict[int, list[NodeTaint]] = {}
     for t in NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True):
         timed.setdefault(t.node_id, []).append(t)
     out = []
-    for n in cluster.nodes.order_by("name"):
-        mine = timed.get(n.pk, [])
+    for node in rt_nodes(cluster.to_engine()):
+        mine = timed.get(ids[node.name], [])
         # The monitor's taints count with their expiry (one past its time is as good as lifted).
-        taints = [
-            Taint.parse(t, f"node {n.name!r}")
-            for t in n.taints
-            if not any(t.get("key") == m.key and t.get("effect") == m.effect for m in mine)
-        ]
+        kept = [t for t in node.taints if not any(t.key == m.key and t.effect == m.effect for m in mine)]
+        taints = [t for t in kept if t not in STATUS_TAINTS.values()]
         taints += [Taint(m.key, m.value, m.effect, until=m.expires_at.timestamp()) for m in mine if m.expires_at > now]
-        if n.rt and not any(t.key == RT_TAINT.key for t in taints):
+        if node.rt and not any(t.key == RT_TAINT.key for t in taints):
             taints.append(RT_TAINT)
-        if n.status != ComputeNode.Status.READY:
-            taints.append(NOT_READY)
-        threshold = n.rt_threshold if n.rt_threshold is not None else n.cpu * 0.95
-        out.append(
-            RTNode(
-                n.name,
-                n.rt,
-                n.criticality or None,
-                n.cpu or 1.0,
-                float(n.memory_mib),
-                threshold,
-                tuple(taints),
-                dict(n.labels),
-            )
-        )
+        taints += [t for t in kept if t in STATUS_TAINTS.values()]
+        out.append(replace(node, taints=tuple(taints)))
     return out
 
 

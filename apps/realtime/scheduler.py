@@ -36,8 +36,10 @@ from kubernetes import client, watch
 
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube.gateway import api_client_for, node_fields
+from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision
+from continuum.engine.core.taints import NOT_READY, status_taint
 from continuum.engine.rtkube import rt_kube
 from continuum.engine.rtkube.rt_model import (
     NONE,
@@ -68,7 +70,6 @@ from .models import MonitoringReport, RealTime, RTDecision, RTPlan, RTPod, RTPol
 
 log = logging.getLogger("continuum.rt_scheduler")
 STATELESS_LABEL = "rt.monitoring/stateless"
-NOT_READY_TAINT = Taint("node.kubernetes.io/not-ready", "", "NoSchedule")
 MAX_BACKOFF = 30.0
 
 
@@ -92,12 +93,14 @@ def rt_nodes(cluster: Cluster, api_nodes: list[dict]) -> list[RTNode]:
         alloc = (obj.get("status") or {}).get("allocatable") or (obj.get("status") or {}).get("capacity") or {}
         cpu, mem = requests_of({"spec": {"containers": [{"resources": {"requests": alloc}}]}})
         taints = [Taint(t["key"], t.get("value") or "", t["effect"]) for t in f["taints"]]
-        if f["status"] != ComputeNode.Status.READY:
-            taints.append(NOT_READY_TAINT)
+        if f["status"] != ComputeNode.Status.READY:  # the rule of Cluster.to_engine, on the API's view
+            status = status_taint(f["status"]) or NOT_READY
+            if not any(t.key == status.key for t in taints):
+                taints.append(status)
         row = rows.get(name)
         rt = bool(row and row.rt)
         cpu = cpu or (row.cpu if row else 1.0) or 1.0
-        threshold = row.rt_threshold if row and row.rt_threshold is not None else cpu * 0.95
+        threshold = row.rt_threshold if row and row.rt_threshold is not None else default_rt_threshold(cpu)
         out.append(
             RTNode(
                 name,

@@ -1,5 +1,7 @@
 """Stored schedules: one row per assignment, with its Kubernetes placement status."""
 
+import dataclasses
+
 from django.db import models
 from django.db.models import Count, F, Func, IntegerField, OuterRef, Subquery, Value
 from django.db.models.functions import Coalesce
@@ -8,6 +10,9 @@ from apps.tenancy.models import FleetOwned
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment as EngineAssignment
 from continuum.engine.core.schedule import Schedule as EngineSchedule
+
+#: The fields an assignment row shares with the engine's Assignment (the rest is Kubernetes placement status).
+ENGINE_FIELDS = tuple(f.name for f in dataclasses.fields(EngineAssignment))
 
 
 class JSONArrayLength(Func):
@@ -116,28 +121,15 @@ class Schedule(FleetOwned):
             ranks=result.ranks,
             metrics=result.metrics,
         )
-        Assignment.objects.bulk_create(
-            Assignment(
-                schedule=row,
-                task=a.task,
-                frame=a.frame,
-                processor=a.processor,
-                start=a.start,
-                finish=a.finish,
-                niceness=a.niceness,
-                core=a.core,
-            )
-            for a in result.assignments
-        )
+        Assignment.objects.bulk_create(Assignment.from_engine(a, row) for a in result.assignments)
         return row
 
     def to_engine(self) -> EngineSchedule:
+        """The stored schedule as the engine's type: ``Schedule.store(s, ...).to_engine()`` gives ``s`` back,
+        its assignments in the rows' order (start, processor, task)."""
         return EngineSchedule(
             self.algorithm,
-            [
-                EngineAssignment(a.task, a.processor, a.start, a.finish, a.frame, a.niceness, a.core)
-                for a in self.assignments.all()
-            ],
+            [a.to_engine() for a in self.assignments.all()],
             ranks=self.ranks,
             params=self.params,
             metrics=self.metrics,
@@ -203,3 +195,11 @@ class Assignment(models.Model):
 
     def __str__(self) -> str:
         return f"{self.task}@{self.processor}"
+
+    @classmethod
+    def from_engine(cls, assignment: EngineAssignment, schedule: Schedule) -> "Assignment":
+        """An (unsaved) row of ``schedule`` for one engine assignment; the fields are the engine's, by name."""
+        return cls(schedule=schedule, **{name: getattr(assignment, name) for name in ENGINE_FIELDS})
+
+    def to_engine(self) -> EngineAssignment:
+        return EngineAssignment(**{name: getattr(self, name) for name in ENGINE_FIELDS})

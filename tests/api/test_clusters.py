@@ -40,3 +40,40 @@ def test_link_must_stay_inside_its_cluster(api, cluster, cluster_doc):
         "/api/v1/links/", {"cluster": cluster.pk, "src": mine, "dst": foreign, "bandwidth_mbps": 10}, format="json"
     )
     assert response.status_code == 400 and "dst" in response.data
+
+
+def test_one_rule_for_nodes_that_are_not_ready(cluster):
+    """Cluster.to_engine keeps every node; one that is not Ready carries the taint Kubernetes gives it, so the
+    placers exclude it with that reason; the DAG schedulers' platform leaves it out (issue 11)."""
+    from apps.clusters.models import ComputeNode
+    from apps.containers.services import engine_cluster
+    from apps.realtime.planning import db_rt_nodes
+    from continuum.engine.core.errors import InputError
+    from continuum.engine.core.taints import NOT_READY, UNREACHABLE
+
+    cluster.nodes.filter(name="node1").update(status=ComputeNode.Status.NOT_READY)
+    cluster.nodes.filter(name="node2").update(status=ComputeNode.Status.UNKNOWN)
+    engine = cluster.to_engine()
+    assert list(engine.nodes) == ["node0", "node1", "node2", "node3"]
+    assert NOT_READY in engine.nodes["node1"].taints and UNREACHABLE in engine.nodes["node2"].taints
+    assert not engine.nodes["node0"].taints and not engine.nodes["node3"].taints
+    assert [p.id for p in cluster.to_platform().processors] == ["node0", "node3"]
+    assert [p.id for p in cluster.to_platform(ready_only=False).processors] == ["node0", "node1", "node2", "node3"]
+    # the other adapters are this one
+    assert engine_cluster(cluster).nodes == engine.nodes
+    rt = {n.name: n for n in db_rt_nodes(cluster)}
+    assert list(rt) == ["node0", "node1", "node2", "node3"]
+    assert NOT_READY in rt["node1"].taints and UNREACHABLE in rt["node2"].taints
+    cluster.nodes.update(status=ComputeNode.Status.NOT_READY)
+    with pytest.raises(InputError, match="has no Ready node"):
+        cluster.to_platform()
+
+
+def test_rt_capacity_is_the_engines_default(cluster):
+    from continuum.engine.core.cluster import RT_FRACTION
+
+    node = cluster.nodes.get(name="node0")
+    assert node.rt_threshold is None and node.rt_capacity == node.cpu * RT_FRACTION == 4 * 0.95
+    assert cluster.to_engine().nodes["node0"].rt_capacity == node.rt_capacity
+    node.rt_threshold = 2.5
+    assert node.rt_capacity == 2.5

@@ -354,3 +354,22 @@ def test_comparisons_are_scoped_to_the_fleet(api, other_api):
     # Deleting a comparison deletes the schedules it made.
     assert api.delete(f"/api/v1/comparisons/{pk}/").status_code == 204
     assert not Schedule.objects.exists()
+
+
+def test_schedule_round_trip_through_the_database(api):
+    """Schedule.store(s, ...).to_engine() == s: one adapter each way, the fields by name (issue 11)."""
+    from continuum.engine.core.schedule import Assignment as EngineAssignment
+    from continuum.engine.device.algorithms import run
+    from continuum.engine.heft4k.heft4k import heft4k
+
+    application = Application.objects.get(pk=fig31_app(api)["id"])
+    platform = board(1)
+    frames = run("xeft", application.graph, platform, frames=3, period=10)
+    nice = heft4k(application.graph, platform)
+    manual = EngineSchedule("manual", [EngineAssignment("0", "cpu0", 0.5, 1.25, 2, -3, 1)], {"0": 1.0}, {"k": 1})
+    for engine in (frames, nice, manual):
+        back = Schedule.store(engine, application=application, platform=platform).to_engine()
+        assert back.assignments == sorted(engine.assignments, key=lambda a: (a.start, a.processor, a.task))
+        assert (back.algorithm, back.ranks, back.params, back.metrics, back.makespan) == (
+            engine.algorithm, engine.ranks, engine.params, engine.metrics, engine.makespan
+        )  # fmt: skip

@@ -248,3 +248,17 @@ def test_a_failed_place_job_records_the_reason(api, cluster, fleet):
     job = start_job("place", fleet, {"cluster": 987654, "containers": FIG_3_28})
     assert job.state == "failed" and job.error == "cluster 987654 does not exist"
     assert not Placement.objects.exists()
+
+
+def test_the_stored_plan_reads_back_as_the_engine_type(api):
+    """Placement.plan is PlacementPlan.to_dict(); it is read back through PlacementPlan.from_dict (issue 11)."""
+    from apps.containers.services import why_table
+
+    cluster = import_cluster(api, "rb-kairos", json.loads((DATA / "kairos_synthetic.cluster.json").read_text()))
+    containers = json.loads((DATA / "kairos_synthetic.containers.json").read_text())
+    job = run(api, "/api/v1/placements/run/", {"cluster": cluster, "containers": containers})
+    row = Placement.objects.get(pk=job["result"]["placement"])
+    plan = row.engine_plan()
+    assert plan.to_dict() == row.plan and plan.policy == row.policy
+    assert row.placed() == {p["container"]: p["node"] for p in row.plan["placements"]}
+    assert why_table(plan, "main-rb") == why_table(row.plan, "main-rb") == why(api, row.pk, "main-rb")

@@ -3,7 +3,7 @@
 import pytest
 
 from continuum.engine import InputError, Platform
-from continuum.engine.core.cluster import cluster_platform
+from continuum.engine.core.cluster import Cluster, cluster_platform
 from continuum.engine.core.platform import Link, Processor
 
 
@@ -115,3 +115,36 @@ def test_platform_cores_round_trip():
 def test_bad_cluster_documents_name_the_problem(change, message):
     with pytest.raises(InputError, match=message):
         cluster_platform(doc(**change))
+
+
+# ---- one parser of continuum.cluster/v1 (issue 11) ------------------------------------------------------
+@pytest.mark.parametrize("raw", ["false", "true", "yes", 0, 1, None])
+def test_rt_must_be_a_json_boolean(raw):
+    from continuum.engine.rtkube.rt_model import cluster_from_dict as rt_cluster_from_dict
+
+    doc = {"nodes": [{"name": "n", "rt": raw}]}
+    for parse in (Cluster.from_dict, rt_cluster_from_dict):
+        with pytest.raises(InputError, match=r"node 'n': rt must be true or false \(a JSON boolean\)") as err:
+            parse(doc)
+        assert repr(raw) in str(err.value)
+
+
+def test_rt_view_is_built_from_the_core_parse():
+    from continuum.engine.core.cluster import RT_FRACTION, default_rt_threshold
+    from continuum.engine.rtkube.rt_model import RT_TAINT, cluster_from_dict, rt_nodes
+
+    doc = {
+        "nodes": [
+            {"name": "j", "cpu": 8, "rt": True, "criticality": "C", "sched_rt_runtime_us": 900_000},
+            {"name": "s", "cpu": 4, "rt": False, "memory_mib": 512, "taints": []},
+        ]
+    }
+    cluster = Cluster.from_dict(doc)
+    assert cluster.nodes["j"].extra == {} and cluster.nodes["j"].sched_rt_runtime_us == 900_000
+    assert rt_nodes(cluster) == cluster_from_dict(doc)
+    j, s = rt_nodes(cluster)
+    assert j.rt_threshold == pytest.approx(7.2) and j.taints == (RT_TAINT,)
+    assert s.rt_threshold == pytest.approx(default_rt_threshold(4)) == pytest.approx(4 * RT_FRACTION) == 3.8
+    assert Cluster.from_dict(cluster.to_dict()).nodes == cluster.nodes
+    with pytest.raises(InputError, match="sched_rt_runtime_us exceeds sched_rt_period_us"):
+        Cluster.from_dict({"nodes": [{"name": "n", "sched_rt_runtime_us": 2_000_000}]})

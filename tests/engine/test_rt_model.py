@@ -163,7 +163,7 @@ def test_cluster_nodes_threshold_taints_and_errors():
     assert r.taints == (Taint("gpu", "yes", "NoSchedule"), Taint("k", "", "NoExecute")) and not r.rt
     assert cluster_from_dict(cluster_to_dict(nodes)) == nodes
     for bad, msg in [
-        ({"name": "n", "cpu": 0}, "node 'n': cpu must be positive"),
+        ({"name": "n", "cpu": 0}, "node 'n' cpu must be a positive number"),
         ({"name": "n", "criticality": "D"}, "requires ASIL-D"),
         ({"name": "n", "taints": ["nocolon"]}, "not key=value:Effect"),
         ({"name": "n", "rt": "yes"}, "rt must be true or false"),
@@ -171,8 +171,8 @@ def test_cluster_nodes_threshold_taints_and_errors():
     ]:
         with pytest.raises(InputError, match=msg):
             cluster_from_dict({"nodes": [bad]})
-    with pytest.raises(InputError, match="duplicate name"):
-        cluster_from_dict({"nodes": [{"name": "a"}, {"name": "a"}]})
+    with pytest.raises(InputError, match="duplicate node name 'a'"):
+        cluster_from_dict({"nodes": [{"name": "a"}, {"name": "a"}]})  # the one cluster parser's wording
 
 
 def test_tolerations_follow_kubernetes_rules():

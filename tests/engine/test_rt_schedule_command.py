@@ -85,7 +85,7 @@ def test_realtime_yaml_input(tmp_path):
             "wcet 11 on node 'jetson' exceeds deadline 10",
         ),
         ("{not json", None, "malformed JSON at line 1"),
-        ({"containers": []}, {"nodes": []}, "cluster: nodes must be a non-empty list"),
+        ({"containers": []}, {"nodes": []}, "'nodes' must be a non-empty list"),  # the one cluster parser's wording
     ],
 )
 def test_bad_input_exits_2_with_one_line(tmp_path, rtset, cluster, message):

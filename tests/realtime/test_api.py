@@ -397,3 +397,16 @@ def test_the_beat_task_lifts_expired_taints(api, rt_cluster, node0_pods):
     assert rt_lift_taints() == 0
     NodeTaint.objects.update(expires_at=timezone.now() - timedelta(seconds=1))
     assert rt_lift_taints() == 1 and rt_cluster.nodes.get(name="node0").taints == []
+
+
+def test_a_stored_rt_plan_reads_back_as_the_engine_type(api, rt_cluster):
+    """RTPlan.plan is PlacementPlan.to_dict() plus ``explain``; RTPlan.engine_plan() reads it back (issue 11)."""
+    make_rt(rt_cluster, "arm", "C", 8.33, 8, {"node2": 3.8})
+    make_rt(rt_cluster, "vision", "A", 100, 100, {"node3": 10})
+    response = api.post("/api/v1/rt-plans/whatif/", {"cluster": rt_cluster.pk}, format="json")
+    job = api.get(f"/api/v1/jobs/{response.data['id']}/").data
+    row = RTPlan.objects.get(pk=job["result"]["rt_plan"])
+    plan = row.engine_plan()
+    assert {**plan.to_dict(), "explain": row.plan["explain"]} == row.plan
+    assert plan.placed() == {"arm": "node2"} and plan.decision("vision").pending
+    assert plan.decision("vision").reasons()["node3"] == "node has no real-time kernel"

@@ -44,6 +44,21 @@ from continuum.engine.core import artifact_names
 from continuum.engine.core.cluster import normalize_arch
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "DEFAULT_PLATFORMS",
+    "TABLE_4_16",
+    "TABLE_4_16_PRINTED_TOTALS",
+    "Image",
+    "ImagePlan",
+    "apt_package",
+    "check_plan_inputs",
+    "dependency_sets",
+    "image_name",
+    "plan_from_graph",
+    "plan_images",
+    "reduction",
+]
+
 #: Table 4.16 (GB): image -> (size, optimized); parents have no standalone size. Reference data.
 TABLE_4_16 = {
     "mission-rb": (4.087, 0.367),
@@ -185,15 +200,16 @@ class ImagePlan:
             with tarfile.open(fileobj=buf, mode="w", format=tarfile.PAX_FORMAT) as tar:
                 for path in sorted(files):
                     data = files[path].encode()
-                    info = tarfile.TarInfo(path)
-                    info.size, info.mtime, info.mode = len(data), 0, 0o755 if path.endswith(".sh") else 0o644
-                    tar.addfile(info, io.BytesIO(data))
+                    tar_info = tarfile.TarInfo(path)
+                    tar_info.size, tar_info.mtime = len(data), 0
+                    tar_info.mode = 0o755 if path.endswith(".sh") else 0o644
+                    tar.addfile(tar_info, io.BytesIO(data))
         elif fmt == "zip":
             with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
                 for path in sorted(files):
-                    info = zipfile.ZipInfo(path, date_time=(1980, 1, 1, 0, 0, 0))
-                    info.external_attr = (0o755 if path.endswith(".sh") else 0o644) << 16
-                    zf.writestr(info, files[path])
+                    zip_info = zipfile.ZipInfo(path, date_time=(1980, 1, 1, 0, 0, 0))
+                    zip_info.external_attr = (0o755 if path.endswith(".sh") else 0o644) << 16
+                    zf.writestr(zip_info, files[path])
         else:
             raise InputError(f"unknown archive format {fmt!r} (tar or zip)", "format")
         return buf.getvalue()
@@ -256,9 +272,9 @@ def plan_images(
         raise InputError("no containers to build images for", "containers")
     check_plan_inputs(deps, apt_names or {}, distro_image, ros_distro, repository, tag)
     sizes = dict(sizes_mib or {})
-    for p, s in sizes.items():
-        if not (isinstance(s, (int, float)) and s >= 0):
-            raise InputError(f"package {p!r} has invalid size {s!r}", "packages")
+    for p, mib in sizes.items():
+        if not (isinstance(mib, (int, float)) and mib >= 0):
+            raise InputError(f"package {p!r} has invalid size {mib!r}", "packages")
     wanted_platforms = tuple(dict.fromkeys(normalize_arch(p) for p in platforms))
     pkg_archs = {p: {normalize_arch(a, f"package {p!r}") for a in a_list} for p, a_list in (archs or {}).items()}
     containers = list(deps)
@@ -476,4 +492,3 @@ def _docker_string(value: str) -> str:
     Dockerfile instruction cannot hold one."""
     escaped = re.sub(r'(["$\\])', r"\\\1", _one_line(value))
     return f'"{escaped}"'
-

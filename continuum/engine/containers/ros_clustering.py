@@ -36,6 +36,17 @@ from typing import Any
 from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "OVERHEAD_MIB",
+    "Clustering",
+    "Container",
+    "cluster_nodes",
+    "cluster_ros",
+    "max_containers",
+    "split_bandwidth",
+    "split_heavy_nodes",
+]
+
 #: Measured per-container memory overheads (MiB) that can seed Eq. (3.13).
 OVERHEAD_MIB = {"docker": 29.0, "k3s": 39.0, "runc-riscv": 1.9}
 
@@ -134,7 +145,7 @@ def cluster_nodes(
     members: dict[str, list[str]] = {v: [v] for v in nodes if adj[v]}
     for v in culled:
         del adj[v]
-    passes: list[list[list[str]]] = []
+    passes: list[dict[str, Any]] = []
     guard = False
     while len(members) > n:  # line 3
         if max_passes is not None and len(passes) >= max_passes:
@@ -156,10 +167,10 @@ def _rank_key(members: Mapping[str, list[str]], v: str) -> tuple:
 def _snapshot(members: Mapping[str, list[str]], adj: Mapping[str, Mapping[str, float]]) -> dict[str, Any]:
     """One pass's outcome: the clusters and the Def. 3.2.1 weights between them (named by smallest member)."""
     edges = sorted(
-        ([a, b, w] for a, nbrs in adj.items() for b, w in nbrs.items() if natural_key(a) < natural_key(b)),
+        ((a, b, w) for a, nbrs in adj.items() for b, w in nbrs.items() if natural_key(a) < natural_key(b)),
         key=lambda e: (natural_key(e[0]), natural_key(e[1])),
     )
-    return {"clusters": [list(ms) for _, ms in _ordered_items(members)], "edges": edges}
+    return {"clusters": [list(ms) for _, ms in _ordered_items(members)], "edges": [list(e) for e in edges]}
 
 
 def _ordered_items(members: Mapping[str, list[str]]) -> list[tuple[str, list[str]]]:

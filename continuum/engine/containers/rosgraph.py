@@ -30,12 +30,35 @@ import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeGuard
 
 from continuum.engine.core import limits
 from continuum.engine.core.artifact_names import check_package
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.safeload import check_text_file, loads_json
+
+__all__ = [
+    "FORMAT",
+    "IROBOT_HEADER_BYTES",
+    "LEVELS",
+    "LEVEL_ALIASES",
+    "MODES",
+    "READERS",
+    "RosGraph",
+    "RosNode",
+    "Topic",
+    "eq_3_12",
+    "from_autoware",
+    "from_dot",
+    "from_irobot",
+    "guess_json_format",
+    "irobot_msg_bytes",
+    "load_rosgraph",
+    "natural_key",
+    "pair",
+    "parse_dot",
+    "propose_levels",
+]
 
 FORMAT = "continuum.rosgraph/v1"
 LEVELS = ("mission", "macro", "functionality", "driver")
@@ -919,11 +942,11 @@ def parse_dot(text: str) -> dict[str, Any]:
 
 
 # ---- contract parsing helpers -------------------------------------------------------------------
-def _finite_nonneg(x: Any) -> bool:
+def _finite_nonneg(x: Any) -> TypeGuard[int | float]:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x >= 0
 
 
-def _positive(x: Any) -> bool:
+def _positive(x: Any) -> TypeGuard[int | float]:
     return _finite_nonneg(x) and x > 0
 
 

@@ -34,13 +34,36 @@ import math
 import random
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeGuard
 
 from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
 from continuum.engine.core.cluster import Cluster, ClusterNode, normalize_arch
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision, NodeVerdict, PlacementPlan
 from continuum.engine.core.taints import Toleration, untolerated
+
+__all__ = [
+    "ALIASES",
+    "CONTAINERS_FORMAT",
+    "DEFAULT_PLATFORMS",
+    "FILTERS",
+    "KUBERNETES_WEIGHTS",
+    "OPERATORS",
+    "POLICIES",
+    "SCORERS",
+    "SUPERCLUSTERING_WEIGHTS",
+    "ContainerSpec",
+    "FilterFn",
+    "Requirement",
+    "Workload",
+    "container_bandwidth",
+    "default_kubernetes",
+    "inter_node_bandwidth",
+    "load_workload",
+    "place",
+    "plan_metrics",
+    "superclustering",
+]
 
 CONTAINERS_FORMAT = "continuum.containers/v1"
 #: Platforms assumed for an image that declares none: what the thesis builds with ``docker buildx``
@@ -89,7 +112,7 @@ class ContainerSpec:
     cpu: float = 0.0
     memory_mib: float = 0.0
     storage_mib: float = 0.0
-    priority: int = 0
+    priority: float = 0
     #: Architectures the container's image is built for.
     archs: tuple[str, ...] = DEFAULT_PLATFORMS
     node_selector: Mapping[str, str] = field(default_factory=dict)
@@ -244,7 +267,7 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
     return Workload(containers, bandwidth)
 
 
-def _number(x: Any) -> bool:
+def _number(x: Any) -> TypeGuard[int | float]:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x >= 0
 
 

@@ -15,6 +15,26 @@ import re
 
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "DEBIAN_PACKAGE_RE",
+    "NAME_MAX",
+    "NAME_RE",
+    "REFERENCE_RE",
+    "ROS_DISTRO_RE",
+    "ROS_PACKAGE_RE",
+    "TAG_RE",
+    "check_package",
+    "check_reference",
+    "check_repository",
+    "check_ros_distro",
+    "check_tag",
+    "package_problem",
+    "reference_problem",
+    "repository_problem",
+    "ros_distro_problem",
+    "tag_problem",
+]
+
 # distribution/reference grammar (reference.go):
 #   reference  := name [ ":" tag ] [ "@" digest ]
 #   name       := [domain '/'] path-component ['/' path-component]*

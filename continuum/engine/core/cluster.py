@@ -2,10 +2,11 @@
 
 Shared by the node-level placers (super-clustering 3.3.1, HEFT4K 3.3.2, RT-Kube 3.4). A node has an
 architecture (``kubernetes.io/arch``: amd64, arm64, riscv64, ...; spec 02 section 4), allocatable CPU cores,
-memory and storage in MiB (absent = not limited), labels and taints; ``rt``, ``criticality`` and
-``rt_threshold`` serve the real-time placer; ``class`` and ``speed`` say which DAG task costs apply to it and
-how fast it runs them; any other key is kept in ``extra``. Links are undirected; :meth:`Cluster.route` gives
-the path of least latency whose bandwidth is the path's bottleneck.
+memory and storage in MiB (absent = not limited), labels and taints; ``rt`` (a JSON boolean), ``criticality``,
+``rt_threshold`` and ``sched_rt_runtime_us``/``sched_rt_period_us`` serve the real-time placer, whose view of the
+nodes (:func:`continuum.engine.rtkube.rt_model.rt_nodes`) is built from this parse; ``class`` and ``speed``
+say which DAG task costs apply to it and how fast it runs them; any other key is kept in ``extra``. Links are
+undirected; :meth:`Cluster.route` gives the path of least latency whose bandwidth is the path's bottleneck.
 
 :meth:`Cluster.to_platform` (or :func:`cluster_platform`) turns the cluster into the graph G^c that HEFT4K
 schedules on (thesis 3.3.2): one multi-core processor per node (cores = whole CPUs, at least 1), in Mbit and
@@ -26,9 +27,41 @@ from typing import Any
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Link, Platform, Processor
-from continuum.engine.core.taints import Taint
+from continuum.engine.core.taints import STATUS_TAINTS, Taint
+
+__all__ = [
+    "ARCHS",
+    "ARCH_ALIASES",
+    "DEFAULT_RT_PERIOD_US",
+    "DEFAULT_RT_RUNTIME_US",
+    "FORMAT",
+    "RT_FRACTION",
+    "Cluster",
+    "ClusterLink",
+    "ClusterNode",
+    "cluster_platform",
+    "default_rt_threshold",
+    "node_from_dict",
+    "normalize_arch",
+]
 
 FORMAT = "continuum.cluster/v1"
+_STATUS_KEYS = {t.key for t in STATUS_TAINTS.values()}
+#: The kernel's RT bandwidth defaults (``/proc/sys/kernel/sched_rt_{runtime,period}_us``, spec 03 section 3.3).
+DEFAULT_RT_RUNTIME_US = 950_000
+DEFAULT_RT_PERIOD_US = 1_000_000
+#: The share of a node's CPUs that real-time tasks may use by default: ``M * 0.95`` (Eq. 2.4).
+RT_FRACTION = DEFAULT_RT_RUNTIME_US / DEFAULT_RT_PERIOD_US
+
+
+def default_rt_threshold(
+    cpu: float, runtime_us: float = DEFAULT_RT_RUNTIME_US, period_us: float = DEFAULT_RT_PERIOD_US
+) -> float:
+    """A node's admissible RT utilization when none is given: ``M * sched_rt_runtime_us / sched_rt_period_us``
+    (``M * 0.95`` by default, computed as ``M * RT_FRACTION``)."""
+    return cpu * (runtime_us / period_us)
+
+
 #: Kubernetes GOARCH names; aliases below map the usual ``uname -m`` spellings onto them.
 ARCHS = ("amd64", "arm64", "riscv64", "arm", "386", "ppc64le", "s390x")
 ARCH_ALIASES = {
@@ -49,7 +82,7 @@ ARCH_ALIASES = {
 }
 _KNOWN_NODE_KEYS = {
     "name", "arch", "cpu", "memory_mib", "storage_mib", "labels", "taints", "rt", "criticality", "rt_threshold",
-    "class", "speed",
+    "class", "speed", "sched_rt_runtime_us", "sched_rt_period_us",
 }  # fmt: skip
 
 
@@ -80,10 +113,25 @@ class ClusterNode:
     rt: bool = False
     criticality: str | None = None
     rt_threshold: float | None = None
+    sched_rt_runtime_us: float | None = None
+    sched_rt_period_us: float | None = None
     #: The processor class DAG task costs name (besides the node's own name), and the speed factor.
     cls: str = "cpu"
     speed: float = 1.0
     extra: Mapping[str, Any] = field(default_factory=dict)
+    #: Whether the document gave a ``taints`` list (RT-Kube gives an RT node without one its RealTime taint).
+    taints_given: bool = False
+
+    @property
+    def rt_capacity(self) -> float:
+        """The admissible RT utilization: ``rt_threshold``, else ``M * runtime / period`` (M = 1 when unknown)."""
+        if self.rt_threshold is not None:
+            return self.rt_threshold
+        return default_rt_threshold(
+            self.cpu or 1.0,
+            DEFAULT_RT_RUNTIME_US if self.sched_rt_runtime_us is None else self.sched_rt_runtime_us,
+            DEFAULT_RT_PERIOD_US if self.sched_rt_period_us is None else self.sched_rt_period_us,
+        )
 
     def all_labels(self) -> dict[str, str]:
         """The node's labels plus the well-known ones Kubernetes sets (hostname, arch, os)."""
@@ -96,7 +144,9 @@ class ClusterNode:
 
     def to_dict(self) -> dict[str, Any]:
         doc: dict[str, Any] = {"name": self.name, "arch": self.arch}
-        for key in ("cpu", "memory_mib", "storage_mib", "criticality", "rt_threshold"):
+        keys = ("cpu", "memory_mib", "storage_mib", "criticality", "rt_threshold", "sched_rt_runtime_us",
+                "sched_rt_period_us")  # fmt: skip
+        for key in keys:
             if getattr(self, key) is not None:
                 doc[key] = getattr(self, key)
         if self.rt:
@@ -107,7 +157,7 @@ class ClusterNode:
             doc["speed"] = self.speed
         if self.labels:
             doc["labels"] = dict(self.labels)
-        if self.taints:
+        if self.taints or self.taints_given:
             doc["taints"] = [{"key": t.key, "value": t.value, "effect": t.effect} for t in self.taints]
         doc.update(self.extra)
         return doc
@@ -152,7 +202,7 @@ class Cluster:
         limits.check("nodes", len(raw_nodes))
         nodes: dict[str, ClusterNode] = {}
         for i, raw in enumerate(raw_nodes):
-            node = _parse_node(i, raw)
+            node = node_from_dict(raw, i)
             if node.name in nodes:
                 raise InputError(f"duplicate node name {node.name!r}", "nodes")
             nodes[node.name] = node
@@ -243,6 +293,19 @@ class Cluster:
         except nx.NetworkXNoPath:
             return []
 
+    def ready(self) -> Cluster:
+        """This cluster without the nodes that are not Ready (those carrying a taint of
+        :data:`~continuum.engine.core.taints.STATUS_TAINTS`) and their links: for the DAG schedulers, which have
+        no notion of taints. Raises :class:`InputError` when no node is left."""
+        down = {n.name for n in self.nodes.values() if any(t.key in _STATUS_KEYS for t in n.taints)}
+        if not down:
+            return self
+        nodes = {name: n for name, n in self.nodes.items() if name not in down}
+        if not nodes:
+            raise InputError(f"cluster {self.name!r} has no Ready node", "cluster")
+        links = [lk for lk in self.links if lk.src not in down and lk.dst not in down]
+        return Cluster(nodes, links, self.name, self.default_bandwidth_mbps, self.default_latency_ms)
+
     def __len__(self) -> int:
         return len(self.nodes)
 
@@ -256,7 +319,16 @@ def _limit(where: str, raw: Mapping[str, Any], key: str) -> float | None:
     return float(value)
 
 
-def _parse_node(index: int, raw: Any) -> ClusterNode:
+def _positive(where: str, raw: Mapping[str, Any], key: str, *, zero: bool = False) -> float | None:
+    """``raw[key]`` as a positive number (or 0 with ``zero``), ``None`` when absent."""
+    value = raw.get(key)
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and (value < 0 or (value == 0 and not zero)):
+        raise InputError(f"{where}: {key} must be positive{' or 0' if zero else ''}, got {value!r}", "nodes")
+    return _limit(where, raw, key)
+
+
+def node_from_dict(raw: Any, index: int = 0) -> ClusterNode:
+    """One node of ``continuum.cluster/v1`` (``index`` is its position, for the messages)."""
     if not isinstance(raw, Mapping):
         raise InputError(f"nodes[{index}] must be an object", "nodes")
     name = raw.get("name")
@@ -272,27 +344,38 @@ def _parse_node(index: int, raw: Any) -> ClusterNode:
     cls = raw.get("class", "cpu")
     if not isinstance(cls, str) or not cls:
         raise InputError(f"{where} has an invalid class {cls!r}", "nodes")
-    if raw.get("cpu") is not None and _limit(where, raw, "cpu") == 0:
+    cpu = _limit(where, raw, "cpu")
+    if cpu == 0:
         raise InputError(f"{where} cpu must be a positive number, not 0", "nodes")
-    if raw.get("cpu") is not None and _limit(where, raw, "cpu") > limits.get().cores:
+    if cpu is not None and cpu > limits.get().cores:
         raise InputError(f"{where}: cpu: at most {limits.get().cores}", "nodes")
     speed = _limit(where, raw, "speed")
     if speed is not None and speed <= 0:
         raise InputError(f"{where} speed must be a positive number, not {speed!r}", "nodes")
+    rt = raw.get("rt", False)
+    if not isinstance(rt, bool):
+        raise InputError(f"{where}: rt must be true or false (a JSON boolean), not {rt!r}", "nodes")
+    rt_threshold = _positive(where, raw, "rt_threshold", zero=True)  # 0 admits no RT load
+    runtime, period = _positive(where, raw, "sched_rt_runtime_us"), _positive(where, raw, "sched_rt_period_us")
+    if (runtime or DEFAULT_RT_RUNTIME_US) > (period or DEFAULT_RT_PERIOD_US):
+        raise InputError(f"{where}: sched_rt_runtime_us exceeds sched_rt_period_us", "nodes")
     return ClusterNode(
         name=name,
         arch=normalize_arch(raw.get("arch", "amd64"), where),
-        cpu=_limit(where, raw, "cpu"),
+        cpu=cpu,
         memory_mib=_limit(where, raw, "memory_mib"),
         storage_mib=_limit(where, raw, "storage_mib"),
         labels={str(k): str(v) for k, v in labels.items()},
         taints=tuple(Taint.parse(t, f"{where} taints[{i}]") for i, t in enumerate(taints)),
-        rt=bool(raw.get("rt", False)),
-        criticality=None if raw.get("criticality") is None else str(raw["criticality"]),
-        rt_threshold=_limit(where, raw, "rt_threshold"),
+        rt=rt,
+        criticality=None if raw.get("criticality") in (None, "") else str(raw["criticality"]),
+        rt_threshold=rt_threshold,
+        sched_rt_runtime_us=runtime,
+        sched_rt_period_us=period,
         cls=cls,
         speed=1.0 if speed is None else speed,
         extra={k: v for k, v in raw.items() if k not in _KNOWN_NODE_KEYS},
+        taints_given="taints" in raw,
     )
 
 

@@ -15,6 +15,8 @@ from typing import Any
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 
+__all__ = ["FORMAT", "Edge", "Task", "TaskGraph"]
+
 FORMAT = "continuum.dag/v1"
 
 

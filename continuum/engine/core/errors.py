@@ -1,5 +1,7 @@
 """Errors raised by the engine for bad input."""
 
+__all__ = ["InputError"]
+
 
 class InputError(ValueError):
     """Input that the engine rejects; the message names the offending element (task, edge, line...).

@@ -21,6 +21,8 @@ from typing import Any
 
 from continuum.engine.core.errors import InputError
 
+__all__ = ["Limits", "check", "get", "override"]
+
 
 @dataclass(frozen=True)
 class Limits:

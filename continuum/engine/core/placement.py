@@ -8,8 +8,13 @@ DAG schedules with start and finish times use :class:`~continuum.engine.core.sch
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
+
+__all__ = ["Decision", "NodeVerdict", "PlacementPlan"]
+
+_PLAN_KEYS = frozenset({"policy", "placements", "pending", "decisions", "params"})
 
 
 @dataclass(frozen=True)
@@ -32,6 +37,16 @@ class NodeVerdict:
             "scores": dict(self.scores),
             "total": self.total,
         }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> NodeVerdict:
+        return cls(
+            node=data["node"],
+            rejected_by=data.get("rejected_by"),
+            reason=data.get("reason", ""),
+            scores=dict(data.get("scores") or {}),
+            total=data.get("total"),
+        )
 
 
 @dataclass(frozen=True)
@@ -59,6 +74,15 @@ class Decision:
             "verdicts": [v.to_dict() for v in self.verdicts],
         }
 
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Decision:
+        return cls(
+            item=data["item"],
+            node=data.get("node"),
+            score=data.get("score"),
+            verdicts=tuple(NodeVerdict.from_dict(v) for v in data.get("verdicts") or ()),
+        )
+
 
 @dataclass
 class PlacementPlan:
@@ -72,8 +96,16 @@ class PlacementPlan:
     def placed(self) -> dict[str, str]:
         return {d.item: d.node for d in self.decisions if d.node is not None}
 
+    def decision(self, item: str) -> Decision | None:
+        """The decision about ``item`` (``None`` when the plan has none)."""
+        return next((d for d in self.decisions if d.item == item), None)
+
     def to_dict(self, item_key: str = "container") -> dict[str, Any]:
-        """The contracts' shape (``placements``, ``pending``) plus the full explanation."""
+        """The contracts' shape (``placements``, ``pending``) plus the full explanation.
+
+        The metrics are written at the top level, so a metric must not be called like one of the plan's own
+        keys (``policy``, ``placements``, ``pending``, ``decisions``, ``params``).
+        """
         return {
             "policy": self.policy,
             "placements": [
@@ -84,3 +116,19 @@ class PlacementPlan:
             "params": dict(self.params),
             **self.metrics,
         }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], *, ignore: tuple[str, ...] = ()) -> PlacementPlan:
+        """The plan :meth:`to_dict` wrote (``from_dict(plan.to_dict()) == plan``, whatever the item key).
+
+        ``placements`` and ``pending`` are derived from ``decisions`` and not read; every other top-level key
+        is a metric, except the ones named in ``ignore`` (what a caller stored beside the plan).
+        """
+        if not isinstance(data, Mapping) or not isinstance(data.get("decisions"), list):
+            raise ValueError("a placement plan needs a 'decisions' list")
+        return cls(
+            policy=data.get("policy", ""),
+            decisions=[Decision.from_dict(d) for d in data["decisions"]],
+            params=dict(data.get("params") or {}),
+            metrics={k: v for k, v in data.items() if k not in _PLAN_KEYS and k not in ignore},
+        )

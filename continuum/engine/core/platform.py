@@ -29,6 +29,8 @@ from continuum.engine.core import limits
 from continuum.engine.core.dag import Task, TaskGraph
 from continuum.engine.core.errors import InputError
 
+__all__ = ["FORMAT", "ROUTINGS", "Link", "Platform", "Processor"]
+
 FORMAT = "continuum.platform/v1"
 ROUTINGS = ("latency", "ospf")
 

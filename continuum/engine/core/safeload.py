@@ -23,6 +23,8 @@ import yaml
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 
+__all__ = ["check_json_value", "check_text_file", "load_yaml_all", "loads_json", "too_deep"]
+
 # A JSON string (with escapes) or one structural bracket; strings are matched whole so brackets in them
 # do not count.
 _TOKENS = re.compile(r'"(?:[^"\\]|\\.)*"|[\[\]{}]', re.DOTALL)

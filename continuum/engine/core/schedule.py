@@ -16,6 +16,8 @@ from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 
+__all__ = ["EPS", "FORMAT", "Assignment", "Schedule"]
+
 FORMAT = "continuum.schedule/v1"
 #: Slack for float comparisons when checking a schedule.
 EPS = 1e-6
@@ -130,7 +132,7 @@ class Schedule:
         cur = max(self.assignments, key=lambda a: a.finish)
         path = [(cur.task, cur.frame)]
         while True:
-            nxt = None
+            nxt: Assignment | None = None
             for e in pred.get(cur.task, []):
                 p = table.get((e.src, cur.frame))
                 if p is None:
@@ -144,9 +146,9 @@ class Schedule:
                     nxt = p
                     break
             if nxt is None:
-                before = prev_on_proc.get((cur.task, cur.frame))
-                if before is not None and abs(before.finish - cur.start) <= EPS * max(1.0, cur.start):
-                    nxt = before
+                on_proc = prev_on_proc.get((cur.task, cur.frame))
+                if on_proc is not None and abs(on_proc.finish - cur.start) <= EPS * max(1.0, cur.start):
+                    nxt = on_proc
             if nxt is None:
                 break
             cur = nxt

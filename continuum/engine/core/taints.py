@@ -14,6 +14,18 @@ from typing import Any
 
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "NOT_READY",
+    "STATUS_TAINTS",
+    "TAINT_EFFECTS",
+    "TOLERATION_OPERATORS",
+    "UNREACHABLE",
+    "Taint",
+    "Toleration",
+    "status_taint",
+    "untolerated",
+]
+
 TAINT_EFFECTS = ("NoSchedule", "PreferNoSchedule", "NoExecute")
 TOLERATION_OPERATORS = ("Equal", "Exists")
 
@@ -106,3 +118,15 @@ def untolerated(taints: Iterable[Taint], tolerations: Iterable[Toleration], now:
         for t in taints
         if t.effect != "PreferNoSchedule" and t.active(now) and not any(tol.tolerates(t) for tol in tols)
     ]
+
+
+#: The taints Kubernetes puts on a node that is not Ready (the node lifecycle controller's NoSchedule taints),
+#: by the node's Ready condition: ``NotReady`` (condition False) and ``Unknown`` (no heartbeat).
+NOT_READY = Taint("node.kubernetes.io/not-ready", "", "NoSchedule")
+UNREACHABLE = Taint("node.kubernetes.io/unreachable", "", "NoSchedule")
+STATUS_TAINTS = {"NotReady": NOT_READY, "Unknown": UNREACHABLE}
+
+
+def status_taint(status: str) -> Taint | None:
+    """The taint of a node whose Ready condition is ``status`` (``None`` for ``Ready``)."""
+    return STATUS_TAINTS.get(status)

@@ -11,6 +11,7 @@ __all__ = [
     "heft",
     "overlap",
     "pipeline",
+    "registry",
     "ros_transport",
     "uma_advisor",
     "visionworks",

@@ -19,6 +19,8 @@ from collections.abc import Sequence
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Link, Platform, Processor
 
+__all__ = ["board", "shared_memory"]
+
 
 def board(
     n_cores: int,

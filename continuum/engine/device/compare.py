@@ -26,8 +26,10 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Schedule
 from continuum.engine.device import overlap as ov
-from continuum.engine.device.algorithms import SCHEDULERS
 from continuum.engine.device.pipeline import pipeline
+from continuum.engine.device.registry import SCHEDULERS
+
+__all__ = ["DEFAULT_ALGORITHMS", "FIGURES", "REFERENCE", "CompareProgress", "compare"]
 
 #: ``progress(algorithm, index, count, done, total)``, see the module docstring.
 CompareProgress = Callable[[str, int, int, int, int], None]
@@ -64,7 +66,9 @@ def compare(
     names = list(dict.fromkeys([*algorithms, REFERENCE]))  # the reference always runs, once
     for index, name in enumerate(names):
         accepted = inspect.signature(SCHEDULERS[name]).parameters
-        params = {k: v for k, v in (("rank_mode", rank_mode), ("comm_mode", comm_mode)) if k in accepted}
+        params: dict[str, Any] = {
+            k: v for k, v in (("rank_mode", rank_mode), ("comm_mode", comm_mode)) if k in accepted
+        }
         report = None
         if progress is not None:
             progress(name, index, len(names), 0, 0)
@@ -73,7 +77,9 @@ def compare(
                 progress(name, index, len(names), done, total)
 
         started = time.perf_counter()
-        schedule = pipeline(name, dag, platform, progress=report, **frame_args, **params)
+        schedule = pipeline(
+            name, dag, platform, progress=report, frames=frames, fps=fps, period=period, batch=batch, **params
+        )
         elapsed = time.perf_counter() - started
         if on_schedule is not None:
             on_schedule(name, schedule)

@@ -40,6 +40,8 @@ from continuum.engine.core.dag import Edge, Task, TaskGraph
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform, Processor
 
+__all__ = ["SHAPES", "classify", "layered_dag", "longest_path_edges", "related_platform", "thesis_dag"]
+
 SHAPES = ("tree", "linear")
 
 

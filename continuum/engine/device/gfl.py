@@ -37,6 +37,8 @@ from continuum.engine.device.heft import (
     schedule_list,
 )
 
+__all__ = ["MAPPINGS", "TIES", "gfl", "gfl_c", "gfl_frames", "gfl_mapping"]
+
 MAPPINGS = ("local_best", "heft")
 TIES = ("id", "rank")
 
@@ -89,9 +91,9 @@ def gfl_frames(
     n, P, F = prob.n, len(prob.names), len(release)
     procs = prob.platform.processors
     size: dict[str, int] = {}
-    for p in procs:
-        size[p.cls] = size.get(p.cls, 0) + 1
-    share = [(size[p.cls] - 1) / size[p.cls] for p in procs]  # (m_k - 1) / m_k of processor p's kind
+    for proc_ in procs:
+        size[proc_.cls] = size.get(proc_.cls, 0) + 1
+    share = [(size[q.cls] - 1) / size[q.cls] for q in procs]  # (m_k - 1) / m_k of processor p's kind
     if tie == "rank":
         order = priority_list(prob, compiled_ranks(prob, rank_mode, comm_mode))
         tie_of = [0] * n

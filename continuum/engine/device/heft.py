@@ -45,6 +45,24 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 
+__all__ = [
+    "COMM_MODES",
+    "RANK_MODES",
+    "VECTOR_FROM",
+    "Compiled",
+    "Placed",
+    "Progress",
+    "breadth_first",
+    "compile_problem",
+    "compiled_ranks",
+    "earliest_slot",
+    "heft",
+    "priority_list",
+    "schedule_list",
+    "to_assignments",
+    "upward_ranks",
+]
+
 Progress = Callable[[int, int], None]
 #: From this many processors, per-link ready times are computed with numpy (measured faster from here).
 VECTOR_FROM = 48
@@ -151,13 +169,13 @@ def _cost_rows(dag: TaskGraph, platform: Platform) -> list[list[tuple[int, float
         else:
             row = []
             for i, pid, cls, speed in procs:
-                c = cost.get(pid)
-                if c is None:
-                    c = cost.get(cls)
-                    if c is None:
+                own = cost.get(pid)
+                if own is None:
+                    class_cost = cost.get(cls)
+                    if class_cost is None:
                         continue
-                    c = c / speed
-                row.append((i, c))
+                    own = class_cost / speed
+                row.append((i, own))
         if not row:
             keys = ", ".join(sorted(cost))
             raise InputError(f"task {task.id!r} cannot run on any processor (its costs name {keys})", "tasks")
@@ -336,7 +354,7 @@ def schedule_list(
         base = f * n
         lower = release[f] if release is not None else 0.0
         min_finish = 0.0
-        if f and is_source is not None:
+        if f and is_source is not None and is_sink is not None:
             prev = item - n
             if is_source[t] and proc[prev] >= 0 and start[prev] > lower:
                 lower = start[prev]

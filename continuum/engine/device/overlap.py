@@ -33,6 +33,24 @@ from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 
+__all__ = [
+    "buffers_used",
+    "busy_per_processor",
+    "cp_min",
+    "exclusive_classes",
+    "exclusive_overlap",
+    "frame_lifetimes",
+    "idle_fraction",
+    "idle_per_processor",
+    "max_xo",
+    "overlap",
+    "pair_overlap",
+    "reduction",
+    "relative_speed",
+    "schedule_metrics",
+    "slr",
+]
+
 
 def exclusive_classes(dag: TaskGraph, platform: Platform) -> dict[str, str | None]:
     """Task id -> the one processor class able to run it, or ``None`` when several classes can."""

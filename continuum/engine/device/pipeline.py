@@ -51,8 +51,11 @@ from continuum.engine.device.heft import (
     schedule_list,
     to_assignments,
 )
+from continuum.engine.device.registry import SCHEDULERS, call, unknown
 from continuum.engine.device.visionworks import visionworks_frames
 from continuum.engine.device.xeft import xeft_order
+
+__all__ = ["NATIVE", "UNIT_SECONDS", "frame_metrics", "frame_violations", "pipeline", "releases", "replicate"]
 
 #: Seconds per time unit, to turn a camera rate into a period.
 UNIT_SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
@@ -201,8 +204,6 @@ def pipeline(
     **params: Any,
 ) -> Schedule:
     """Schedule ``frames`` instances of ``dag`` with ``algorithm``; see the module docstring."""
-    from continuum.engine.device.algorithms import SCHEDULERS, call
-
     release = releases(frames, fps=fps, period=period, batch=batch, time_unit=dag.time_unit)
     most = limits.get().frame_tasks
     if len(release) * len(dag) > most:
@@ -219,7 +220,7 @@ def pipeline(
         single = call(algorithm, SCHEDULERS[algorithm], dag, platform, progress=progress, **params)
         schedule = Schedule(algorithm, replicate(single, release), single.ranks, dict(single.params))
     else:
-        raise InputError(f"unknown algorithm {algorithm!r} (choose from {', '.join(sorted(SCHEDULERS))})", "algorithm")
+        raise unknown(algorithm)
     schedule.algorithm = algorithm
     schedule.params.update({"frames": frames, "in_order": in_order})
     for key, value in (("fps", fps), ("period", period), ("batch", batch)):
@@ -273,15 +274,15 @@ def frame_violations(schedule: Schedule, dag: TaskGraph, release: Sequence[float
         return problems
     for tid in dag.tasks:
         for f in range(1, len(release)):
-            a, b = table.get((tid, f - 1)), table.get((tid, f))
-            if a is None or b is None:
+            earlier, later = table.get((tid, f - 1)), table.get((tid, f))
+            if earlier is None or later is None:
                 continue
-            if not pred[tid] and b.start + EPS * max(1.0, a.start) < a.start:
+            if not pred[tid] and later.start + EPS * max(1.0, earlier.start) < earlier.start:
                 problems.append(
-                    f"source {tid!r}: frame {f} starts at {b.start} before frame {f - 1} ({a.start}), Eq. 3.5"
+                    f"source {tid!r}: frame {f} starts at {later.start} before frame {f - 1} ({earlier.start}), Eq. 3.5"
                 )
-            if not succ[tid] and b.finish + EPS * max(1.0, a.finish) < a.finish:
+            if not succ[tid] and later.finish + EPS * max(1.0, earlier.finish) < earlier.finish:
                 problems.append(
-                    f"sink {tid!r}: frame {f} ends at {b.finish} before frame {f - 1} ({a.finish}), Eq. 3.6"
+                    f"sink {tid!r}: frame {f} ends at {later.finish} before frame {f - 1} ({earlier.finish}), Eq. 3.6"
                 )
     return problems

@@ -27,6 +27,8 @@ from typing import Any
 
 from continuum.engine.core.errors import InputError
 
+__all__ = ["BOARDS", "DATA", "ros_overhead", "ros_transport_advice", "table"]
+
 DATA = Path(__file__).resolve().parent / "data"
 #: Device profile ids -> the board columns of Tables 4.10-4.14 (the Nano was excluded: "equivalent to TX2").
 BOARDS = {"tx2": "tx2", "jetson-tx2": "tx2", "xavier": "xavier", "jetson-agx-xavier": "xavier", "jetson-nano": "tx2"}

@@ -210,7 +210,10 @@ def advise(dev: str | dict[str, Any] | DeviceProfile, profile: dict[str, Any]) -
         keys = ("transactions", "transaction_bytes", "hit_rate_l1", "kernel_runtime_s")
         if peak is None or any(k not in profile for k in keys):
             raise InputError(f"profile needs gpu_usage, or {', '.join(keys)} and a device SC peak", "profile")
-        gpu = gpu_usage(*(profile[k] for k in keys), peak)
+        gpu = gpu_usage(
+            profile["transactions"], profile["transaction_bytes"], profile["hit_rate_l1"], profile["kernel_runtime_s"],
+            peak,
+        )  # fmt: skip
     for value, what in ((cpu, "cpu_usage"), (gpu, "gpu_usage")):
         if not isinstance(value, (int, float)) or value < 0:
             raise InputError(f"{what} must be a non-negative percentage, not {value!r}", "profile")
@@ -318,9 +321,9 @@ def extract_thresholds(
     result: dict[str, Any] = {"points": len(points), "peak_gbps": peak}
     result["gpu_threshold_low_pct"] = 100.0 * low[1] / peak if low else 0.0
     result["gpu_threshold_low_fraction"] = low[0] if low else None
-    beyond = high is not None and (low is None or high[0] > low[0])
-    result["gpu_threshold_high_pct"] = 100.0 * high[1] / peak if beyond else None
-    result["gpu_threshold_high_fraction"] = high[0] if beyond else None
+    beyond = high if high is not None and (low is None or high[0] > low[0]) else None
+    result["gpu_threshold_high_pct"] = 100.0 * beyond[1] / peak if beyond else None
+    result["gpu_threshold_high_fraction"] = beyond[0] if beyond else None
     return result
 
 

@@ -25,6 +25,8 @@ from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 from continuum.engine.device.heft import Compiled, Progress, breadth_first, compile_problem
 
+__all__ = ["local_best", "visionworks", "visionworks_frames", "visionworks_overlap"]
+
 
 def local_best(prob: Compiled, gpu_class: str = "gpu") -> list[tuple[int, float]]:
     """Per task, the (processor, time) VW maps it to."""

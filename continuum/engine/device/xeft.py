@@ -45,6 +45,8 @@ from continuum.engine.device.heft import (
     to_assignments,
 )
 
+__all__ = ["apply_cluster", "build_cluster", "class_times", "descendants", "xeft", "xeft_list", "xeft_order"]
+
 
 def descendants(prob: Compiled) -> list[int]:
     """Per task, a bitset (Python int) of every task reachable from it."""
@@ -151,16 +153,18 @@ def build_cluster(
             cluster = list(g_only)
             t = 0.0
             for c in c_only:
-                if abs(total_gpu - (t + cpu[c]) / n_cores) < abs(total_gpu - t / n_cores):
+                c_time = cpu[c] or 0.0  # c_only: not None
+                if abs(total_gpu - (t + c_time) / n_cores) < abs(total_gpu - t / n_cores):
                     cluster.append(c)
-                    t += cpu[c]
+                    t += c_time
         else:
             cluster = list(c_only)
             t = 0.0
             for g in g_only:
-                if abs(total_cpu / n_cores - (t + gpu[g])) < abs(total_cpu / n_cores - t):
+                g_time = gpu[g] or 0.0  # g_only: not None
+                if abs(total_cpu / n_cores - (t + g_time)) < abs(total_cpu / n_cores - t):
                     cluster.append(g)
-                    t += gpu[g]
+                    t += g_time
         # (d) make it contiguous
         if len(cluster) >= 2:
             steps: list[list[int]] | None = [] if trace is not None else None

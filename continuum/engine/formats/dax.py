@@ -17,6 +17,8 @@ import xml.etree.ElementTree as ET
 from continuum.engine.core.dag import Edge, Task, TaskGraph
 from continuum.engine.core.errors import InputError
 
+__all__ = ["MBIT_PER_BYTE", "read"]
+
 MBIT_PER_BYTE = 8 / 1e6
 
 

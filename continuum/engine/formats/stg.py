@@ -24,6 +24,8 @@ import random
 from continuum.engine.core.dag import Edge, Task, TaskGraph
 from continuum.engine.core.errors import InputError
 
+__all__ = ["MAX_PROCESSORS", "read"]
+
 #: Most processors the ``processors`` option may cost tasks on (one cost per processor and task).
 MAX_PROCESSORS = 1024
 
@@ -110,11 +112,12 @@ def read(
     tasks = []
     for tid in sorted(keep):
         c = float(costs[tid])
+        task_cost: dict[str, float]
         if processors:
-            cost = {f"p{j}": c * rng.uniform(1 - beta / 2, 1 + beta / 2) for j in range(processors)}
+            task_cost = {f"p{j}": c * rng.uniform(1 - beta / 2, 1 + beta / 2) for j in range(processors)}
         else:
-            cost = {"cpu": c}
-        tasks.append(Task(str(tid), cost))
+            task_cost = {"cpu": c}
+        tasks.append(Task(str(tid), task_cost))
     edges = []
     for tid in sorted(keep):
         for p in preds[tid]:

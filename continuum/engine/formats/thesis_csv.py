@@ -20,6 +20,8 @@ import math
 from continuum.engine.core.dag import Edge, Task, TaskGraph
 from continuum.engine.core.errors import InputError
 
+__all__ = ["read"]
+
 
 def _time(value: str, lineno: int, what: str) -> float | None:
     try:

@@ -15,6 +15,8 @@ from continuum.engine.core import limits
 from continuum.engine.core.dag import Edge, Task, TaskGraph
 from continuum.engine.core.errors import InputError
 
+__all__ = ["MBIT_PER_BYTE", "read"]
+
 MBIT_PER_BYTE = 8 / 1e6
 
 

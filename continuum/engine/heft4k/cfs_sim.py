@@ -37,6 +37,8 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 
+__all__ = ["NICE_WEIGHTS", "cpu_rates", "nice_weight", "simulate"]
+
 #: Linux ``sched_prio_to_weight`` (kernel/sched/core.c): CFS load weight of nice -20 ... 19; nice 0 is 1024.
 NICE_WEIGHTS: tuple[int, ...] = (
     88761, 71755, 56483, 46273, 36291,
@@ -110,7 +112,7 @@ def simulate(
     missing = {t: len(pred[t]) for t in dag.tasks}
     start: dict[str, float] = {}
     finish: dict[str, float] = {}
-    segments: dict[str, list[list[float]]] = {t: [] for t in dag.tasks} if trace else {}
+    segments: dict[str, list[list[float | None]]] = {t: [] for t in dag.tasks} if trace else {}
     transfers: list[dict[str, Any]] = []
     stats = {"preemptions": 0, "traffic": 0.0}
     heap: list[tuple[float, int, int, str]] = []  # (time, seq, kind, key); kind 0 = input arrives, 1 = node

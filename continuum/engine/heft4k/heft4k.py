@@ -41,6 +41,20 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Assignment, Schedule
 from continuum.engine.device.heft import earliest_slot, upward_ranks
+from continuum.engine.device.registry import register
+
+__all__ = [
+    "NICE_MAX",
+    "NICE_MIN",
+    "NUMPY_MIN_WORK",
+    "ROUNDINGS",
+    "heft4k",
+    "map_dag",
+    "nice_container",
+    "niceness",
+    "placements",
+    "with_niceness",
+]
 
 NICE_MIN, NICE_MAX = -20, 19
 ROUNDINGS = ("half-up", "floor", "ceil")
@@ -393,3 +407,6 @@ def nice_container(
     if niceness < 0:
         spec["securityContext"] = {"capabilities": {"add": ["SYS_NICE"]}}
     return spec
+
+
+register("heft4k", heft4k)

@@ -31,6 +31,20 @@ from continuum.engine.core.schedule import Assignment, Schedule
 from continuum.engine.heft4k.cfs_sim import simulate
 from continuum.engine.heft4k.heft4k import heft4k
 
+__all__ = [
+    "PODS_PER_CPU",
+    "SCHEDULERS",
+    "Unschedulable",
+    "compare",
+    "dpe",
+    "k8s_default_placement",
+    "pod_capacities",
+    "run_heft4k",
+    "run_heft_k8s",
+    "run_k8s_default",
+    "speedup",
+]
+
 #: Pods per CPU of the default-Kubernetes model: 160 pods on the thesis' 6 nodes x 2 CPUs.
 PODS_PER_CPU = 160 / 12
 SCHEDULERS = ("k8s-default", "heft-k8s", "heft4k", "heft-ideal", "dpe")

@@ -32,6 +32,18 @@ from continuum.engine.core.schedule import Schedule
 from continuum.engine.device.heft import upward_ranks
 from continuum.engine.heft4k.heft4k import heft4k, map_dag, with_niceness
 
+__all__ = [
+    "CALIBRATION_STATISTICS",
+    "MODES",
+    "CalibrationPoint",
+    "Evaluate",
+    "RemapResult",
+    "calibrate_threshold",
+    "calibration_points",
+    "decide",
+    "remap",
+]
+
 MODES = ("partial", "total")
 
 

@@ -31,6 +31,18 @@ from continuum.engine.core.cluster import cluster_platform
 from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.platform import Platform
 
+__all__ = [
+    "COST_MODELS",
+    "TABLE_4_28",
+    "cluster_doc",
+    "corpus_stats",
+    "critical_path_length",
+    "dag_size",
+    "dag_stats",
+    "random_cluster",
+    "random_dag",
+]
+
 #: Table 4.28 as printed: characteristic -> (min, max, avg, median).
 TABLE_4_28: dict[str, tuple[float, float, float, float]] = {
     "nodes": (4, 511, 181.8, 130),

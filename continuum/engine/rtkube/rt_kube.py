@@ -39,6 +39,27 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision, NodeVerdict, PlacementPlan
 from continuum.engine.rtkube.rt_model import RTContainer, RTNode, Taint, Toleration, untolerated
 
+__all__ = [
+    "ADMISSION_EPS",
+    "Binding",
+    "Curve",
+    "Filtered",
+    "Ledger",
+    "RTKubeParams",
+    "b_curve",
+    "explain",
+    "kube_default",
+    "kube_score",
+    "least_allocated",
+    "n_rank",
+    "place_one",
+    "placements_by_node",
+    "rt_filter",
+    "rt_score",
+    "schedule",
+    "sort_queue",
+]
+
 #: Relative slack of the admission comparison, so that 8 x 0.95 == 7.6 passes despite float rounding.
 ADMISSION_EPS = 1e-9
 

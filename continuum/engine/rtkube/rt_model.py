@@ -16,7 +16,8 @@ Readings taken where the thesis is silent (spec 03, sections 3 and 15):
 * ``D <= P`` is required too (constrained deadlines, Eq. 2.3), not only ``WCET <= D``.
 * A node with no WCET entry cannot run the container (the filter removes it).
 * A node's ``rt_threshold`` defaults to ``cpu * 950000 / 1000000`` (``M * sched_rt_runtime_us /
-  sched_rt_period_us``); a node may give ``sched_rt_runtime_us``/``sched_rt_period_us`` instead.
+  sched_rt_period_us``, :func:`continuum.engine.core.cluster.default_rt_threshold`); a node may give
+  ``sched_rt_runtime_us``/``sched_rt_period_us`` instead.
 * An RT node without an explicit ``taints`` list carries ``RealTime=RT:NoSchedule``; RT containers
   tolerate it by default, non-RT containers do not, so they never land on RT nodes.
 * ``cpu`` and ``memory_mib`` are resource requests; a missing request is 0, a given one must be positive.
@@ -31,12 +32,52 @@ from typing import Any
 
 import yaml
 
+from continuum.engine.core.cluster import FORMAT as CLUSTER_FORMAT
+from continuum.engine.core.cluster import (
+    RT_FRACTION,
+    Cluster,
+    ClusterNode,
+)
+from continuum.engine.core.cluster import node_from_dict as parse_cluster_node
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.safeload import load_yaml_all
-from continuum.engine.core.taints import TAINT_EFFECTS, Taint, Toleration, untolerated  # noqa: F401 - re-exported
+from continuum.engine.core.taints import TAINT_EFFECTS, Taint, Toleration, untolerated
+
+__all__ = [
+    "CRITICALITY_RANK",
+    "NONE",
+    "REALTIME_API_VERSION",
+    "REALTIME_KIND",
+    "RTSET_FORMAT",
+    "RT_CLASSES",
+    "RT_LABEL",
+    "RT_SCHEDULER_NAME",
+    "RT_TAINT",
+    "RT_TOLERATION",
+    "TAINT_EFFECTS",
+    "RTContainer",
+    "RTNode",
+    "Taint",
+    "Toleration",
+    "cluster_from_dict",
+    "cluster_to_dict",
+    "container_from_dict",
+    "default_tolerations",
+    "deployment_manifest",
+    "node_from_dict",
+    "parse_criticality",
+    "realtime_from_dict",
+    "realtime_from_yaml",
+    "realtime_resource",
+    "realtime_to_yaml",
+    "rt_node",
+    "rt_nodes",
+    "rtset_from_dict",
+    "rtset_to_dict",
+    "untolerated",
+]
 
 RTSET_FORMAT = "continuum.rtset/v1"
-CLUSTER_FORMAT = "continuum.cluster/v1"
 REALTIME_API_VERSION = "rt.scheduling/v1"
 REALTIME_KIND = "RealTime"
 #: Pod label that links a Deployment's pods to their RealTime resource (Listing 3.33, line 30).
@@ -47,9 +88,6 @@ NONE = "NONE"
 #: Criticality rank, lowest to highest (spec 03, conventions).
 CRITICALITY_RANK = {NONE: 0, "A": 1, "B": 2, "C": 3}
 RT_CLASSES = ("A", "B", "C")
-
-DEFAULT_RT_RUNTIME_US = 950_000
-DEFAULT_RT_PERIOD_US = 1_000_000
 
 
 RT_TAINT = Taint("RealTime", "RT", "NoSchedule")
@@ -83,12 +121,21 @@ class RTContainer:
 
     def utilization(self, node: str) -> float | None:
         """``WCET(node) / P`` (Eq. 2.4 term); ``None`` when the container has no WCET for that node."""
-        if not self.is_rt or node not in self.wcet:
+        if not self.is_rt or self.period is None or node not in self.wcet:
             return None
         return self.wcet[node] / self.period
 
+    def timing(self) -> tuple[float, float]:
+        """``(P, D)`` of an RT container; a standard container has neither (ValueError)."""
+        if self.period is None or self.deadline is None:
+            raise ValueError(f"container {self.name!r} is not a real-time container")
+        return self.period, self.deadline
+
     def max_utilization(self) -> float:
-        return max((w / self.period for w in self.wcet.values()), default=0.0) if self.is_rt else 0.0
+        if not self.is_rt or self.period is None:
+            return 0.0
+        period = self.period
+        return max((w / period for w in self.wcet.values()), default=0.0)
 
     def to_dict(self) -> dict[str, Any]:
         doc: dict[str, Any] = {"name": self.name, "criticality": self.criticality}
@@ -198,7 +245,7 @@ class RTNode:
     criticality: str | None = None
     cpu: float = 1.0
     memory_mib: float = math.inf
-    rt_threshold: float = 0.95
+    rt_threshold: float = RT_FRACTION
     taints: tuple[Taint, ...] = ()
     labels: Mapping[str, str] = field(default_factory=dict)
 
@@ -210,65 +257,42 @@ class RTNode:
         return replace(self, taints=(*self.taints, taint))
 
 
-def node_from_dict(raw: Any, index: int) -> RTNode:
-    """One node of ``continuum.cluster/v1`` with the RT attributes (spec 03, section 3.3)."""
-    if not isinstance(raw, Mapping):
-        raise InputError(f"nodes[{index}]: must be an object", "nodes")
-    name = raw.get("name")
-    if not isinstance(name, str) or not name:
-        raise InputError(f"nodes[{index}]: name is required", "name")
-    where = f"node {name!r}"
-    rt = raw.get("rt", False)
-    if not isinstance(rt, bool):
-        raise InputError(f"{where}: rt must be true or false", "rt")
-    cpu = _positive(raw.get("cpu", 1), f"{where}: cpu", "cpu")
-    # A node that does not report memory is not limited by memory requests.
-    mem = (
-        math.inf if raw.get("memory_mib") is None else _number(raw["memory_mib"], f"{where}: memory_mib", "memory_mib")
+def rt_node(node: ClusterNode) -> RTNode:
+    """RT-Kube's view of one parsed ``continuum.cluster/v1`` node (spec 03, section 3.3).
+
+    A node with no ``cpu`` counts as one core and one with no ``memory_mib`` is not limited by memory
+    requests; the threshold is :attr:`ClusterNode.rt_capacity`; an RT node without an explicit ``taints``
+    list carries ``RealTime=RT:NoSchedule``; a criticality must be A, B or C.
+    """
+    where = f"node {node.name!r}"
+    crit = None if node.criticality in (None, "") else parse_criticality(node.criticality, where, allow_none=False)
+    taints = node.taints if node.taints_given else ((RT_TAINT,) if node.rt else ())
+    return RTNode(
+        node.name,
+        node.rt,
+        crit,
+        1.0 if node.cpu is None else node.cpu,
+        math.inf if node.memory_mib is None else node.memory_mib,
+        node.rt_capacity,
+        tuple(taints),
+        dict(node.labels),
     )
-    if mem < 0:
-        raise InputError(f"{where}: memory_mib must not be negative", "memory_mib")
-    crit_raw = raw.get("criticality")
-    crit = None if crit_raw in (None, "") else parse_criticality(crit_raw, where, allow_none=False)
-    if raw.get("rt_threshold") is not None:
-        threshold = _positive(raw["rt_threshold"], f"{where}: rt_threshold", "rt_threshold")
-    else:
-        runtime = _positive(raw.get("sched_rt_runtime_us", DEFAULT_RT_RUNTIME_US), f"{where}: sched_rt_runtime_us",
-                            "sched_rt_runtime_us")  # fmt: skip
-        period = _positive(raw.get("sched_rt_period_us", DEFAULT_RT_PERIOD_US), f"{where}: sched_rt_period_us",
-                           "sched_rt_period_us")  # fmt: skip
-        if runtime > period:
-            raise InputError(f"{where}: sched_rt_runtime_us exceeds sched_rt_period_us", "sched_rt_runtime_us")
-        threshold = cpu * runtime / period
-    if "taints" in raw:
-        if not isinstance(raw["taints"], list):
-            raise InputError(f"{where}: taints must be a list", "taints")
-        taints = tuple(Taint.parse(t, where) for t in raw["taints"])
-    else:
-        taints = (RT_TAINT,) if rt else ()
-    labels = raw.get("labels") or {}
-    if not isinstance(labels, Mapping):
-        raise InputError(f"{where}: labels must be an object", "labels")
-    return RTNode(name, rt, crit, cpu, mem, threshold, taints, {str(k): str(v) for k, v in labels.items()})
+
+
+def rt_nodes(cluster: Cluster) -> list[RTNode]:
+    """RT-Kube's view of a parsed cluster: its nodes in document order (links are irrelevant to RT-Kube)."""
+    return [rt_node(n) for n in cluster.nodes.values()]
+
+
+def node_from_dict(raw: Any, index: int) -> RTNode:
+    """One node of ``continuum.cluster/v1`` with the RT attributes (parsed by :mod:`continuum.engine.core.cluster`)."""
+    return rt_node(parse_cluster_node(raw, index))
 
 
 def cluster_from_dict(doc: Any) -> list[RTNode]:
-    """The nodes of a ``continuum.cluster/v1`` document (links are irrelevant to RT-Kube)."""
-    if not isinstance(doc, Mapping):
-        raise InputError("cluster: expected a JSON object", "format")
-    fmt = doc.get("format", CLUSTER_FORMAT)
-    if fmt != CLUSTER_FORMAT:
-        raise InputError(f"cluster: format {fmt!r} is not {CLUSTER_FORMAT}", "format")
-    raw = doc.get("nodes")
-    if not isinstance(raw, list) or not raw:
-        raise InputError("cluster: nodes must be a non-empty list", "nodes")
-    nodes = [node_from_dict(n, i) for i, n in enumerate(raw)]
-    seen: set[str] = set()
-    for n in nodes:
-        if n.name in seen:
-            raise InputError(f"node {n.name!r}: duplicate name", "name")
-        seen.add(n.name)
-    return nodes
+    """The RT nodes of a ``continuum.cluster/v1`` document, read by the one parser of the format
+    (:meth:`continuum.engine.core.cluster.Cluster.from_dict`)."""
+    return rt_nodes(Cluster.from_dict(doc))
 
 
 def cluster_to_dict(nodes: Iterable[RTNode]) -> dict[str, Any]:

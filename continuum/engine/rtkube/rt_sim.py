@@ -54,6 +54,21 @@ from continuum.engine.rtkube.rt_victims import (
     response_time,
 )
 
+__all__ = [
+    "US",
+    "ContainerStats",
+    "Eviction",
+    "NodeCPU",
+    "Placer",
+    "SimParams",
+    "SimResult",
+    "Simulator",
+    "fixed_placer",
+    "kube_default_placer",
+    "rt_kube_placer",
+    "simulate",
+]
+
 US = 1000  # microseconds per millisecond
 
 
@@ -598,7 +613,7 @@ class Simulator:
 
     def _declared(self, c: RTContainer, node: str) -> tuple[int, float]:
         wcet = c.wcet.get(node, max(c.wcet.values()))
-        return _us(wcet), wcet / c.period
+        return _us(wcet), wcet / c.timing()[0]
 
     def _on_start(self, payload: tuple[str, int]) -> None:
         name, number = payload
@@ -611,6 +626,7 @@ class Simulator:
             inst.status = "running"
             self._refresh_interference(node)
             return
+        period_ms, deadline_ms = c.timing()
         wcet_us, util = self._declared(c, node)
         admitted = self.admitted[node]
         total = math.fsum(admitted.values()) + util
@@ -625,7 +641,7 @@ class Simulator:
             self._at(self.now + _us(backoff), "start", (name, number))
             return
         if inst.rejected_since is not None:
-            inst.rejected_jobs += (self.now - inst.rejected_since) // _us(c.period)
+            inst.rejected_jobs += (self.now - inst.rejected_since) // _us(period_ms)
             inst.rejected_since = None
         admitted[name] = util
         inst.status = "running"
@@ -633,13 +649,13 @@ class Simulator:
         inst.key = f"{name}#{number}"
         seed = f"{self.p.seed}:{name}:{number}"
         rng = random.Random(seed)
-        period = _us(c.period)
+        period = _us(period_ms)
         phase = rng.randrange(period) if self.p.random_phase else 0
         task = _Task(
             key=inst.key,
             container=name,
             period=period,
-            deadline=_us(c.deadline),
+            deadline=_us(deadline_ms),
             budget=wcet_us,
             prio=96 + CRITICALITY_RANK[c.criticality],
             rng=rng,
@@ -650,7 +666,7 @@ class Simulator:
         )
         self.cpu[node].add(task)
         self.by_key[inst.key] = inst
-        if self.monitor:
+        if self.monitor and self.p.monitor is not None:
             f_us = _us(1000.0 / self.p.monitor.update_frequency_hz)
             self._at(self.now + rng.randrange(1, f_us + 1), "report", inst.key)
 
@@ -698,12 +714,13 @@ class Simulator:
         inst.missed_period = 0
         inst.crossing_period = None
         self._at(self.now + _us(self.p.http_ms), "reconcile", (report, key, self.now, crossing))
+        assert self.p.monitor is not None  # reports are only scheduled with a monitor
         f_us = _us(1000.0 / self.p.monitor.update_frequency_hz)
         self._at(self.now + f_us, "report", key)
 
     def _container_info(self, inst: _Instance) -> ContainerInfo:
         c = inst.container
-        if c.is_rt and inst.key in self.cpu[inst.node].tasks:
+        if c.is_rt and inst.node is not None and inst.key in self.cpu[inst.node].tasks:
             task = self.cpu[inst.node].tasks[inst.key]
             elapsed = max(1, self.now - task.started)
             use = task.busy / elapsed
@@ -733,6 +750,7 @@ class Simulator:
             self.alerts.append({"time_ms": self.now / US, "node": node, "message": decision.alert})
         if not decision.evict:
             return
+        assert decision.victim is not None and decision.trigger is not None  # set whenever evict is
         kill_sent = self.now + _us(self.p.reconcile_ms)
         kill_at = kill_sent + _us(self.p.kill_ms)
         self.killing.add(decision.victim)
@@ -796,7 +814,7 @@ class Simulator:
             if c.is_rt and inst is not None:
                 rejected_jobs = inst.rejected_jobs
                 if inst.status == "rejected" and inst.rejected_since is not None:
-                    rejected_jobs += max(0, horizon - inst.rejected_since) // _us(c.period)
+                    rejected_jobs += max(0, horizon - inst.rejected_since) // _us(c.timing()[0])
                 s.rejected = inst.status == "rejected"
                 s.rejected_jobs = rejected_jobs
                 # A rejected container misses every deadline it would have had (spec 03, 14).

@@ -41,6 +41,29 @@ from typing import Any
 from continuum.engine.core.errors import InputError
 from continuum.engine.rtkube.rt_model import CRITICALITY_RANK, NONE, Taint, parse_criticality
 
+__all__ = [
+    "POLICIES",
+    "VIOLATION_TAINT_KEY",
+    "ClusterMonitor",
+    "ContainerInfo",
+    "MonitorPolicy",
+    "MonitoringReport",
+    "NodeCapacity",
+    "ReconcileDecision",
+    "ResponseTime",
+    "candidates",
+    "crossing_miss",
+    "is_violation",
+    "rec_phase_bound",
+    "response_time",
+    "response_time_bound",
+    "select_linear",
+    "select_linearithmic",
+    "select_quadratic",
+    "select_victim",
+    "traffic_between",
+]
+
 POLICIES = ("linear", "linearithmic", "quadratic")
 #: spec 03 section 5.4 [PROPOSAL]: the taint RT pods do not tolerate.
 VIOLATION_TAINT_KEY = "rt.monitoring/violation"

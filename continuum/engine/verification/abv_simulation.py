@@ -46,6 +46,26 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.verification.monitor_milp import MonitorAllocator
 from continuum.engine.verification.stl_monitor import Monitor
 
+__all__ = [
+    "FORMAT",
+    "KAIROS_TOPICS",
+    "NAVIGATION_ASSERTION",
+    "SCENARIOS",
+    "Migration",
+    "Navigation",
+    "Period",
+    "Scenario",
+    "SimMonitor",
+    "SimNode",
+    "SimTopic",
+    "SimulationResult",
+    "kairos_scenario",
+    "scenario",
+    "simulate",
+    "stats_document",
+    "synthetic_scenario",
+]
+
 FORMAT = "continuum.abvsimulation/v1"
 NAVIGATION_ASSERTION = "G((robot_x == x1 && robot_y == y1 && newGoal) -> F[0,timeout](robot_x == x2 && robot_y == y2))"
 
@@ -150,9 +170,9 @@ class Scenario:
         for m in self.monitors:
             if m.node not in names:
                 raise InputError(f"monitor {m.name!r}: unknown node {m.node!r}", "monitors")
-            for t in m.topics:
-                if t not in topics:
-                    raise InputError(f"monitor {m.name!r}: unknown topic {t!r}", "monitors")
+            for topic in m.topics:
+                if topic not in topics:
+                    raise InputError(f"monitor {m.name!r}: unknown topic {topic!r}", "monitors")
             missing = [n for n in names if n not in m.cpu]
             if missing:
                 raise InputError(f"monitor {m.name!r}: no CPU figure for node {missing[0]!r}", "monitors")
@@ -443,7 +463,8 @@ def _navigate(nav: Navigation, periods: list[Period], period_s: float) -> tuple[
     span = {round(p.t, 9): p.makespan_ms for p in periods}
 
     def makespan_at(t: float) -> float:
-        return span.get(round(math.floor(t / period_s + 1e-9) * period_s, 9), nav.base_ms)
+        value = span.get(round(math.floor(t / period_s + 1e-9) * period_s, 9))
+        return nav.base_ms if value is None else value
 
     events: list[tuple[str, Any, float]] = []
     legs = []

@@ -65,6 +65,18 @@ from scipy.sparse import coo_matrix, csr_matrix
 
 from continuum.engine.core.errors import InputError
 
+__all__ = [
+    "FORMAT",
+    "HIGHS_OPTIONS",
+    "Allocation",
+    "MonitorAllocator",
+    "MonitorStats",
+    "StatsFilter",
+    "allocate",
+    "complete_cpu",
+    "overload_plan",
+]
+
 FORMAT = "continuum.monitorstats/v1"
 
 
@@ -254,7 +266,8 @@ def complete_cpu(stats: MonitorStats, observed: Mapping[tuple[str, str], float] 
     cpu = np.zeros((len(stats.monitors), len(stats.nodes)))
     for a, i in enumerate(stats.monitors):
         given = stats.monitor_cpu[i]
-        cur = stats.current[i] if stats.current[i] in given else next(iter(given))
+        now_on = stats.current[i]
+        cur = now_on if now_on is not None and now_on in given else next(iter(given))
         for b, j in enumerate(stats.nodes):
             if j in given:
                 cpu[a, b] = given[j]
@@ -336,7 +349,8 @@ def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool) -> _Classes:
         topics = (
             tuple(range(len(stats.topics))) if literal else tuple(sorted(topic_ix[k] for k in stats.monitor_topics[i]))
         )
-        cur = None if stats.current[i] is None else node_ix[stats.current[i]]
+        now_on = stats.current[i]
+        cur = None if now_on is None else node_ix[now_on]
         key = (topics, cur, cpu[a].tobytes())
         if key not in by_key:
             by_key[key] = len(members)
@@ -344,7 +358,7 @@ def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool) -> _Classes:
             current.append(cur)
             group.append(groups.setdefault(topics, len(groups)))
         members[by_key[key]].append(a)
-    group_topics = [list(t) for t in sorted(groups, key=groups.get)]
+    group_topics = [list(t) for t in sorted(groups, key=lambda t: groups[t])]
     class_cpu = np.array([cpu[m[0]] for m in members])
     return _Classes(members, class_cpu, current, group, group_topics)
 
@@ -475,8 +489,8 @@ def _build(
             row([w + o for o in range(len(fam.sets))], [1.0] * len(fam.sets), 1.0, 1.0)
             if fam.complete:  # ... a monitor of the unit leaves only if that set holds all its topics ...
                 for cls in fam.members:
-                    g = set(cl.group_topics[cl.group[cls]])
-                    wcols = [w + o for o, topics in enumerate(fam.sets) if g <= set(topics)]
+                    held = set(cl.group_topics[cl.group[cls]])
+                    wcols = [w + o for o, topics in enumerate(fam.sets) if held <= set(topics)]
                     row([cls * j_count + fam.unit, *wcols], [1.0] + [size[cls]] * len(wcols), size[cls], np.inf)
             # ... and each of its topics is received on some other unit
             for k in sorted({k for o in fam.sets for k in o}):
@@ -620,11 +634,11 @@ def _relief_sets(
         fewest[~has] = np.minimum(fewest[~has], fewest[full[~has] | (1 << b)])
     need = fewest - popcount
 
-    def topics(m: int) -> list[int]:
+    def topics_of(m: int) -> list[int]:
         return [universe[b] for b in range(u) if (m >> b) & 1]
 
-    family = [topics(m) for m in np.nonzero(minimal)[0]]
-    every = [topics(m) for m in np.nonzero(feasible)[0]] if int(feasible.sum()) <= 4096 else []
+    family = [topics_of(int(m)) for m in np.nonzero(minimal)[0]]
+    every = [topics_of(int(m)) for m in np.nonzero(feasible)[0]] if int(feasible.sum()) <= 4096 else []
     keep = need > 0
     for b in range(u):  # a cut is dominated by the one of S + {b} when that needs as many topics
         has = (full >> b) & 1 == 1
@@ -789,7 +803,7 @@ def allocate(
     phase2 = _build(stats, cl, epsilon, slack=True, max_excess=excess * (1 + 1e-7) + 1e-7)
     r2 = _solve(phase2, r1.x, left(), mip_rel_gap)
     best = r2 if r2.x is not None else r1
-    placement = _placement(stats, cl, best.x)
+    placement = _placement(stats, cl, r2.x if r2.x is not None else r1.x)
     if excess <= 1e-7:  # the first solve only ran out of time: this allocation fits
         return _result(stats, cpu, placement, True, "time_limit", best.gap, started, lit)
     proven = res.status == "infeasible" or r1.status == "optimal"
@@ -813,9 +827,10 @@ def _blocks(cl: _Classes) -> list[list[int]]:
 
     first: dict[tuple, int] = {}
     for c in range(len(cl.members)):
-        keys = [("t", k) for k in cl.group_topics[cl.group[c]]]
-        if cl.current[c] is not None:
-            keys.append(("u", cl.current[c]))
+        keys: list[tuple[str, int]] = [("t", k) for k in cl.group_topics[cl.group[c]]]
+        unit = cl.current[c]
+        if unit is not None:
+            keys.append(("u", unit))
         for key in keys:
             if key in first:
                 parent[find(c)] = find(first[key])
@@ -1121,9 +1136,8 @@ def _placement(stats: MonitorStats, cl: _Classes, x: np.ndarray) -> dict[str, st
     counts = np.rint(x[: len(cl.members) * j_count]).astype(int).reshape(len(cl.members), j_count)
     out: dict[str, str] = {}
     for c, members in enumerate(cl.members):
-        order = ([cl.current[c]] if cl.current[c] is not None else []) + [
-            b for b in range(j_count) if b != cl.current[c]
-        ]
+        unit = cl.current[c]
+        order = ([unit] if unit is not None else []) + [b for b in range(j_count) if b != unit]
         queue = list(members)
         for b in order:
             for _ in range(counts[c, b]):

@@ -53,6 +53,26 @@ from typing import Any
 from continuum.engine.core.errors import InputError
 from continuum.engine.verification import stl_parser as P
 
+__all__ = [
+    "FORMAT",
+    "PAYLOAD_FORMAT",
+    "Bits",
+    "Event",
+    "Monitor",
+    "Placeholder",
+    "Program",
+    "Result",
+    "Violation",
+    "check_trace",
+    "migrate_begin",
+    "migrate_complete",
+    "migrate_handover",
+    "migrate_t0",
+    "parse_trace_csv",
+    "standby_copy",
+    "synthesize",
+]
+
 FORMAT = "continuum.stlmonitor/v1"
 PAYLOAD_FORMAT = "continuum.stlmigration/v1"
 

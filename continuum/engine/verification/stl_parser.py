@@ -46,9 +46,39 @@ import math
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
+from typing import Any, cast
 
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
+
+__all__ = [
+    "Arith",
+    "Assertion",
+    "BoolLit",
+    "BoolOp",
+    "Cmp",
+    "Const",
+    "Eventually",
+    "Expr",
+    "Formula",
+    "HostBool",
+    "HostNot",
+    "Neg",
+    "Next",
+    "Not",
+    "Num",
+    "Prop",
+    "Token",
+    "Until",
+    "Values",
+    "Var",
+    "compile_expr",
+    "compile_prop",
+    "parse_assertion",
+    "parse_formula",
+    "tokenize",
+    "variables",
+]
 
 # ---------------------------------------------------------------------------------------------------
 # AST: host expressions (the propositions' insides)
@@ -299,6 +329,7 @@ def tokenize(text: str) -> list[Token]:
             hint = hint or (" (use '&&')" if ch == "&" else "")
             raise InputError(f"column {pos + 1}: unexpected character {ch!r}{hint}", field="assertion")
         kind = m.lastgroup
+        assert kind is not None  # every alternative of _TOKEN_RE is a named group
         if kind != "ws":
             tokens.append(Token(kind, m.group(), pos + 1))
         pos = m.end()
@@ -685,7 +716,7 @@ def variables(node: Expr | Formula | Assertion) -> set[str]:
     return out
 
 
-def _cmp(op: str) -> Callable[[object, object], bool]:
+def _cmp(op: str) -> Callable[[Any, Any], Any]:
     import operator
 
     fn = {"==": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le, ">": operator.gt}.get(op)
@@ -723,7 +754,7 @@ def compile_expr(e: Expr) -> Callable[[Values], object]:
 
         def neg(values):
             v = f(values)
-            return None if v is None or isinstance(v, str) else -v
+            return -v if isinstance(v, (int, float)) else None  # None and strings have no negation
 
         return neg
     if isinstance(e, Arith):
@@ -795,5 +826,5 @@ def compile_prop(p: Prop) -> Callable[[Values], bool]:
     """The evaluation closure of one proposition (always returns a bool)."""
     f = compile_expr(p.expr)
     if isinstance(p.expr, (Cmp, HostNot, HostBool)):
-        return f  # already boolean
+        return cast(Callable[[Values], bool], f)  # these expressions evaluate to a bool
     return lambda values: _truth(f(values))
