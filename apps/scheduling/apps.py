@@ -6,4 +6,4 @@ class SchedulingConfig(AppConfig):
     label = "scheduling"
 
     def ready(self) -> None:
-        from . import jobs  # noqa: F401 - registers the job kinds
+        from . import jobs, kube  # noqa: F401 - register the job kinds (kube: push_schedule)
