@@ -77,7 +77,7 @@ def watch_nodes(
     stats = gateway.WatchStats()
 
     def listed(items: list[dict]) -> None:
-        report.lists = stats.lists
+        report.lists, report.reconnects = stats.lists, stats.reconnects
         _reconcile(cluster, {gateway.name_of(n): gateway.node_status(n) for n in items}, report)
         _trigger(cluster, threshold, report)
         if on_listed is not None:

@@ -101,7 +101,7 @@ def follow(
       from the list's resourceVersion; without, the first watch starts from "now" with the current objects
       as ADDED events. Either way, a watch the server ended is resumed from the last resourceVersion seen,
       and an expired one (410 Gone) starts over (list again, or a fresh watch).
-    - ``on_event(event)``: ``{"type", "object", "raw_object"}`` (``raw_object``: the JSON).
+    - ``on_event(event)``: ``{"type", "object", "raw_object"}``, both objects the server's JSON (dicts).
     - A failure in ``retry_on`` (by default: the API unreachable or refusing) is retried after
       ``min(backoff * 2**(n-1), max_backoff)`` seconds (``n`` failures in a row); after ``retries`` in a row
       (``None``: never) :class:`KubeError` says why (``"{what} gave up after {retries} reconnects: ..."``).
@@ -132,7 +132,7 @@ def follow(
                         on_list(listing.get("items") or [])
                         failures = 0
                     seconds = max(1, int(min(left(), watch_seconds)))
-                    w = watch.Watch()
+                    w = watch.Watch(return_type="object")  # events as the server's JSON: no model to outgrow
                     if watches is not None:
                         watches.add(w)
                     options = dict(kwargs, timeout_seconds=seconds, _request_timeout=(REQUEST_TIMEOUT[0], seconds + 10))
