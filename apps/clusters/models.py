@@ -17,7 +17,7 @@ class Cluster(FleetOwned):
     name = models.CharField(max_length=100)
     description = models.TextField(blank=True)
     # Encrypted at rest; validated where it is saved (serializers, admin) and again where it is loaded
-    # (apps.kube.gateway.target_for). Setting it needs the clusters.change_cluster_credentials permission.
+    # (apps.clusters.kube.target_for). Setting it needs the clusters.change_cluster_credentials permission.
     kubeconfig = EncryptedTextField(
         blank=True, help_text="kubeconfig (YAML) of this cluster's Kubernetes API; empty for a model-only cluster"
     )

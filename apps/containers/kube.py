@@ -29,25 +29,21 @@ import json
 import math
 from typing import Any
 
-import urllib3
 from django.conf import settings
 from django.db import transaction
-from kubernetes import client
-from kubernetes.client.exceptions import ApiException
 
+from apps.clusters.kube import api_client_for
 from apps.kube.gateway import (
+    API_ERRORS,
     MANAGED_BY,
     PREFIX,
-    REQUEST_TIMEOUT,
+    Deployments,
     KubeError,
     Progress,
-    _dns_part,
-    _label_value,
-    api_client_for,
     describe,
-    ensure_namespace,
-    node_problems,
 )
+from apps.kube.gateway import dns_part as _dns_part
+from apps.kube.gateway import label_value as _label_value
 from continuum.engine.core.cluster import Cluster as EngineCluster
 
 from .models import ContainerDeployment, Placement
@@ -151,45 +147,6 @@ def deployment_manifest(
     return body
 
 
-class _Pusher:
-    def __init__(self, placement: Placement, api_client: client.ApiClient, namespace: str) -> None:
-        self.placement = placement
-        self.namespace = namespace
-        self.core = client.CoreV1Api(api_client)
-        self.apps = client.AppsV1Api(api_client)
-
-    def existing(self) -> dict[str, Any]:
-        items = self.apps.list_namespaced_deployment(
-            self.namespace,
-            label_selector=f"{PREFIX}/group={group_key(self.placement)}",
-            _request_timeout=REQUEST_TIMEOUT,
-        ).items
-        return {d.metadata.name: d for d in items}
-
-    def apply(self, body: dict[str, Any], current) -> tuple[bool, str]:
-        """(ok, what happened): created, updated or unchanged, or why the API refused."""
-        name = body["metadata"]["name"]
-        if current is None:
-            try:
-                self.apps.create_namespaced_deployment(self.namespace, body, _request_timeout=REQUEST_TIMEOUT)
-                return True, "created"
-            except ApiException as exc:
-                if exc.status != 409:
-                    return False, f"Deployment {name} refused: {describe(exc)}"
-                # Created meanwhile (a re-delivered job running twice): compare with what is there.
-                current = self.apps.read_namespaced_deployment(name, self.namespace, _request_timeout=REQUEST_TIMEOUT)
-        annotations = current.metadata.annotations or {}
-        if annotations.get(HASH_ANNOTATION) == body["metadata"]["annotations"][HASH_ANNOTATION]:
-            return True, "unchanged"
-        replacement = json.loads(json.dumps(body))
-        replacement["metadata"]["resourceVersion"] = current.metadata.resource_version
-        try:
-            self.apps.replace_namespaced_deployment(name, self.namespace, replacement, _request_timeout=REQUEST_TIMEOUT)
-        except ApiException as exc:
-            return False, f"Deployment {name} not updated: {describe(exc)}"
-        return True, "updated"
-
-
 def push_placement(placement: Placement, progress: Progress | None = None) -> dict[str, Any]:
     """Create or update one Deployment per container in ``cluster.namespace``; returns counts.
 
@@ -211,11 +168,11 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
     counts = {"created": 0, "updated": 0, "unchanged": 0}
     fatal = None
     with api_client:
-        pusher = _Pusher(placement, api_client, namespace)
+        pusher = Deployments(api_client, namespace, HASH_ANNOTATION)
         try:
-            ensure_namespace(pusher.core, namespace)
-            problems = node_problems(pusher.core)
-            current = pusher.existing()
+            pusher.ensure_namespace()
+            problems = pusher.node_problems()
+            current = pusher.existing(f"{PREFIX}/group={group_key(placement)}")
             progress(5, f"namespace {namespace}: {len(current)} of {len(order)} Deployments exist")
             for i, container in enumerate(order, 1):
                 node = placed.get(container)
@@ -231,7 +188,7 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
                     if outcomes[container][0]:
                         counts[outcomes[container][1]] += 1
                 progress(5 + 90 * i / max(len(order), 1), f"applied {i}/{len(order)} Deployments")
-        except (ApiException, urllib3.exceptions.HTTPError, OSError) as exc:
+        except API_ERRORS as exc:
             fatal = describe(exc, api_client.configuration.host)
             for container in order:
                 outcomes.setdefault(container, (False, fatal))

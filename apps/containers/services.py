@@ -216,9 +216,9 @@ def dockerfiles_archive(clustering: Clustering, kind: str) -> tuple[bytes, str, 
 
 
 def _file_stem(clustering: Clustering) -> str:
-    from apps.kube.gateway import _dns_part
+    from apps.kube.gateway import dns_part
 
-    return f"{_dns_part(clustering.rosgraph.name, 40)}-{clustering.pk}"
+    return f"{dns_part(clustering.rosgraph.name, 40)}-{clustering.pk}"
 
 
 # ---- workloads ----------------------------------------------------------------------------------------

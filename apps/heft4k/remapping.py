@@ -15,15 +15,14 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Iterable
 
-import urllib3
 from django.conf import settings
 from django.db import transaction
 from django.utils import timezone
-from kubernetes import client
-from kubernetes.client.exceptions import ApiException
 
+from apps.clusters.kube import api_client_for
 from apps.clusters.models import ComputeNode
 from apps.kube import gateway
+from apps.scheduling.kube import engine_assignment, pod_name, pusher_for
 from apps.scheduling.models import Assignment, Schedule
 from continuum.engine.core.errors import InputError
 from continuum.engine.heft4k.remap import remap
@@ -263,24 +262,20 @@ def _replace_pods(event, old, new, old_rows, new_rows, order, progress) -> tuple
     Returns the records and, when the API could not be used at all, why (every task not done fails)."""
     pods: list[dict] = []
     try:
-        api_client = gateway.api_client_for(old.cluster)
+        api_client = api_client_for(old.cluster)
     except gateway.KubeError as exc:
         return _fail_rest(pods, order, old_rows, new_rows, str(exc)), str(exc)
     with api_client:
-        pusher = gateway.Pusher(new, api_client)
+        pusher = pusher_for(new, api_client)
         try:
             pusher.ensure_namespace()
             problems = pusher.node_problems()
             existing = pusher.existing_pods()
             # Only a Ready node's kubelet can stop a pod gracefully; elsewhere the pod object is removed at once.
-            ready = {
-                n.metadata.name
-                for n in pusher.api.list_node(_request_timeout=gateway.REQUEST_TIMEOUT).items
-                if gateway.node_status(n) == ComputeNode.Status.READY
-            }
+            ready = pusher.ready_nodes()
             for i, key in enumerate(order, 1):
                 before, row = old_rows[key], new_rows[key]
-                old_name = before.pod_name or gateway.pod_name(old, *key)
+                old_name = before.pod_name or pod_name(old, *key)
                 record = {
                     "task": key[0],
                     "from": before.processor,
@@ -288,16 +283,16 @@ def _replace_pods(event, old, new, old_rows, new_rows, order, progress) -> tuple
                     "niceness_before": before.niceness,
                     "niceness_after": row.niceness,
                     "old_pod": old_name,
-                    "deleted": _delete(pusher, old_name, force=before.processor not in ready),
+                    "deleted": pusher.delete(old_name, force=before.processor not in ready),
                 }
-                name = gateway.pod_name(new, *key)
-                outcome = pusher.place(row, name, existing.get(name), problems)
+                name = pod_name(new, *key)
+                outcome = pusher.place(engine_assignment(row), name, existing.get(name), problems)
                 row.placement = Assignment.Placement.BOUND if outcome.ok else Assignment.Placement.FAILED
                 row.placement_message, row.pod_name = outcome.message[:500], name
                 record.update(new_pod=name, created=outcome.ok, ok=outcome.ok, message=outcome.message)
                 pods.append(record)
                 progress(50 + 45 * i / max(len(order), 1), f"recreated {i}/{len(order)} pods")
-        except (ApiException, urllib3.exceptions.HTTPError, OSError) as exc:
+        except gateway.API_ERRORS as exc:
             fatal = gateway.describe(exc, pusher.server)
             return _fail_rest(pods, order, old_rows, new_rows, fatal), fatal
     return pods, ""
@@ -316,21 +311,6 @@ def _fail_rest(pods: list[dict], order, old_rows, new_rows, reason: str) -> list
              "created": False, "ok": False, "message": reason}
         )  # fmt: skip
     return pods
-
-
-def _delete(pusher: gateway.Pusher, name: str, *, force: bool) -> bool:
-    """Delete a pod; ``force`` (grace period 0) for a pod on a node that is not Ready (or gone), whose
-    kubelet cannot confirm the deletion.
-
-    Returns whether the pod existed."""
-    body = client.V1DeleteOptions(grace_period_seconds=0) if force else None
-    try:
-        pusher.api.delete_namespaced_pod(name, pusher.namespace, body=body, _request_timeout=gateway.REQUEST_TIMEOUT)
-    except ApiException as exc:
-        if exc.status == 404:
-            return False
-        raise
-    return True
 
 
 def _finish(event: RemapEvent, status: str, message: str, pods: list[dict], push_ms: float | None) -> None:

@@ -21,10 +21,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-import urllib3
-from kubernetes import client, watch
-from kubernetes.client.exceptions import ApiException
-
+from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
@@ -36,8 +33,7 @@ from .models import RemapEvent
 
 log = logging.getLogger(__name__)
 #: Longest single watch request (seconds); the server ends it and the watcher re-opens it.
-WATCH_SECONDS = 60
-GONE = 410
+WATCH_SECONDS = gateway.WATCH_SECONDS
 
 
 @dataclass
@@ -77,69 +73,40 @@ def watch_nodes(
     ``on_listed(report)`` is called after every list, once the database is reconciled and before the watch
     opens (changes made then arrive as watch events).
     """
-    deadline = None if timeout is None else time.monotonic() + timeout
     report = WatchReport(cluster.pk)
-    api_client = gateway.api_client_for(cluster)
-    server = api_client.configuration.host
-    failures = 0
-    version: str | None = None
-    with api_client:
-        api = client.CoreV1Api(api_client)
-        while _left(deadline) > 0:
-            try:
-                if version is None:
-                    listing = api.list_node(_request_timeout=gateway.REQUEST_TIMEOUT)
-                    version = listing.metadata.resource_version
-                    report.lists += 1
-                    _reconcile(cluster, {n.metadata.name: gateway.node_status(n) for n in listing.items}, report)
-                    _trigger(cluster, threshold, report)
-                    failures = 0
-                    if on_listed is not None:
-                        on_listed(report)
-                seconds = max(1, int(min(_left(deadline), WATCH_SECONDS)))
-                stream = watch.Watch()
-                for event in stream.stream(
-                    api.list_node,
-                    resource_version=version,
-                    timeout_seconds=seconds,
-                    _request_timeout=(gateway.REQUEST_TIMEOUT[0], seconds + 10),
-                ):
-                    failures = 0
-                    report.events += 1
-                    node = event["object"]
-                    version = node.metadata.resource_version or version
-                    status = ComputeNode.Status.NOT_READY if event["type"] == "DELETED" else gateway.node_status(node)
-                    if _mark(cluster, node.metadata.name, status, report):
-                        _trigger(cluster, threshold, report)
-                    if _left(deadline) <= 0:
-                        stream.stop()
-                        break
-            except ApiException as exc:
-                if exc.status == GONE:  # the resourceVersion is too old: list again
-                    version = None
-                    continue
-                failures, version = _retry(exc, failures, retries, backoff, deadline, server, sleep, report)
-            except (urllib3.exceptions.HTTPError, OSError) as exc:
-                failures, version = _retry(exc, failures, retries, backoff, deadline, server, sleep, report)
+    stats = gateway.WatchStats()
+
+    def listed(items: list[dict]) -> None:
+        report.lists, report.reconnects = stats.lists, stats.reconnects
+        _reconcile(cluster, {gateway.name_of(n): gateway.node_status(n) for n in items}, report)
+        _trigger(cluster, threshold, report)
+        if on_listed is not None:
+            on_listed(report)
+
+    def changed(event: dict) -> None:
+        report.events = stats.events
+        node = event["raw_object"]
+        status = ComputeNode.Status.NOT_READY if event["type"] == "DELETED" else gateway.node_status(node)
+        if _mark(cluster, gateway.name_of(node), status, report):
+            _trigger(cluster, threshold, report)
+
+    try:
+        gateway.follow(
+            lambda: api_client_for(cluster),
+            gateway.watch_nodes(),
+            changed,
+            on_list=listed,
+            timeout=timeout,
+            retries=retries,
+            backoff=backoff,
+            sleep=sleep,
+            watch_seconds=WATCH_SECONDS,
+            what="node watch",
+            stats=stats,
+        )
+    finally:
+        report.events, report.lists, report.reconnects = stats.events, stats.lists, stats.reconnects
     return report
-
-
-def _left(deadline: float | None) -> float:
-    return float("inf") if deadline is None else deadline - time.monotonic()
-
-
-def _retry(exc, failures, retries, backoff, deadline, server, sleep, report) -> tuple[int, None]:
-    """Count a failed connection; give up after ``retries`` in a row, else wait (exponential backoff)."""
-    failures += 1
-    reason = gateway.describe(exc, server)
-    if failures > retries:
-        raise gateway.KubeError(f"node watch gave up after {retries} reconnects: {reason}") from exc
-    report.reconnects += 1
-    wait = min(backoff * 2 ** (failures - 1), 30.0, max(0.0, _left(deadline)))
-    log.warning("node watch: %s; reconnecting in %.1f s", reason, wait)
-    if wait > 0:
-        sleep(wait)
-    return failures, None  # list again after a lost connection: events may have been missed
 
 
 def _reconcile(cluster: Cluster, statuses: dict[str, str], report: WatchReport) -> None:

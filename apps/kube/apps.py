@@ -2,8 +2,7 @@ from django.apps import AppConfig
 
 
 class KubeConfig(AppConfig):
+    """The Kubernetes gateway (no models, no jobs: the apps owning the rows register the jobs that use it)."""
+
     name = "apps.kube"
     label = "kube"
-
-    def ready(self) -> None:
-        from . import jobs  # noqa: F401 - registers the sync_cluster and push_schedule job kinds

@@ -32,10 +32,11 @@ from typing import Any
 
 from django.db import close_old_connections, connection, transaction
 from django.utils import timezone
-from kubernetes import client, watch
 
+from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
-from apps.kube.gateway import api_client_for, node_fields
+from apps.kube import gateway
+from apps.kube.gateway import node_fields
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision
@@ -89,7 +90,7 @@ def rt_nodes(cluster: Cluster, api_nodes: list[dict]) -> list[RTNode]:
     out = []
     for obj in api_nodes:
         name = obj["metadata"]["name"]
-        f = node_fields(client_node(obj))
+        f = node_fields(obj)
         alloc = (obj.get("status") or {}).get("allocatable") or (obj.get("status") or {}).get("capacity") or {}
         cpu, mem = requests_of({"spec": {"containers": [{"resources": {"requests": alloc}}]}})
         taints = [Taint(t["key"], t.get("value") or "", t["effect"]) for t in f["taints"]]
@@ -114,29 +115,6 @@ def rt_nodes(cluster: Cluster, api_nodes: list[dict]) -> list[RTNode]:
             )
         )
     return out
-
-
-class client_node:
-    """Attribute access over a node's JSON, as the gateway's helpers expect from the client's models."""
-
-    def __init__(self, obj: dict) -> None:
-        meta, spec, status = obj.get("metadata") or {}, obj.get("spec") or {}, obj.get("status") or {}
-        self.metadata = _Obj(labels=meta.get("labels") or {}, name=meta.get("name"))
-        taints = [
-            _Obj(key=t.get("key"), value=t.get("value"), effect=t.get("effect")) for t in spec.get("taints") or []
-        ]
-        self.spec = _Obj(taints=taints, unschedulable=spec.get("unschedulable"))
-        info = status.get("nodeInfo") or {}
-        self.status = _Obj(
-            capacity=status.get("capacity") or {},
-            conditions=[_Obj(type=c.get("type"), status=c.get("status")) for c in status.get("conditions") or []],
-            node_info=_Obj(architecture=info.get("architecture")) if info else None,
-        )
-
-
-class _Obj:
-    def __init__(self, **kw: Any) -> None:
-        self.__dict__.update(kw)
 
 
 def tolerations_of(pod: dict) -> tuple[Toleration, ...]:
@@ -241,8 +219,7 @@ class RTScheduler:
         self.last_error = ""
         self.explained: dict[str, str] = {}  # pod uid -> last message told to the pod
         self.threads: list[threading.Thread] = []
-        self._watches: set[watch.Watch] = set()
-        self._watch_lock = threading.Lock()
+        self._watches = gateway.Watches()
         self.ingested = 0
 
     # ---- the loop --------------------------------------------------------------------------------------------
@@ -288,16 +265,7 @@ class RTScheduler:
 
     def _close_watches(self) -> None:
         """Interrupt the watch connections (a blocked read would otherwise wait for the server's timeout)."""
-        with self._watch_lock:
-            watches = list(self._watches)
-        for w in watches:
-            w.stop()
-            resp = getattr(w, "_resp", None)
-            if resp is not None:
-                try:
-                    resp.shutdown() if hasattr(resp, "shutdown") else resp.close()
-                except Exception as exc:  # best effort while stopping
-                    log.debug("closing a watch: %s", exc)
+        self._watches.close_all()
 
     def cycle(self) -> CycleResult:
         cluster = Cluster.objects.get(pk=self.cluster_id)
@@ -492,64 +460,51 @@ class RTScheduler:
     # ---- watches ----------------------------------------------------------------------------------------------
     def _start_watches(self, stop: threading.Event) -> None:
         for target in (self._watch_pods, self._watch_realtimes, self._watch_monitorings):
-            t = threading.Thread(target=self._watch_loop, args=(target, stop), daemon=True, name=target.__name__)
+            t = threading.Thread(target=self._follow, args=(target, stop), daemon=True, name=target.__name__)
             t.start()
             self.threads.append(t)
 
-    def _watch_loop(self, target, stop: threading.Event) -> None:
-        failures = 0
-        while not stop.is_set():
-            try:
-                cluster = Cluster.objects.get(pk=self.cluster_id)
-                with api_client_for(cluster) as api_client:
-                    target(cluster, api_client, stop)
-                failures = 0
-            except Exception as exc:  # watches come back after any failure
-                if stop.is_set():
-                    break
-                failures += 1
-                log.debug("watch %s ended: %s", target.__name__, exc)
-                stop.wait(min(MAX_BACKOFF, 0.5 * 2**failures))
-        connection.close()
+    def _follow(self, target, stop: threading.Event) -> None:
+        """One watch thread: ``target(cluster)`` names what to follow and what to do with each event; the
+        gateway's watch loop resumes it, starts over after 410 Gone and comes back after any failure (with
+        exponential backoff) until ``stop``. The cluster is read again on every reconnection."""
+        handlers: dict[str, Any] = {}
 
-    def _stream(self, func, stop: threading.Event, *args, **kwargs):
-        w = watch.Watch()
-        with self._watch_lock:
-            self._watches.add(w)
+        def connect():
+            cluster = Cluster.objects.get(pk=self.cluster_id)
+            handlers["pick"], handlers["on_event"] = target(cluster)
+            return api_client_for(cluster)
+
         try:
-            for event in w.stream(func, *args, deserialize=False, timeout_seconds=20, _request_timeout=(5, 30),
-                                  **kwargs):  # fmt: skip
-                if stop.is_set():
-                    w.stop()
-                    return
-                yield event
+            gateway.follow(
+                connect,
+                lambda api_client: handlers["pick"](api_client),
+                lambda event: handlers["on_event"](event),
+                stop=stop,
+                retries=None,
+                backoff=1.0,
+                max_backoff=MAX_BACKOFF,
+                watch_seconds=20,
+                what=f"RT scheduler {target.__name__}",
+                watches=self._watches,
+                retry_on=(Exception,),
+            )
         finally:
-            with self._watch_lock:
-                self._watches.discard(w)
+            connection.close()
 
-    def _watch_pods(self, cluster: Cluster, api_client, stop: threading.Event) -> None:
-        core = client.CoreV1Api(api_client)
+    def _watch_pods(self, cluster: Cluster):
         ns = sync.namespaces_of(cluster, self.namespace)
-        selector = f"spec.schedulerName={RT_SCHEDULER_NAME}"
-        if ns is None:
-            func, args = core.list_pod_for_all_namespaces, ()
-        else:
-            func, args = core.list_namespaced_pod, (ns,)
-        for _ in self._stream(func, stop, *args, field_selector=selector):
-            self.wake.set()
+        pick = gateway.watch_pods(ns, field_selector=f"spec.schedulerName={RT_SCHEDULER_NAME}")
+        return pick, lambda event: self.wake.set()
 
-    def _custom(self, cluster: Cluster, api_client, group: str, version: str, plural: str, stop):
-        api = client.CustomObjectsApi(api_client)
-        ns = sync.namespaces_of(cluster, self.namespace)
-        if ns is None:
-            return self._stream(api.list_cluster_custom_object, stop, group, version, plural)
-        return self._stream(api.list_namespaced_custom_object, stop, group, version, ns, plural)
+    def _custom(self, cluster: Cluster, group: str, version: str, plural: str):
+        return gateway.watch_custom_objects(group, version, plural, sync.namespaces_of(cluster, self.namespace))
 
-    def _watch_realtimes(self, cluster: Cluster, api_client, stop: threading.Event) -> None:
-        for event in self._custom(cluster, api_client, REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL, stop):
-            obj = event.get("object") or {}
-            rv = (obj.get("metadata") or {}).get("resourceVersion")
+    def _watch_realtimes(self, cluster: Cluster):
+        def changed(event: dict) -> None:
+            obj = event.get("raw_object") or {}
             meta = obj.get("metadata") or {}
+            rv = meta.get("resourceVersion")
             known = RealTime.objects.filter(
                 cluster_id=self.cluster_id, namespace=meta.get("namespace"), name=meta.get("name"), resource_version=rv
             ).exists()
@@ -557,16 +512,21 @@ class RTScheduler:
                 self.sync_due.set()
                 self.wake.set()
 
-    def _watch_monitorings(self, cluster: Cluster, api_client, stop: threading.Event) -> None:
-        for event in self._custom(cluster, api_client, MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL, stop):
+        return self._custom(cluster, REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL), changed
+
+    def _watch_monitorings(self, cluster: Cluster):
+        def changed(event: dict) -> None:
             if event.get("type") not in ("ADDED", "MODIFIED"):
-                continue
+                return
+            obj = event["raw_object"]
             try:
-                self.ingest_object(cluster, event["object"])
+                self.ingest_object(cluster, obj)
             except InputError as exc:
-                meta = event["object"].get("metadata") or {}
+                meta = obj.get("metadata") or {}
                 log.info("Monitoring %s/%s rejected: %s", meta.get("namespace"), meta.get("name"), exc)
-                self._status(cluster, event["object"], {"error": str(exc)})
+                self._status(cluster, obj, {"error": str(exc)})
+
+        return self._custom(cluster, MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL), changed
 
     def ingest_object(self, cluster: Cluster, obj: dict) -> dict | None:
         """A Monitoring object changed in the API: a report, unless it only shows the counters we stored."""

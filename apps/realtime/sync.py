@@ -38,6 +38,7 @@ from .kube import (
     REALTIME_VERSION,
     THRESHOLD_LABEL,
     Kube,
+    crd_manifests,
     kube_for,
     problem,
 )
@@ -256,7 +257,7 @@ def full_sync(cluster: Cluster, namespace: str | None = None, progress: Progress
     progress = progress or (lambda p, m: None)
     kube = kube_for(cluster)
     progress(5, "installing the CustomResourceDefinitions")
-    crds = kube.install_crds()
+    crds = kube.install_crds(crd_manifests())
     progress(30, "node taints and labels")
     nodes = sync_node_rt(cluster, kube)
     progress(50, "RealTime objects")

@@ -8,8 +8,8 @@ class SchedulingConfig(AppConfig):
     def ready(self) -> None:
         from apps.tenancy.demo import register_demo
 
-        # api: adds the applications' schedule and compare actions; jobs: registers the job kinds
-        from . import api, jobs, views  # noqa: F401
+        # api: adds the applications' schedule and compare actions; jobs: registers the job kinds (kube: push_schedule)
+        from . import api, jobs, kube, views  # noqa: F401
         from .demo import demo_schedule
 
         register_demo(demo_schedule)

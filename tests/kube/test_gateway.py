@@ -228,7 +228,7 @@ def test_a_missing_node_fails_its_assignments_and_keeps_the_schedule(
 def test_a_pod_bound_elsewhere_is_reported_not_moved(api, kube, kube_cluster, kube_namespace):
     from kubernetes import client
 
-    from apps.kube.gateway import pod_manifest, pod_name
+    from apps.scheduling.kube import pod_manifest, pod_name
 
     schedule = heft_schedule(api, kube_cluster)
     victim = schedule.assignments.first()
@@ -255,7 +255,7 @@ def test_a_pod_bound_elsewhere_is_reported_not_moved(api, kube, kube_cluster, ku
 def test_an_unbound_pod_left_by_an_interrupted_push_is_bound(api, kube, kube_cluster, kube_namespace):
     from kubernetes import client
 
-    from apps.kube.gateway import pod_manifest, pod_name
+    from apps.scheduling.kube import pod_manifest, pod_name
 
     schedule = heft_schedule(api, kube_cluster)
     first = schedule.assignments.first()

@@ -97,10 +97,10 @@ def flaky(kube_admin, cluster, settings, kube_server):
 
 
 def test_sync_retries_503_and_504_and_gets_the_same_nodes(flaky, cluster):
-    from apps.kube import gateway
+    from apps.clusters import kube as cluster_kube
 
     fake = flaky([(503, {}), (504, {}), (502, {})])
-    counts = gateway.sync_nodes(cluster)
+    counts = cluster_kube.sync_nodes(cluster)
     assert len(fake.times) == 4  # three injected failures, then the answer
     assert counts["nodes"] == 1
     node = cluster.nodes.get(name="edge-1")
@@ -108,22 +108,23 @@ def test_sync_retries_503_and_504_and_gets_the_same_nodes(flaky, cluster):
 
 
 def test_429_waits_as_long_as_retry_after_says(flaky, cluster):
-    from apps.kube import gateway
+    from apps.clusters import kube as cluster_kube
 
     fake = flaky([(429, {"Retry-After": "1"})])
-    assert gateway.sync_nodes(cluster)["nodes"] == 1
+    assert cluster_kube.sync_nodes(cluster)["nodes"] == 1
     assert len(fake.times) == 2
     assert fake.times[1] - fake.times[0] >= 0.9  # honoured the server's 1 s, not the 0.05 s base
 
 
 def test_a_permanently_failing_api_fails_within_the_deadline_naming_the_call(flaky, cluster, settings):
+    from apps.clusters import kube as cluster_kube
     from apps.kube import gateway
 
     settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 2
     fake = flaky([(503, {})] * 10_000)
     began = time.monotonic()
     with pytest.raises(gateway.KubeError) as failed:
-        gateway.sync_nodes(cluster)
+        cluster_kube.sync_nodes(cluster)
     message = str(failed.value)
     assert message.startswith(f"cluster {cluster.name!r}: list nodes: gave up after ")
     assert "Kubernetes API answered 503: injected 503" in message
@@ -133,19 +134,21 @@ def test_a_permanently_failing_api_fails_within_the_deadline_naming_the_call(fla
 
 
 def test_other_4xx_answers_are_not_retried(flaky, cluster):
+    from apps.clusters import kube as cluster_kube
     from apps.kube import gateway
 
     fake = flaky([(403, {}), (503, {})])
     with pytest.raises(gateway.KubeError, match="Kubernetes API answered 403: injected 403"):
-        gateway.sync_nodes(cluster)
+        cluster_kube.sync_nodes(cluster)
     assert len(fake.times) == 1
 
 
 def test_a_call_that_is_not_idempotent_is_not_repeated_after_a_5xx(flaky, cluster):
+    from apps.clusters import kube as cluster_kube
     from apps.kube import gateway, retry
 
     fake = flaky([(503, {}), (429, {"Retry-After": "0"})])
-    api = client.CoreV1Api(gateway.api_client_for(cluster))
+    api = client.CoreV1Api(cluster_kube.api_client_for(cluster))
     with pytest.raises(ApiException) as failed:
         gateway.call(api.list_node, what="list nodes once", idempotent=False)
     assert failed.value.status == 503 and len(fake.times) == 1
@@ -206,7 +209,7 @@ class ResettingProxy:
 def test_a_push_through_reset_connections_binds_every_pod(
     api, kube, kube_admin, kube_cluster, kube_namespace, kube_server
 ):
-    from apps.kube import gateway
+    from apps.clusters import kube as cluster_kube
 
     proxy = ResettingProxy(("127.0.0.1", kube_server.port), resets=3)
     try:
@@ -214,7 +217,7 @@ def test_a_push_through_reset_connections_binds_every_pod(
         response = kube_admin.patch(f"/api/v1/clusters/{kube_cluster.pk}/", {"kubeconfig": text}, format="json")
         assert response.status_code == 200, response.data
         kube_cluster.refresh_from_db()
-        synced = gateway.sync_nodes(kube_cluster)
+        synced = cluster_kube.sync_nodes(kube_cluster)
         assert synced["nodes"] >= 4 and proxy.reset >= 1
         schedule = heft_schedule(api, kube_cluster)
         proxy.resets_left = 3  # and again in the middle of the push
@@ -232,14 +235,15 @@ def test_a_push_through_reset_connections_binds_every_pod(
 
 
 def test_a_binding_answered_409_for_the_same_node_counts_as_done(api, kube, kube_cluster, kube_namespace):
-    from apps.kube import gateway
+    from apps.clusters import kube as cluster_kube
+    from apps.scheduling import kube as schedule_kube
 
     schedule = heft_schedule(api, kube_cluster)
     assert run(api, f"/api/v1/schedules/{schedule.pk}/push/")["state"] == "succeeded"
     a = schedule.assignments.first()
     a.refresh_from_db()
-    with gateway.api_client_for(kube_cluster) as api_client:
-        pusher = gateway.Pusher(schedule, api_client)
+    with cluster_kube.api_client_for(kube_cluster) as api_client:
+        pusher = schedule_kube.pusher_for(schedule, api_client)
         # As when a retried binding reaches a server that had done the first one: 409, already bound there.
         again = pusher.bind(a.pod_name, a.processor)
         assert again.ok and again.message == f"bound to {a.processor}"
@@ -252,22 +256,23 @@ def test_a_binding_answered_409_for_the_same_node_counts_as_done(api, kube, kube
 def test_a_pod_create_answered_409_is_done_only_if_the_pod_is_the_assignments(
     api, kube, kube_cluster, kube_namespace
 ):
-    from apps.kube import gateway
+    from apps.clusters import kube as cluster_kube
+    from apps.scheduling import kube as schedule_kube
 
     schedule = heft_schedule(api, kube_cluster)
     ours, theirs = list(schedule.assignments.all())[:2]
     kube.create_namespace(client.V1Namespace(metadata=client.V1ObjectMeta(name=kube_namespace)))
     # As when a create reached the server but its answer was lost: the pod exists, the push did not list it.
-    ours_name = gateway.pod_name(schedule, ours.task, ours.frame)
-    kube.create_namespaced_pod(kube_namespace, gateway.pod_manifest(schedule, ours, ours_name))
+    ours_name = schedule_kube.pod_name(schedule, ours.task, ours.frame)
+    kube.create_namespaced_pod(kube_namespace, schedule_kube.pod_manifest(schedule, ours, ours_name))
     # A pod of another task squatting the name: never adopted.
-    theirs_name = gateway.pod_name(schedule, theirs.task, theirs.frame)
-    kube.create_namespaced_pod(kube_namespace, gateway.pod_manifest(schedule, ours, theirs_name))
-    with gateway.api_client_for(kube_cluster) as api_client:
-        pusher = gateway.Pusher(schedule, api_client)
+    theirs_name = schedule_kube.pod_name(schedule, theirs.task, theirs.frame)
+    kube.create_namespaced_pod(kube_namespace, schedule_kube.pod_manifest(schedule, ours, theirs_name))
+    with cluster_kube.api_client_for(kube_cluster) as api_client:
+        pusher = schedule_kube.pusher_for(schedule, api_client)
         problems = pusher.node_problems()
-        done = pusher.place(ours, ours_name, None, problems)
-        refused = pusher.place(theirs, theirs_name, None, problems)
+        done = pusher.place(schedule_kube.engine_assignment(ours), ours_name, None, problems)
+        refused = pusher.place(schedule_kube.engine_assignment(theirs), theirs_name, None, problems)
     assert done.ok and done.message == f"bound to {ours.processor}"
     assert not refused.ok
     assert refused.message == f"pod {theirs_name} already exists and is not the pod of task {theirs.task!r}"
@@ -280,6 +285,7 @@ def test_a_certificate_from_another_ca_fails_at_once(kube_admin, cluster, kube_s
     """Certificate refusals are permanent: no waiting out the deadline before saying so."""
     import certifi
 
+    from apps.clusters import kube as cluster_kube
     from apps.kube import gateway
 
     settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 600
@@ -291,6 +297,6 @@ def test_a_certificate_from_another_ca_fails_at_once(kube_admin, cluster, kube_s
     cluster.refresh_from_db()
     began = time.monotonic()
     with pytest.raises(gateway.KubeError, match="CERTIFICATE_VERIFY_FAILED") as failed:
-        gateway.sync_nodes(cluster)
+        cluster_kube.sync_nodes(cluster)
     assert "gave up" not in str(failed.value)
     assert time.monotonic() - began < 300  # far below the 600 s deadline: not retried

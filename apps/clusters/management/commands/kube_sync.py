@@ -6,8 +6,9 @@ from typing import Any
 
 from django.core.management.base import CommandError
 
+from apps.clusters import kube
 from apps.clusters.models import Cluster
-from apps.kube import gateway
+from apps.kube.gateway import KubeError
 from continuum.commands import EngineCommand
 from continuum.engine.core.errors import InputError
 
@@ -24,8 +25,8 @@ class Command(EngineCommand):
         if cluster is None:
             raise InputError(f"cluster {options['cluster']} does not exist", "cluster")
         try:
-            counts = gateway.sync_nodes(cluster)
-        except gateway.KubeError as exc:
+            counts = kube.sync_nodes(cluster)
+        except KubeError as exc:
             raise CommandError(str(exc), returncode=1) from exc
         return {"cluster": cluster.pk, "name": cluster.name, **counts}
 

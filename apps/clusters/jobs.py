@@ -1,0 +1,26 @@
+"""Job handlers of the clusters app: ``sync_cluster`` (read a cluster's nodes from its Kubernetes API)."""
+
+from apps.jobs.registry import job_kind
+
+from . import kube
+from .models import Cluster
+
+
+def _argument(job, name: str) -> int:
+    value = (job.arguments or {}).get(name)
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise ValueError(f"argument {name!r} must be the id of a {name}, got {value!r}")
+    return value
+
+
+@job_kind("sync_cluster")
+def sync_cluster(job, progress) -> tuple[dict, str]:
+    """Arguments: ``cluster`` (id). Reads the nodes of the cluster's Kubernetes API into its ComputeNodes."""
+    pk = _argument(job, "cluster")
+    cluster = Cluster.objects.filter(pk=pk, fleet=job.fleet).first()
+    if cluster is None:
+        raise ValueError(f"cluster {pk} does not exist")
+    progress(1, f"reading the nodes of {cluster.name}")
+    counts = kube.sync_nodes(cluster, progress)
+    progress(100, f"{counts['nodes']} nodes synced")
+    return {"cluster": cluster.pk, **counts}, f"/api/v1/clusters/{cluster.pk}/"

@@ -1,0 +1,71 @@
+"""A stored cluster and its Kubernetes API: the client built from its kubeconfig, and node sync.
+
+The gateway (:mod:`apps.kube.gateway`) reads the API and returns plain data; this module owns the
+ComputeNode rows and writes what the API says into them. Idempotent: syncing twice leaves the database as
+the first call did.
+"""
+
+from __future__ import annotations
+
+from django.db import transaction
+from django.utils import timezone
+
+from apps.kube import gateway
+from apps.kube.gateway import KubeError, Progress
+
+from .models import Cluster, ComputeNode
+
+
+def api_client_for(cluster: Cluster):
+    """An API client for ``cluster`` from its validated kubeconfig and context (no global state). The one
+    builder every caller uses (schedule pushes, container pushes, RT-Kube, HEFT4K)."""
+    return gateway.api_client(cluster.kubeconfig, cluster.kube_context, name=cluster.name)
+
+
+def target_for(cluster: Cluster):
+    """The cluster's validated API target (see :func:`apps.kube.connect.target`)."""
+    return gateway.target(cluster.kubeconfig, cluster.kube_context, name=cluster.name)
+
+
+def sync_nodes(cluster: Cluster, progress: Progress | None = None) -> dict:
+    """Create/update the cluster's ComputeNode rows from its API; nodes gone from the API become NotReady.
+
+    Returns counts: ``{"nodes", "created", "updated", "unchanged", "gone"}``.
+    """
+    api_client = api_client_for(cluster)
+    server = api_client.configuration.host
+    try:
+        with api_client:
+            items = gateway.list_nodes(api_client)
+    except gateway.API_ERRORS as exc:
+        raise KubeError(f"cluster {cluster.name!r}: {gateway.describe(exc, server)}") from exc
+    if progress:
+        progress(50, f"read {len(items)} nodes")
+    counts = {"nodes": len(items), "created": 0, "updated": 0, "unchanged": 0, "gone": 0}
+    seen = set()
+    with transaction.atomic():
+        existing = {n.name: n for n in cluster.nodes.select_for_update()}
+        for node in items:
+            name = node["metadata"]["name"]
+            seen.add(name)
+            fields = gateway.node_fields(node)
+            row = existing.get(name)
+            if row is None:
+                ComputeNode.objects.create(cluster=cluster, name=name, **fields)
+                counts["created"] += 1
+            elif any(getattr(row, k) != v for k, v in fields.items()):
+                for key, value in fields.items():
+                    setattr(row, key, value)
+                row.save(update_fields=list(fields))
+                counts["updated"] += 1
+            else:
+                counts["unchanged"] += 1
+        for name, row in existing.items():
+            if name not in seen and row.status != ComputeNode.Status.NOT_READY:
+                # Kept, not deleted: links, schedules and history still refer to it.
+                row.status = ComputeNode.Status.NOT_READY
+                row.save(update_fields=["status"])
+                counts["gone"] += 1
+        cluster.last_synced = timezone.now()
+        cluster.save(update_fields=["last_synced"])
+    return counts

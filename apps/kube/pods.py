@@ -1,0 +1,289 @@
+"""Pods of a pushed schedule: one pod per task, bound to its node through the Binding API.
+
+"HEFT on Kubernetes" (thesis §3.3.2, spec 02 §7.1/§7.3): only the mapping of a schedule is pushed, one pod
+per task pinned to its node; precedence is left to the tasks' publish/subscribe communication. Continuum is
+the scheduler of the pods it creates: each pod names ``settings.CONTINUUM_SCHEDULER_NAME`` as its
+``schedulerName`` (so kube-scheduler leaves it alone) and is bound to the chosen node through the Binding
+API (``pods/binding``), like the bind phase of a secondary scheduler (spec 03 §4.4). Following spec 02
+§7.3: pods use the host network (ROS nodes talk across machines), carry no CPU limits (CFS quotas would
+override niceness) and are created in decreasing rank order. Everything here is idempotent.
+
+Takes engine types (:class:`~continuum.engine.core.schedule.Assignment`) and a :class:`PodSet` (which
+schedule, which application, which namespace) and returns an :class:`Outcome` per assignment; the app that
+stores schedules records them.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from django.conf import settings
+from kubernetes import client
+from kubernetes.client.exceptions import ApiException
+
+from continuum.engine.core.schedule import Assignment
+from continuum.engine.heft4k.heft4k import nice_container
+
+from . import nodes
+from .connect import API_ERRORS, REQUEST_TIMEOUT, call, describe
+
+#: Label and annotation prefix of everything Continuum writes.
+PREFIX = "continuum.io"
+MANAGED_BY = {"app.kubernetes.io/managed-by": "continuum"}
+
+
+def dns_part(text: str, limit: int) -> str:
+    """``text`` as a DNS-1123 label fragment of at most ``limit`` characters (never empty)."""
+    part = re.sub(r"[^a-z0-9-]+", "-", text.lower()).strip("-")
+    return part[:limit].strip("-") or "x"
+
+
+def label_value(text: str) -> str:
+    """A valid label value (<= 63 chars of [A-Za-z0-9-_.], alphanumeric at both ends)."""
+    value = re.sub(r"[^A-Za-z0-9._-]+", "-", text)[:63]
+    return re.sub(r"^[^A-Za-z0-9]+|[^A-Za-z0-9]+$", "", value)
+
+
+@dataclass(frozen=True)
+class PodSet:
+    """Whose pods: the schedule and application ids (labels), the application's name (pod names), the upward
+    ranks (annotations) and the namespace."""
+
+    schedule: int
+    application: int
+    application_name: str
+    namespace: str
+    ranks: Mapping[str, float] = field(default_factory=dict)
+
+
+@dataclass
+class Outcome:
+    ok: bool
+    message: str
+
+
+def pod_name(pods: PodSet, task: str, frame: int) -> str:
+    """``<application>-<task>-<frame>-<hash>``: DNS-1123 safe, at most 63 characters, unique per
+    (schedule, task, frame) thanks to the hash even when two task ids sanitize alike."""
+    digest = hashlib.sha256(f"{pods.schedule}/{pods.application}/{task}/{frame}".encode()).hexdigest()[:10]
+    return f"{dns_part(pods.application_name, 20)}-{dns_part(task, 24)}-{frame}-{digest}"
+
+
+def pod_manifest(pods: PodSet, assignment: Assignment, name: str, *, host_network: bool = True) -> client.V1Pod:
+    """The pod of one assignment: no ``nodeName`` (the binding sets it), Continuum's scheduler name."""
+    labels = {
+        **MANAGED_BY,
+        f"{PREFIX}/schedule": str(pods.schedule),
+        f"{PREFIX}/application": str(pods.application),
+        f"{PREFIX}/task": label_value(assignment.task),
+        f"{PREFIX}/frame": str(assignment.frame),
+    }
+    annotations = {
+        f"{PREFIX}/task": assignment.task,
+        f"{PREFIX}/node": assignment.processor,
+        f"{PREFIX}/start": repr(assignment.start),
+        f"{PREFIX}/finish": repr(assignment.finish),
+    }
+    if assignment.task in (pods.ranks or {}):
+        annotations[f"{PREFIX}/rank"] = repr(pods.ranks[assignment.task])
+    if assignment.niceness is not None:
+        annotations[f"{PREFIX}/niceness"] = str(assignment.niceness)
+    env = [
+        client.V1EnvVar(name="CONTINUUM_TASK", value=assignment.task),
+        client.V1EnvVar(name="CONTINUUM_FRAME", value=str(assignment.frame)),
+        client.V1EnvVar(name="CONTINUUM_SCHEDULE", value=str(pods.schedule)),
+    ]
+    return client.V1Pod(
+        api_version="v1",
+        kind="Pod",
+        metadata=client.V1ObjectMeta(name=name, labels=labels, annotations=annotations),
+        spec=client.V1PodSpec(
+            scheduler_name=settings.CONTINUUM_SCHEDULER_NAME,
+            restart_policy="Never",
+            host_network=host_network,
+            containers=[_container(assignment, env)],
+        ),
+    )
+
+
+def _container(assignment: Assignment, env: list) -> client.V1Container:
+    """The task's container; with a niceness (HEFT4K, Eq. 3.16) its command runs under ``nice``, with
+    ``SYS_NICE`` when negative (the engine's :func:`nice_container`, whose docstring lists the limits)."""
+    container = client.V1Container(name="task", image=settings.CONTINUUM_POD_IMAGE, env=env)
+    if assignment.niceness is not None:
+        spec = nice_container(
+            assignment.niceness, settings.CONTINUUM_POD_COMMAND, nice_binary=settings.CONTINUUM_NICE_BINARY
+        )
+        container.command = spec["command"]
+        container.args = spec["args"] or None
+        added = spec["securityContext"].get("capabilities", {}).get("add")
+        if added:
+            container.security_context = client.V1SecurityContext(capabilities=client.V1Capabilities(add=added))
+    return container
+
+
+def ensure_namespace(api_client: client.ApiClient, namespace: str) -> None:
+    """Create ``namespace`` (labelled as Continuum's) unless it exists."""
+    api = client.CoreV1Api(api_client)
+    try:
+        call(api.read_namespace, namespace, what=f"read namespace {namespace}")
+        return
+    except ApiException as exc:
+        if exc.status != 404:
+            raise
+    body = client.V1Namespace(metadata=client.V1ObjectMeta(name=namespace, labels=dict(MANAGED_BY)))
+    try:
+        # Idempotent: a retried create that the server had already done answers 409, which is "done".
+        call(api.create_namespace, body, what=f"create namespace {namespace}")
+    except ApiException as exc:
+        if exc.status != 409:  # created meanwhile by someone else (or by our own earlier attempt): fine
+            raise
+
+
+class Pusher:
+    """Places the pods of one :class:`PodSet`; one instance per push. Each placement returns an Outcome."""
+
+    def __init__(self, pods: PodSet, api_client: client.ApiClient) -> None:
+        self.pods = pods
+        self.namespace = pods.namespace
+        self.api_client = api_client
+        self.api = client.CoreV1Api(api_client)
+        self.server = api_client.configuration.host
+
+    def ensure_namespace(self) -> None:
+        ensure_namespace(self.api_client, self.namespace)
+
+    def node_problems(self) -> dict[str, str | None]:
+        return nodes.node_problems(self.api_client)
+
+    def ready_nodes(self) -> set[str]:
+        return nodes.ready_nodes(self.api_client)
+
+    def existing_pods(self) -> dict[str, object]:
+        """The application's pods by name: a remapped schedule keeps pods created for the schedule it came from."""
+        selector = f"{PREFIX}/application={self.pods.application}"
+        pods = call(
+            self.api.list_namespaced_pod,
+            self.namespace,
+            label_selector=selector,
+            what=f"list pods in namespace {self.namespace}",
+            server=self.server,
+        ).items
+        return {p.metadata.name: p for p in pods}
+
+    def place(self, assignment: Assignment, name: str, pod, problems: dict[str, str | None]) -> Outcome:
+        node = assignment.processor
+        if pod is not None and pod.spec.node_name:
+            if pod.spec.node_name == node:
+                return Outcome(True, f"bound to {node}")
+            return Outcome(False, f"pod {name} is already bound to node {pod.spec.node_name!r}, not {node!r}")
+        if node not in problems:
+            return Outcome(False, f"node {node!r} not found in the Kubernetes API")
+        if problems[node]:
+            return Outcome(False, problems[node])
+        if pod is None:
+            try:
+                call(
+                    self.api.create_namespaced_pod,
+                    self.namespace,
+                    pod_manifest(self.pods, assignment, name),
+                    what=f"create pod {name}",
+                    server=self.server,
+                )
+            except ApiException as exc:
+                if exc.status != 409:
+                    return Outcome(False, f"pod {name} refused: {describe(exc)}")
+                # Created meanwhile (a re-delivered job running twice, or our own attempt whose answer was
+                # lost and retried): done if that pod is this assignment's, then bind it or find it bound.
+                mismatch = self._not_ours(name, assignment)
+                if mismatch:
+                    return Outcome(False, mismatch)
+        return self.bind(name, node)
+
+    def _not_ours(self, name: str, assignment: Assignment) -> str | None:
+        """Why the existing pod ``name`` is not the pod of ``assignment`` (``None``: it is)."""
+        pod = call(self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server)
+        annotations = pod.metadata.annotations or {}
+        labels = pod.metadata.labels or {}
+        if (
+            annotations.get(f"{PREFIX}/task") != assignment.task
+            or labels.get(f"{PREFIX}/frame") != str(assignment.frame)
+            or labels.get(f"{PREFIX}/application") != str(self.pods.application)
+        ):
+            return f"pod {name} already exists and is not the pod of task {assignment.task!r}"
+        return None
+
+    def bind(self, name: str, node: str) -> Outcome:
+        body = client.V1Binding(
+            api_version="v1",
+            kind="Binding",
+            metadata=client.V1ObjectMeta(name=name),
+            target=client.V1ObjectReference(api_version="v1", kind="Node", name=node),
+        )
+        try:
+            # The client cannot parse the Status a binding answers with: read the raw response.
+            # Idempotent: a retried binding the server had already done answers 409, checked below.
+            response = call(
+                self.api.create_namespaced_pod_binding,
+                name,
+                self.namespace,
+                body,
+                _preload_content=False,
+                what=f"bind pod {name} to node {node}",
+                server=self.server,
+            )
+        except ApiException as exc:
+            if exc.status == 409:
+                bound = call(
+                    self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server
+                )
+                if bound.spec.node_name == node:
+                    return Outcome(True, f"bound to {node}")
+                return Outcome(False, f"binding refused: {describe(exc)}")
+            return Outcome(False, f"binding refused: {describe(exc)}")
+        answer = response.data  # read it all, so the connection goes back to the pool
+        response.release_conn()
+        if response.status != 201:
+            return Outcome(False, f"binding refused: HTTP {response.status} {answer[:200]!r}")
+        return Outcome(True, f"bound to {node}")
+
+    def delete(self, name: str, *, force: bool) -> bool:
+        """Delete a pod; ``force`` (grace period 0) for a pod on a node that is not Ready (or gone), whose
+        kubelet cannot confirm the deletion. Returns whether the pod existed."""
+        body = client.V1DeleteOptions(grace_period_seconds=0) if force else None
+        try:
+            self.api.delete_namespaced_pod(name, self.namespace, body=body, _request_timeout=REQUEST_TIMEOUT)
+        except ApiException as exc:
+            if exc.status == 404:
+                return False
+            raise
+        return True
+
+
+def push(
+    pods: PodSet,
+    api_client: client.ApiClient,
+    placements: list[tuple[Assignment, str]],
+    progress=None,
+) -> tuple[list[Outcome], str | None]:
+    """Place every ``(assignment, pod name)`` in order; returns one Outcome per placement and, when the API
+    went away (or refuses us wholesale), why (every placement not done yet then fails with that reason)."""
+    progress = progress or (lambda percent, message: None)
+    outcomes: list[Outcome] = []
+    pusher = Pusher(pods, api_client)
+    try:
+        pusher.ensure_namespace()
+        problems = pusher.node_problems()
+        existing = pusher.existing_pods()
+        progress(5, f"namespace {pusher.namespace}: {len(existing)} of {len(placements)} pods exist")
+        for i, (assignment, name) in enumerate(placements, 1):
+            outcomes.append(pusher.place(assignment, name, existing.get(name), problems))
+            progress(5 + 90 * i / len(placements), f"placed {i}/{len(placements)} pods")
+    except API_ERRORS as exc:
+        reason = describe(exc, pusher.server)
+        outcomes += [Outcome(False, reason)] * (len(placements) - len(outcomes))
+        return outcomes, reason
+    return outcomes, None

@@ -1,0 +1,271 @@
+"""Objects as JSON through the official client: namespaces, CustomResourceDefinitions and custom objects
+(with their status subresource), pods (Bindings, evictions, replacements), scheduler explanations (the
+``PodScheduled`` condition and Events) and node taints.
+
+Every call is a typed method of the official client (``CoreV1Api``, ``CustomObjectsApi``,
+``ApiextensionsV1Api``) answered as the server's JSON (:func:`apps.kube.connect.read_json`): custom objects,
+Bindings and Status answers need no model classes, and large pod lists parse quickly. Used by RT-Kube
+(thesis 3.4, Fig. 3.32; spec 03 sections 3, 4.4, 5.4), whose CRD manifests and RealTime/Monitoring documents
+are its own domain data, passed in as plain dicts.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import time
+from collections.abc import Callable, Mapping
+from datetime import UTC, datetime
+from typing import Any
+
+from kubernetes import client
+from kubernetes.client.exceptions import ApiException
+
+from continuum.engine.core.taints import Taint
+
+from . import nodes
+from .connect import KubeError, describe, read_json
+
+MERGE_PATCH = "application/merge-patch+json"
+STRATEGIC_PATCH = "application/strategic-merge-patch+json"
+
+
+def now_rfc3339() -> str:
+    return datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+class Kube:
+    """JSON access to one cluster's API server (``component``: who writes the Events, e.g. the RT scheduler)."""
+
+    def __init__(self, api_client: client.ApiClient, name: str = "", component: str = "continuum") -> None:
+        self.api_client = api_client
+        self.name = name
+        self.component = component
+        self.server = api_client.configuration.host
+        self.core = client.CoreV1Api(api_client)
+        self.custom = client.CustomObjectsApi(api_client)
+        self.extensions = client.ApiextensionsV1Api(api_client)
+
+    # ---- namespaces and CRDs ---------------------------------------------------------------------------
+    def ensure_namespace(self, namespace: str) -> None:
+        try:
+            read_json(self.core.read_namespace, namespace)
+            return
+        except ApiException as exc:
+            if exc.status != 404:
+                raise
+        body = {"apiVersion": "v1", "kind": "Namespace", "metadata": {"name": namespace}}
+        try:
+            read_json(self.core.create_namespace, body)
+        except ApiException as exc:
+            if exc.status != 409:
+                raise
+
+    def install_crds(self, manifests: list[dict], wait: float = 20.0) -> list[str]:
+        """Create or update the CRDs and wait until they are Established; returns what changed."""
+        changed = []
+        for crd in manifests:
+            name = crd["metadata"]["name"]
+            try:
+                current = read_json(self.extensions.read_custom_resource_definition, name)
+            except ApiException as exc:
+                if exc.status != 404:
+                    raise
+                read_json(self.extensions.create_custom_resource_definition, crd)
+                changed.append(f"created {name}")
+                continue
+            if (
+                current.get("spec", {}).get("versions") != crd["spec"]["versions"]
+                or current["spec"].get("names", {}).get("shortNames") != crd["spec"]["names"]["shortNames"]
+            ):
+                body = copy.deepcopy(crd)
+                body["metadata"]["resourceVersion"] = current["metadata"]["resourceVersion"]
+                read_json(self.extensions.replace_custom_resource_definition, name, body)
+                changed.append(f"updated {name}")
+        deadline = time.monotonic() + wait
+        for crd in manifests:
+            name = crd["metadata"]["name"]
+            while True:
+                answer = read_json(self.extensions.read_custom_resource_definition, name)
+                conditions = (answer.get("status") or {}).get("conditions") or []
+                if any(c.get("type") == "Established" and c.get("status") == "True" for c in conditions):
+                    break
+                if time.monotonic() > deadline:
+                    raise KubeError(f"CRD {name} is not Established after {wait:g} s")
+                time.sleep(0.1)
+        return changed
+
+    # ---- custom objects --------------------------------------------------------------------------------
+    def list_objects(self, group: str, version: str, plural: str, namespace: str | None) -> list[dict]:
+        if namespace is None:
+            answer = read_json(self.custom.list_cluster_custom_object, group, version, plural)
+        else:
+            answer = read_json(self.custom.list_namespaced_custom_object, group, version, namespace, plural)
+        return (answer or {}).get("items") or []
+
+    def get_object(self, group: str, version: str, plural: str, namespace: str, name: str) -> dict | None:
+        try:
+            return read_json(self.custom.get_namespaced_custom_object, group, version, namespace, plural, name)
+        except ApiException as exc:
+            if exc.status == 404:
+                return None
+            raise
+
+    def put_object(self, group: str, version: str, plural: str, obj: dict) -> dict:
+        """Create ``obj``, or replace the existing object's spec (keeping its status); returns the stored object."""
+        namespace, name = obj["metadata"]["namespace"], obj["metadata"]["name"]
+        for _ in range(5):
+            current = self.get_object(group, version, plural, namespace, name)
+            if current is None:
+                try:
+                    return read_json(
+                        self.custom.create_namespaced_custom_object, group, version, namespace, plural, obj
+                    )
+                except ApiException as exc:
+                    if exc.status != 409:
+                        raise
+                    continue  # created meanwhile: replace it
+            body = copy.deepcopy(obj)
+            body["metadata"] = {**current["metadata"], **obj["metadata"]}
+            body["metadata"]["resourceVersion"] = current["metadata"]["resourceVersion"]
+            try:
+                return read_json(
+                    self.custom.replace_namespaced_custom_object, group, version, namespace, plural, name, body
+                )
+            except ApiException as exc:
+                if exc.status != 409:
+                    raise
+        raise KubeError(f"{plural}/{name}: the object kept changing while we wrote it")
+
+    def delete_object(self, group: str, version: str, plural: str, namespace: str, name: str) -> bool:
+        try:
+            read_json(self.custom.delete_namespaced_custom_object, group, version, namespace, plural, name)
+            return True
+        except ApiException as exc:
+            if exc.status == 404:
+                return False
+            raise
+
+    def patch_status(self, group: str, version: str, plural: str, namespace: str, name: str, status: dict) -> None:
+        try:
+            read_json(
+                self.custom.patch_namespaced_custom_object_status,
+                group,
+                version,
+                namespace,
+                plural,
+                name,
+                {"status": status},
+                _content_type=MERGE_PATCH,
+            )
+        except ApiException as exc:
+            if exc.status != 404:  # deleted meanwhile: nothing to annotate
+                raise
+
+    # ---- nodes -------------------------------------------------------------------------------------------
+    def list_nodes(self) -> list[dict]:
+        return (read_json(self.core.list_node) or {}).get("items") or []
+
+    def update_node(self, name: str, change: Callable[[dict], Any]) -> dict | None:
+        """See :func:`apps.kube.nodes.update_node`."""
+        return nodes.update_node(self.api_client, name, change)
+
+    def set_taint(self, node: str, taint: Taint | Mapping[str, Any], present: bool = True) -> dict | None:
+        """See :func:`apps.kube.nodes.set_taint`."""
+        return nodes.set_taint(self.api_client, node, taint, present)
+
+    # ---- pods --------------------------------------------------------------------------------------------
+    def list_pods(self, namespace: str | None, **query) -> list[dict]:
+        if namespace is None:
+            answer = read_json(self.core.list_pod_for_all_namespaces, **query)
+        else:
+            answer = read_json(self.core.list_namespaced_pod, namespace, **query)
+        return (answer or {}).get("items") or []
+
+    def bind(self, namespace: str, name: str, node: str, uid: str | None = None) -> tuple[bool, str]:
+        """The bind phase: a Binding for the pod (``uid`` guards against a re-created pod of the same name)."""
+        body = client.V1Binding(
+            api_version="v1",
+            kind="Binding",
+            metadata=client.V1ObjectMeta(name=name, uid=uid or None),
+            target=client.V1ObjectReference(api_version="v1", kind="Node", name=node),
+        )
+        try:
+            read_json(self.core.create_namespaced_pod_binding, name, namespace, body)
+        except ApiException as exc:
+            return False, f"binding refused: {describe(exc)}"
+        return True, f"bound to {node}"
+
+    def delete_pod(self, namespace: str, name: str, uid: str | None = None) -> dict | None:
+        """Evict: delete the pod with grace period 0 (the kill of Fig. 3.36). Returns the deleted pod (the API
+        answers with it), or None when it was gone already (or replaced by another pod of the same name)."""
+        body = client.V1DeleteOptions(
+            api_version="v1",
+            kind="DeleteOptions",
+            grace_period_seconds=0,
+            preconditions=client.V1Preconditions(uid=uid) if uid else None,
+        )
+        try:
+            answer = read_json(self.core.delete_namespaced_pod, name, namespace, body=body)
+        except ApiException as exc:
+            if exc.status in (404, 409):
+                return None
+            raise
+        return answer if isinstance(answer, dict) and answer.get("kind") == "Pod" else {}
+
+    def create_pod(self, namespace: str, body: dict) -> dict:
+        return read_json(self.core.create_namespaced_pod, namespace, body)
+
+    def explain_pending(self, pod: dict, message: str) -> None:
+        """Tell the pod why it stays pending, as kube-scheduler does: the PodScheduled condition and an Event."""
+        meta = pod["metadata"]
+        namespace, name = meta["namespace"], meta["name"]
+        condition = {
+            "type": "PodScheduled",
+            "status": "False",
+            "reason": "Unschedulable",
+            "message": message,
+            "lastTransitionTime": now_rfc3339(),
+        }
+        try:
+            read_json(
+                self.core.patch_namespaced_pod_status,
+                name,
+                namespace,
+                {"status": {"conditions": [condition]}},
+                _content_type=STRATEGIC_PATCH,
+            )
+        except ApiException as exc:
+            if exc.status != 404:
+                raise
+        self.event(pod, "FailedScheduling", message, "Warning")
+
+    def event(self, pod: dict, reason: str, message: str, kind: str = "Normal") -> None:
+        meta = pod["metadata"]
+        stamp = now_rfc3339()
+        digest = hashlib.sha1(f"{meta.get('uid')}{reason}{message}{time.time()}".encode()).hexdigest()[:10]
+        body = {
+            "apiVersion": "v1",
+            "kind": "Event",
+            "metadata": {"name": f"{meta['name'][:200]}.{digest}", "namespace": meta["namespace"]},
+            "involvedObject": {
+                "apiVersion": "v1",
+                "kind": "Pod",
+                "name": meta["name"],
+                "namespace": meta["namespace"],
+                "uid": meta.get("uid"),
+            },
+            "reason": reason,
+            "message": message[:1024],
+            "type": kind,
+            "source": {"component": self.component},
+            "reportingComponent": self.component,
+            "firstTimestamp": stamp,
+            "lastTimestamp": stamp,
+            "count": 1,
+        }
+        try:
+            read_json(self.core.create_namespaced_event, meta["namespace"], body)
+        except ApiException as exc:
+            if exc.status not in (404, 409):
+                raise
