@@ -149,13 +149,14 @@ class PlacementViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Read
         """Why each container went where it went: per node, the rejecting filter and reason, or each
         scoring policy's score and the total (like kube-scheduler-simulator)."""
         placement = self.get_object()
+        plan = placement.engine_plan()
         container = request.query_params.get("container")
         if container is not None:
             try:
-                return Response(services.why_table(placement.plan, container))
+                return Response(services.why_table(plan, container))
             except KeyError:
                 raise NotFound(f"placement {placement.pk} has no container {container!r}") from None
-        tables = [services.why_table(placement.plan, d["item"]) for d in placement.plan.get("decisions", [])]
+        tables = [services.why_table(plan, d.item) for d in plan.decisions]
         return Response({"policy": placement.policy, "containers": tables})
 
     @extend_schema(request=None, responses={202: JobSerializer})

@@ -162,7 +162,7 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
     engine = placement.engine_cluster()
     placed = placement.placed()
     specs = {c["name"]: c for c in placement.containers["containers"]}
-    order = [d["item"] for d in placement.plan["decisions"]]  # decision order = priority order
+    order = [d.item for d in placement.engine_plan().decisions]  # decision order = priority order
     names = {c: deployment_name(placement, c) for c in order}
     outcomes: dict[str, tuple[bool, str]] = {}
     counts = {"created": 0, "updated": 0, "unchanged": 0}

@@ -221,21 +221,22 @@ def placement_detail(request: HttpRequest, pk: int) -> HttpResponse:
     placement = get_object_or_404(
         scoped(request, Placement.objects.select_related("fleet", "cluster", "clustering", "rosgraph", "job")), pk=pk
     )
-    order = [d["item"] for d in placement.plan.get("decisions", [])]
+    plan = placement.engine_plan()
+    order = [d.item for d in plan.decisions]
     names = [c["name"] for c in placement.containers.get("containers", [])]
     selected = request.GET.get("container") or (order[0] if order else None)
     if selected is not None and selected not in order:
         raise Http404("no such container in this placement")
-    why = services.why_table(placement.plan, selected) if selected else None
+    why = services.why_table(plan, selected) if selected else None
     traffic = services.node_traffic(placement)
     specs = {c["name"]: c for c in placement.containers.get("containers", [])}
     deployments = {d.container: d for d in placement.deployments.all()}
-    placed = placement.placed()
+    placed = plan.placed()
     rows = [
         {
             "name": c,
             "node": placed.get(c),
-            "score": next((p["score"] for p in placement.plan["placements"] if p["container"] == c), None),
+            "score": decision.score if (decision := plan.decision(c)) else None,
             "spec": specs.get(c, {}),
             "deployment": deployments.get(c),
             "position": i + 1,

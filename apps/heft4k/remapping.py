@@ -22,7 +22,7 @@ from django.utils import timezone
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import ComputeNode
 from apps.kube import gateway
-from apps.scheduling.kube import engine_assignment, pod_name, pusher_for
+from apps.scheduling.kube import pod_name, pusher_for
 from apps.scheduling.models import Assignment, Schedule
 from continuum.engine.core.errors import InputError
 from continuum.engine.heft4k.remap import remap
@@ -286,7 +286,7 @@ def _replace_pods(event, old, new, old_rows, new_rows, order, progress) -> tuple
                     "deleted": pusher.delete(old_name, force=before.processor not in ready),
                 }
                 name = pod_name(new, *key)
-                outcome = pusher.place(engine_assignment(row), name, existing.get(name), problems)
+                outcome = pusher.place(row.to_engine(), name, existing.get(name), problems)
                 row.placement = Assignment.Placement.BOUND if outcome.ok else Assignment.Placement.FAILED
                 row.placement_message, row.pod_name = outcome.message[:500], name
                 record.update(new_pod=name, created=outcome.ok, ok=outcome.ok, message=outcome.message)

@@ -163,10 +163,6 @@ def sync_realtimes(cluster: Cluster, kube: Kube, namespace: str | None = None) -
 
 
 # ---- nodes ----------------------------------------------------------------------------------------------
-def _threshold(node: ComputeNode) -> float:
-    return node.rt_threshold if node.rt_threshold is not None else node.cpu * 0.95
-
-
 def sync_node_rt(cluster: Cluster, kube: Kube) -> dict[str, Any]:
     out: dict[str, Any] = {"tainted": [], "marked_rt": [], "errors": {}}
     rows = {n.name: n for n in cluster.nodes.all()}
@@ -180,7 +176,7 @@ def sync_node_rt(cluster: Cluster, kube: Kube) -> dict[str, Any]:
         has_taint = any(t.get("key") == RT_TAINT.key and t.get("effect") == RT_TAINT.effect for t in taints)
         labels = node["metadata"].get("labels") or {}
         if row.rt:
-            want = {THRESHOLD_LABEL: f"{_threshold(row):g}"}
+            want = {THRESHOLD_LABEL: f"{row.rt_capacity:g}"}
             if row.criticality:
                 want[CRITICALITY_LABEL] = row.criticality
             if has_taint and all(labels.get(k) == v for k, v in want.items()):

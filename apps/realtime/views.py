@@ -59,7 +59,7 @@ def _node_rows(cluster: Cluster, pods: list[RTPod], tainted: set[str]) -> list[d
             by_node[p.node][p.criticality] += p.utilization
     rows = []
     for n in cluster.nodes.order_by("name"):
-        threshold = n.rt_threshold if n.rt_threshold is not None else n.cpu * 0.95
+        threshold = n.rt_capacity
         used = sum(by_node[n.name].values())
         rows.append(
             {

@@ -15,7 +15,6 @@ from apps.clusters.kube import api_client_for
 from apps.jobs.registry import job_kind
 from apps.kube import gateway
 from apps.kube.gateway import KubeError, Outcome, PodSet, Progress
-from continuum.engine.core.schedule import Assignment as EngineAssignment
 
 from .models import Assignment, Schedule
 
@@ -33,10 +32,6 @@ def pod_set(schedule: Schedule) -> PodSet:
     )
 
 
-def engine_assignment(row: Assignment) -> EngineAssignment:
-    return EngineAssignment(row.task, row.processor, row.start, row.finish, row.frame, row.niceness, row.core)
-
-
 def pod_name(schedule: Schedule, task: str, frame: int) -> str:
     """The name of a task's pod in ``schedule`` (see :func:`apps.kube.pods.pod_name`)."""
     return gateway.pod_name(pod_set(schedule), task, frame)
@@ -44,7 +39,7 @@ def pod_name(schedule: Schedule, task: str, frame: int) -> str:
 
 def pod_manifest(schedule: Schedule, assignment: Assignment, name: str):
     """The pod of one stored assignment (see :func:`apps.kube.pods.pod_manifest`)."""
-    return gateway.pod_manifest(pod_set(schedule), engine_assignment(assignment), name)
+    return gateway.pod_manifest(pod_set(schedule), assignment.to_engine(), name)
 
 
 def pusher_for(schedule: Schedule, api_client) -> gateway.Pusher:
@@ -70,7 +65,7 @@ def push_schedule(schedule: Schedule, progress: Progress | None = None) -> dict:
     names = {a.pk: a.pod_name or gateway.pod_name(pods, a.task, a.frame) for a in assignments}
     with api_client:
         results, fatal = gateway.push(
-            pods, api_client, [(engine_assignment(a), names[a.pk]) for a in assignments], progress
+            pods, api_client, [(a.to_engine(), names[a.pk]) for a in assignments], progress
         )
     outcomes: dict[int, Outcome] = {a.pk: outcome for a, outcome in zip(assignments, results, strict=True)}
     for assignment in assignments:

@@ -271,8 +271,8 @@ def test_a_pod_create_answered_409_is_done_only_if_the_pod_is_the_assignments(
     with cluster_kube.api_client_for(kube_cluster) as api_client:
         pusher = schedule_kube.pusher_for(schedule, api_client)
         problems = pusher.node_problems()
-        done = pusher.place(schedule_kube.engine_assignment(ours), ours_name, None, problems)
-        refused = pusher.place(schedule_kube.engine_assignment(theirs), theirs_name, None, problems)
+        done = pusher.place(ours.to_engine(), ours_name, None, problems)
+        refused = pusher.place(theirs.to_engine(), theirs_name, None, problems)
     assert done.ok and done.message == f"bound to {ours.processor}"
     assert not refused.ok
     assert refused.message == f"pod {theirs_name} already exists and is not the pod of task {theirs.task!r}"
