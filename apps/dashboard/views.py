@@ -18,6 +18,7 @@ from apps.devices.serializers import AdviceRequestSerializer
 from apps.jobs.models import Job
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 from apps.scheduling.models import Assignment, Comparison, Schedule
 from apps.tenancy.scoping import visible_fleets
 from apps.workloads.models import Application
@@ -204,7 +205,7 @@ def application_schedule(request: HttpRequest, pk: int) -> HttpResponse:
     form = ScheduleForm(request.POST, application=app)
     if not form.is_valid():
         return _application_page(request, app, form, CompareForm(application=app, prefix="compare"), status=400)
-    job = start_job("schedule", app.fleet, form.job_arguments(), request.user)
+    job = start_job(SchedulingJob.SCHEDULE, app.fleet, form.job_arguments(), request.user)
     return redirect("dashboard:job", pk=job.pk)
 
 
@@ -215,7 +216,7 @@ def application_compare(request: HttpRequest, pk: int) -> HttpResponse:
     form = CompareForm(request.POST, application=app, prefix="compare")
     if not form.is_valid():
         return _application_page(request, app, ScheduleForm(application=app), form, status=400)
-    job = start_job("compare", app.fleet, form.job_arguments(), request.user)
+    job = start_job(SchedulingJob.COMPARE, app.fleet, form.job_arguments(), request.user)
     return redirect("dashboard:job", pk=job.pk)
 
 
@@ -341,10 +342,10 @@ def schedule_push(request: HttpRequest, pk: int) -> HttpResponse:
     if schedule.cluster is None or not schedule.cluster.kubeconfig:
         messages.error(request, "This schedule's cluster has no Kubernetes API configured: nothing to push to.")
         return redirect("dashboard:schedule", pk=schedule.pk)
-    if "push_schedule" not in HANDLERS:
+    if SchedulingJob.PUSH_SCHEDULE not in HANDLERS:
         messages.error(request, "Pushing to Kubernetes is not available in this installation.")
         return redirect("dashboard:schedule", pk=schedule.pk)
-    job = start_job("push_schedule", schedule.fleet, {"schedule": schedule.pk}, request.user)
+    job = start_job(SchedulingJob.PUSH_SCHEDULE, schedule.fleet, {"schedule": schedule.pk}, request.user)
     return redirect("dashboard:job", pk=job.pk)
 
 

@@ -12,6 +12,7 @@ from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
 from apps.dashboard import charts
+from apps.heft4k.kinds import Heft4kJob
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.scheduling.models import Schedule
@@ -168,7 +169,7 @@ def whatif(request: HttpRequest, pk: int) -> HttpResponse:
         from apps.dashboard.views import schedule_page
 
         return schedule_page(request, schedule, whatif_form=form, status=400)
-    job = start_job("remap", schedule.fleet, form.job_arguments(), request.user)
+    job = start_job(Heft4kJob.REMAP, schedule.fleet, form.job_arguments(), request.user)
     return _after_job(job)
 
 
@@ -258,7 +259,7 @@ def remap_apply(request: HttpRequest, pk: int) -> HttpResponse:
     if reason:
         messages.error(request, f"Cannot apply: {reason}.")
         return redirect("heft4k:remap", pk=event.pk)
-    job = start_job("remap_apply", event.fleet, {"remap": event.pk}, request.user)
+    job = start_job(Heft4kJob.REMAP_APPLY, event.fleet, {"remap": event.pk}, request.user)
     if job.state == Job.State.FAILED:
         messages.error(request, f"Applying failed: {job.error}")
         return redirect("heft4k:remap", pk=event.pk)

@@ -1,7 +1,9 @@
 """Job handlers of the Kubernetes gateway: ``sync_cluster`` and ``push_schedule``."""
 
+from apps.clusters.kinds import ClusterJob
 from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
+from apps.scheduling.kinds import SchedulingJob
 from apps.scheduling.models import Schedule
 
 from . import gateway
@@ -14,7 +16,7 @@ def _argument(job, name: str) -> int:
     return value
 
 
-@job_kind("sync_cluster")
+@job_kind(ClusterJob.SYNC_CLUSTER)
 def sync_cluster(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster`` (id). Reads the nodes of the cluster's Kubernetes API into its ComputeNodes."""
     pk = _argument(job, "cluster")
@@ -27,7 +29,7 @@ def sync_cluster(job, progress) -> tuple[dict, str]:
     return {"cluster": cluster.pk, **counts}, f"/api/v1/clusters/{cluster.pk}/"
 
 
-@job_kind("push_schedule")
+@job_kind(SchedulingJob.PUSH_SCHEDULE)
 def push_schedule(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id). Creates one pod per assignment and binds it to the assigned node."""
     pk = _argument(job, "schedule")

@@ -6,6 +6,7 @@ from rest_framework.response import Response
 from apps.heft4k.api import RemapActionMixin
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 from apps.tenancy.api import FleetScopedMixin
 
 from .models import Comparison, Schedule
@@ -36,7 +37,7 @@ class ScheduleViewSet(RemapActionMixin, FleetScopedMixin, mixins.DestroyModelMix
                 {"cluster": ["this schedule's cluster has no Kubernetes API configured"]},
                 status=status.HTTP_400_BAD_REQUEST,
             )
-        job = start_job("push_schedule", schedule.fleet, {"schedule": schedule.pk}, request.user)
+        job = start_job(SchedulingJob.PUSH_SCHEDULE, schedule.fleet, {"schedule": schedule.pk}, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 

@@ -16,6 +16,7 @@ from apps.dashboard.views import paginate, scoped
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
+from apps.verification.kinds import VerificationJob
 
 from . import charts
 from .models import AllocationRun, Assertion, Handler, MigrationEvent, Monitor, Violation
@@ -89,7 +90,10 @@ def simulate(request: HttpRequest) -> HttpResponse:
     if not form.is_valid():
         raise Http404("no such fleet")
     job = start_job(
-        "verification_simulation", form.cleaned_data["fleet"], {"scenario": form.cleaned_data["scenario"]}, request.user
+        VerificationJob.VERIFICATION_SIMULATION,
+        form.cleaned_data["fleet"],
+        {"scenario": form.cleaned_data["scenario"]},
+        request.user,
     )
     if job.state == Job.State.SUCCEEDED and (job.result or {}).get("page"):
         return redirect(job.result["page"])

@@ -5,6 +5,7 @@ from rest_framework.response import Response
 
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 from apps.scheduling.serializers import CompareRequestSerializer, ScheduleRequestSerializer
 from apps.tenancy.api import FleetScopedMixin
 from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
@@ -69,7 +70,7 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
         if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
             return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
         arguments = {"application": app.pk, "algorithm": data["algorithm"], "params": data["params"]}
-        job = start_job("schedule", app.fleet, arguments | _target_arguments(data), request.user)
+        job = start_job(SchedulingJob.SCHEDULE, app.fleet, arguments | _target_arguments(data), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
     @extend_schema(request=CompareRequestSerializer, responses={202: JobSerializer})
@@ -90,7 +91,7 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
             "comm_mode": data["comm_mode"],
             **serializer.frame_options(),
         }
-        job = start_job("compare", app.fleet, arguments | _target_arguments(data), request.user)
+        job = start_job(SchedulingJob.COMPARE, app.fleet, arguments | _target_arguments(data), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 

@@ -7,7 +7,7 @@ from django.db import migrations
 
 import continuum.engine
 
-SEED = Path(continuum.engine.__file__).resolve().parent / "data" / "uma_devices.json"
+SEED = Path(continuum.engine.__file__).resolve().parent / "device" / "data" / "uma_devices.json"
 # Whose ROS transport measurements (thesis Tables 4.11-4.14) each board quotes; the Nano has none of its own.
 ROS_BOARD = {"jetson-nano": "tx2", "jetson-tx2": "tx2", "jetson-agx-xavier": "xavier"}
 

@@ -14,6 +14,7 @@ from django.db import transaction
 
 from apps.clusters.models import Cluster, ComputeNode, Link
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 from apps.tenancy.models import Fleet, FleetToken, hash_token_key
 from apps.workloads.models import Application
 from continuum.engine.formats import load_dag
@@ -32,7 +33,8 @@ class Command(BaseCommand):
             cluster = self._cluster(fleet)
             apps = self._applications(fleet)
         if not apps[0].schedules.exists():
-            start_job("schedule", fleet, {"application": apps[0].pk, "algorithm": "heft", "cluster": cluster.pk})
+            arguments = {"application": apps[0].pk, "algorithm": "heft", "cluster": cluster.pk}
+            start_job(SchedulingJob.SCHEDULE, fleet, arguments)
         self.stdout.write(f"demo ready: log in as admin / {password}  (fleet token for the API: {key})")
 
     def _admin(self, credentials: Path) -> str:

@@ -1,0 +1,8 @@
+"""The HEFT4K app's job kinds (remapping after node failures, Algorithm 2)."""
+
+from apps.jobs.registry import JobKind
+
+
+class Heft4kJob(JobKind):
+    REMAP = "remap"
+    REMAP_APPLY = "remap_apply"
