@@ -13,20 +13,22 @@ from django.views.decorators.http import require_POST
 
 from apps.clusters.models import Cluster, ComputeNode
 from apps.devices.api import advice
+from apps.devices.forms import AdviceForm
 from apps.devices.models import DeviceProfile
 from apps.devices.serializers import AdviceRequestSerializer
 from apps.jobs.models import Job
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
+from apps.scheduling.forms import CompareForm, ScheduleForm
 from apps.scheduling.kinds import SchedulingJob
 from apps.scheduling.models import Assignment, Comparison, Schedule
 from apps.tenancy.scoping import visible_fleets
+from apps.workloads.forms import GenerateForm, UploadForm
 from apps.workloads.models import Application
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 
 from . import charts
-from .forms import AdviceForm, CompareForm, GenerateForm, ScheduleForm, UploadForm
 
 PAGE_SIZE = 25
 
@@ -202,7 +204,7 @@ def _application_page(
 @require_POST
 def application_schedule(request: HttpRequest, pk: int) -> HttpResponse:
     app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
-    form = ScheduleForm(request.POST, application=app)
+    form = ScheduleForm(request.POST, application=app, request=request)
     if not form.is_valid():
         return _application_page(request, app, form, CompareForm(application=app, prefix="compare"), status=400)
     job = start_job(SchedulingJob.SCHEDULE, app.fleet, form.job_arguments(), request.user)
@@ -213,7 +215,7 @@ def application_schedule(request: HttpRequest, pk: int) -> HttpResponse:
 @require_POST
 def application_compare(request: HttpRequest, pk: int) -> HttpResponse:
     app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
-    form = CompareForm(request.POST, application=app, prefix="compare")
+    form = CompareForm(request.POST, application=app, prefix="compare", request=request)
     if not form.is_valid():
         return _application_page(request, app, ScheduleForm(application=app), form, status=400)
     job = start_job(SchedulingJob.COMPARE, app.fleet, form.job_arguments(), request.user)
@@ -434,7 +436,7 @@ def device_list(request: HttpRequest) -> HttpResponse:
 @login_required
 def device_detail(request: HttpRequest, slug: str) -> HttpResponse:
     device = get_object_or_404(DeviceProfile, slug=slug)
-    form = AdviceForm(request.POST if request.method == "POST" else None)
+    form = AdviceForm(request.POST if request.method == "POST" else None, device=device)
     answer = None
     status = 200
     if request.method == "POST":

@@ -22,7 +22,12 @@ ALGORITHM_CHOICES = sorted(SCHEDULERS)
 
 
 class TargetSerializer(ScopedSerializer):
-    """A cluster (its Ready nodes) or a ``continuum.platform/v1`` document, and the frame options."""
+    """A cluster (its Ready nodes) or a ``continuum.platform/v1`` document, and the frame options.
+
+    The request contract of the API's schedule and compare actions and of the dashboard's forms
+    (``apps/scheduling/forms.py``). ``context["application"]`` is the application to schedule; ``job_arguments()``
+    gives the job's arguments.
+    """
 
     cluster = VisibleClusterField(required=False)
     platform = serializers.JSONField(required=False, help_text="a continuum.platform/v1 document")
@@ -57,11 +62,37 @@ class TargetSerializer(ScopedSerializer):
         if ("cluster" in attrs) == ("platform" in attrs):
             raise serializers.ValidationError({"cluster": ["give exactly one of 'cluster' and 'platform'"]})
         if "fps" in attrs and "period" in attrs:
-            raise serializers.ValidationError({"fps": ["give either fps or period, not both"]})
+            raise serializers.ValidationError({"fps": ["give either FPS or a period (fps or period), not both"]})
+        application, cluster = self.context.get("application"), attrs.get("cluster")
+        if cluster is not None and application is not None and cluster.fleet_id != application.fleet_id:
+            raise serializers.ValidationError({"cluster": ["the cluster belongs to another fleet"]})
         return attrs
 
     def frame_options(self) -> dict:
         return {k: self.validated_data[k] for k in FRAME_OPTIONS if k in self.validated_data}
+
+    def target_args(self) -> dict:
+        data = self.validated_data
+        if data.get("cluster") is not None:
+            return {"cluster": data["cluster"].pk}
+        return {"platform": data["platform"]}
+
+    def runnable_errors(self) -> dict[str | None, str]:
+        """Why the job would fail on this target (a cluster without a Ready node, a task no processor can
+        run), for a page that says so before starting it; the API starts the job, which fails saying so."""
+        data = self.validated_data
+        cluster = data.get("cluster")
+        if cluster is not None:
+            if not cluster.nodes.filter(status="Ready").exists():
+                return {"cluster": f"cluster {cluster.name!r} has no Ready node"}
+            platform = cluster.to_platform()
+        else:
+            platform = Platform.from_dict(data["platform"])
+        try:
+            platform.cost_table(self.context["application"].graph)
+        except InputError as exc:
+            return {None: f"cannot schedule on this target: {exc}"}
+        return {}
 
 
 class ScheduleRequestSerializer(TargetSerializer):
@@ -75,7 +106,8 @@ class ScheduleRequestSerializer(TargetSerializer):
         attrs = super().validate(attrs)
         clash = sorted(k for k in FRAME_OPTIONS if k in attrs and k in attrs["params"])
         if clash:
-            raise serializers.ValidationError({clash[0]: ["given both as a field and in params; give it once"]})
+            message = f"{clash[0]} is given both as a field and in the parameters (params); give it once"
+            raise serializers.ValidationError({clash[0]: [message]})
         # Frame options given in params are checked exactly like the fields (the same bounds).
         for key in FRAME_OPTIONS:
             if key in attrs["params"]:
@@ -85,6 +117,12 @@ class ScheduleRequestSerializer(TargetSerializer):
                     raise serializers.ValidationError({"params": {key: exc.detail}}) from exc
         attrs["params"] = {**attrs["params"], **{k: attrs[k] for k in FRAME_OPTIONS if k in attrs}}
         return attrs
+
+    def job_arguments(self) -> dict:
+        """The schedule job's arguments (``apps/scheduling/jobs.py``)."""
+        data = self.validated_data
+        arguments = {"application": self.context["application"].pk, "algorithm": data["algorithm"]}
+        return arguments | {"params": data["params"]} | self.target_args()
 
 
 class CompareRequestSerializer(TargetSerializer):
@@ -108,6 +146,17 @@ class CompareRequestSerializer(TargetSerializer):
         if dup:
             raise serializers.ValidationError(f"{dup[0]!r} is listed twice")
         return value
+
+    def job_arguments(self) -> dict:
+        """The compare job's arguments (``apps/scheduling/jobs.py``)."""
+        data = self.validated_data
+        arguments = {
+            "application": self.context["application"].pk,
+            "algorithms": data["algorithms"],
+            "rank_mode": data["rank_mode"],
+            "comm_mode": data["comm_mode"],
+        }
+        return arguments | self.frame_options() | self.target_args()
 
 
 class AssignmentSerializer(ScopedModelSerializer):

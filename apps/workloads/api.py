@@ -64,13 +64,9 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
     def schedule(self, request, pk=None):
         """Start a scheduling job; its result links to the stored schedule."""
         app = self.get_object()
-        serializer = ScheduleRequestSerializer(data=request.data, context=self.get_serializer_context())
+        serializer = ScheduleRequestSerializer(data=request.data, context=self._request_context(app))
         serializer.is_valid(raise_exception=True)
-        data = serializer.validated_data
-        if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
-            return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
-        arguments = {"application": app.pk, "algorithm": data["algorithm"], "params": data["params"]}
-        job = start_job(SchedulingJob.SCHEDULE, app.fleet, arguments | _target_arguments(data), request.user)
+        job = start_job(SchedulingJob.SCHEDULE, app.fleet, serializer.job_arguments(), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
     @extend_schema(request=CompareRequestSerializer, responses={202: JobSerializer})
@@ -79,23 +75,11 @@ class ApplicationViewSet(FleetScopedMixin, viewsets.ModelViewSet):
         """Start a job that runs several algorithms on this application and target (frames optional) and stores
         each schedule plus a comparison (makespan, SLR, speedup vs VisionWorks, overlap, idle time)."""
         app = self.get_object()
-        serializer = CompareRequestSerializer(data=request.data, context=self.get_serializer_context())
+        serializer = CompareRequestSerializer(data=request.data, context=self._request_context(app))
         serializer.is_valid(raise_exception=True)
-        data = serializer.validated_data
-        if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
-            return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
-        arguments = {
-            "application": app.pk,
-            "algorithms": data["algorithms"],
-            "rank_mode": data["rank_mode"],
-            "comm_mode": data["comm_mode"],
-            **serializer.frame_options(),
-        }
-        job = start_job(SchedulingJob.COMPARE, app.fleet, arguments | _target_arguments(data), request.user)
+        job = start_job(SchedulingJob.COMPARE, app.fleet, serializer.job_arguments(), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
-
-def _target_arguments(data: dict) -> dict:
-    if data.get("cluster") is not None:
-        return {"cluster": data["cluster"].pk}
-    return {"platform": data["platform"]}
+    def _request_context(self, app: Application) -> dict:
+        """The context of the schedule and compare request contracts (apps/scheduling/serializers.py)."""
+        return {**self.get_serializer_context(), "application": app}
