@@ -19,6 +19,16 @@ FRAME_OPTIONS = ("frames", "fps", "period", "batch")
 
 #: The algorithms the API offers (one OpenAPI enum, AlgorithmEnum).
 ALGORITHM_CHOICES = sorted(SCHEDULERS)
+#: An unknown algorithm, in the engine's words (``continuum.engine.device.algorithms.run``).
+UNKNOWN_ALGORITHM = {"invalid_choice": "unknown algorithm '{input}' (choose from " + ", ".join(ALGORITHM_CHOICES) + ")"}
+
+
+FPS_OR_PERIOD = "give either FPS or a period, not both (either fps or period sets when frames are released)"
+
+
+def positive(name: str, kind: str) -> dict[str, str]:
+    """``error_messages`` for a count that must be positive, in the engine's words (and DRF's)."""
+    return {"min_value": f"{name} must be a positive {kind} (greater than or equal to {{min_value}})"}
 
 
 class TargetSerializer(ScopedSerializer):
@@ -35,10 +45,15 @@ class TargetSerializer(ScopedSerializer):
         required=False,
         min_value=1,
         max_value=MAX_FRAMES,
-        error_messages=at_most("frames"),
+        error_messages=at_most("frames") | positive("frames", "integer"),
         help_text="schedule this many frames (pipelined)",
     )
-    fps = serializers.FloatField(required=False, min_value=1e-9, help_text="camera rate: frame f released at f/fps")
+    fps = serializers.FloatField(
+        required=False,
+        min_value=1e-9,
+        error_messages={"min_value": "fps must be a positive number"},
+        help_text="camera rate: frame f released at f/fps",
+    )
     period = serializers.FloatField(
         required=False, min_value=0, help_text="frame period in the DAG's time unit (instead of fps)"
     )
@@ -46,7 +61,7 @@ class TargetSerializer(ScopedSerializer):
         required=False,
         min_value=1,
         max_value=MAX_FRAMES,
-        error_messages=at_most("batch"),
+        error_messages=at_most("batch") | positive("batch", "integer"),
         help_text="frames buffered and released together",
     )
 
@@ -62,7 +77,7 @@ class TargetSerializer(ScopedSerializer):
         if ("cluster" in attrs) == ("platform" in attrs):
             raise serializers.ValidationError({"cluster": ["give exactly one of 'cluster' and 'platform'"]})
         if "fps" in attrs and "period" in attrs:
-            raise serializers.ValidationError({"fps": ["give either FPS or a period (fps or period), not both"]})
+            raise serializers.ValidationError({"fps": [FPS_OR_PERIOD]})
         application, cluster = self.context.get("application"), attrs.get("cluster")
         if cluster is not None and application is not None and cluster.fleet_id != application.fleet_id:
             raise serializers.ValidationError({"cluster": ["the cluster belongs to another fleet"]})
@@ -99,7 +114,7 @@ class ScheduleRequestSerializer(TargetSerializer):
     """Schedule an application on a cluster (its Ready nodes) or on a platform document, for one frame or
     several (``frames``, ``fps`` or ``period``, ``batch``: thesis Eqs. 3.5-3.7)."""
 
-    algorithm = serializers.ChoiceField(choices=ALGORITHM_CHOICES, default="heft")
+    algorithm = serializers.ChoiceField(choices=ALGORITHM_CHOICES, default="heft", error_messages=UNKNOWN_ALGORITHM)
     params = serializers.DictField(required=False, default=dict, help_text="algorithm parameters, e.g. rank_mode")
 
     def validate(self, attrs):
