@@ -8,58 +8,36 @@ from __future__ import annotations
 from django import forms
 
 from apps.clusters.models import Cluster
-from apps.ui.forms import FleetChoiceMixin, SerializerForm, contract_field, json_object
+from apps.ui.forms import FleetSerializerForm, SerializerForm, contract_field, json_object
 from continuum.engine.containers.rosgraph import LEVELS, MODES, READERS, RosGraph
-from continuum.engine.core.errors import InputError
 
 from . import services
 from .charts import LEVEL_LABELS
 from .models import Clustering
 from .models import RosGraph as RosGraphRow
-from .serializers import ClusterRequestSerializer, PlaceRequestSerializer
+from .serializers import ClusterRequestSerializer, PlaceRequestSerializer, RosGraphImportSerializer
 
 FORMAT_LABELS = dict(RosGraphRow.Format.choices)
 PLATFORMS = [("amd64", "amd64"), ("arm64", "arm64"), ("riscv64", "riscv64")]
 
 
-class RosGraphUploadForm(FleetChoiceMixin, forms.Form):
+class RosGraphUploadForm(FleetSerializerForm):
+    """A ROS graph file: the API's import request (:class:`~.serializers.RosGraphImportSerializer`) as a form."""
+
+    serializer_class = RosGraphImportSerializer
+
     file = forms.FileField(help_text="continuum.rosgraph/v1, Autoware reference system JSON, iRobot topology, .dot")
-    format = forms.ChoiceField(
-        choices=[("", "guess from the file"), *((f, FORMAT_LABELS.get(f, f)) for f in READERS)], required=False
+    format = contract_field(
+        RosGraphImportSerializer,
+        "format",
+        choices=[("", "guess from the file"), *((f, FORMAT_LABELS.get(f, f)) for f in READERS)],
+        help_text="",
     )
-    name = forms.CharField(max_length=200, required=False, help_text="default: the name in the file")
+    name = contract_field(RosGraphImportSerializer, "name")
     fleet = forms.ModelChoiceField(queryset=None, required=True, empty_label=None)
 
-    def __init__(self, *args, fleets, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.setup_fleet(fleets)
-
-    def clean(self):
-        data = super().clean()
-        self.clean_fleet_choice(data)
-        upload = data.get("file")
-        if upload is None:
-            return data
-        stem = upload.name.rsplit(".", 1)[0]
-        try:
-            data["graph"], data["source_format"] = services.read_graph(
-                upload.read(), data.get("format") or None, name=data.get("name") or stem
-            )
-        except InputError as exc:
-            self.add_error("file", f"{upload.name}: {exc}")
-            return data
-        if data.get("name"):
-            data["graph"].name = data["name"]
-        return data
-
-    def save(self, user) -> RosGraphRow:
-        row = RosGraphRow(
-            fleet=self.cleaned_data["fleet"], source_format=self.cleaned_data["source_format"], created_by=user
-        )
-        row.set_graph(self.cleaned_data["graph"])
-        row.name = self.cleaned_data["graph"].name
-        row.save()
-        return row
+    def serializer_data(self, data: dict) -> dict:
+        return {k: data[k] for k in ("file", "format", "name") if data.get(k) not in (None, "")}
 
 
 class LevelsForm(forms.Form):

@@ -69,6 +69,22 @@ class DefaultFleetMixin:
         return attrs
 
 
+class ChosenFleetMixin:
+    """``context["fleet"]``, when given, is the fleet: the dashboard's forms ask for it among the user's fleets
+    (``apps.ui.forms.FleetSerializerForm``) and pass it so; ``context["user"]`` is then who stores the result."""
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        if "fleet" in self.context:
+            attrs["fleet"] = self.context["fleet"]
+        return attrs
+
+    def _user(self):
+        if "user" in self.context:
+            return self.context["user"]
+        return self.context["request"].user
+
+
 @extend_schema_field(OpenApiTypes.INT)
 class VisibleRelatedField(serializers.PrimaryKeyRelatedField):
     """An object of the caller's fleets by id; ``model`` is set by a subclass or given as the first argument

@@ -196,3 +196,24 @@ class SerializerForm(forms.Form):
 
     def job_arguments(self) -> dict:
         return self.serializer.job_arguments()  # type: ignore[attr-defined]
+
+
+class FleetSerializerForm(FleetChoiceMixin, SerializerForm):
+    """A form that stores what it validated in the fleet the user chose (or their only one): its serializer
+    takes the fleet from ``context["fleet"]`` and the user from ``context["user"]``
+    (:class:`apps.tenancy.api.ChosenFleetMixin`)."""
+
+    def __init__(self, *args, fleets, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.setup_fleet(fleets)
+
+    def clean(self):
+        self.clean_fleet_choice(self.cleaned_data)
+        return super().clean()
+
+    def serializer_context(self) -> dict:
+        return {"fleet": self.cleaned_data.get("fleet")}
+
+    def save(self, user):
+        self.serializer.context["user"] = user
+        return self.serializer.save()

@@ -10,12 +10,11 @@ import json
 from django import forms
 
 from apps.tenancy.bounds import BoundedFormFileField
-from apps.ui.forms import FleetChoiceMixin, SerializerForm, contract_field, errors_onto
+from apps.ui.forms import FleetSerializerForm, contract_field, errors_onto
 from continuum.engine.core import limits
 from continuum.engine.device.generators import SHAPES
 
 from .importing import FORMATS
-from .models import Application
 from .serializers import ApplicationGenerateSerializer, ApplicationImportSerializer
 
 FORMAT_HELP = "continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX (.dax/.xml), Kasahara STG (.stg), thesis CSV (.csv)"
@@ -24,25 +23,6 @@ STG_OPTIONS = ("ccr", "processors", "heterogeneity", "seed")
 
 #: The maxima of README "Limits" (continuum/engine/core/limits.py), the same as the API's.
 LIMITS = limits.get()
-
-
-class FleetSerializerForm(FleetChoiceMixin, SerializerForm):
-    """A form that stores an application in the fleet the user chose (or their only one)."""
-
-    def __init__(self, *args, fleets, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.setup_fleet(fleets)
-
-    def clean(self):
-        self.clean_fleet_choice(self.cleaned_data)
-        return super().clean()
-
-    def serializer_context(self) -> dict:
-        return {"fleet": self.cleaned_data.get("fleet")}
-
-    def save(self, user) -> Application:
-        self.serializer.context["user"] = user
-        return self.serializer.save()
 
 
 class UploadForm(FleetSerializerForm):

@@ -1,6 +1,6 @@
 from rest_framework import serializers
 
-from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
+from apps.tenancy.api import ChosenFleetMixin, DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
 from apps.tenancy.bounds import BoundedFileField, at_most
 from continuum.engine.core import limits
 from continuum.engine.core.dag import TaskGraph
@@ -71,22 +71,6 @@ class ApplicationImportResultSerializer(ApplicationSerializer):
     class Meta(ApplicationSerializer.Meta):
         fields = [*ApplicationSerializer.Meta.fields, "warnings"]
         read_only_fields = [*ApplicationSerializer.Meta.read_only_fields, "warnings"]
-
-
-class ChosenFleetMixin:
-    """``context["fleet"]``, when given, is the fleet: the dashboard's forms ask for it among the user's fleets
-    (``apps.ui.forms.FleetChoiceMixin``) and pass it so; ``context["user"]`` is then who stores the result."""
-
-    def validate(self, attrs):
-        attrs = super().validate(attrs)
-        if "fleet" in self.context:
-            attrs["fleet"] = self.context["fleet"]
-        return attrs
-
-    def _user(self):
-        if "user" in self.context:
-            return self.context["user"]
-        return self.context["request"].user
 
 
 class ApplicationImportSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSerializer):
