@@ -135,8 +135,8 @@ class AllocationRunViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):
     def simulate(self, request):
         req = SimulationRequestSerializer(data=request.data)
         req.is_valid(raise_exception=True)
-        arguments = dict(req.validated_data)
-        job = start_job(VerificationJob.VERIFICATION_SIMULATION, default_fleet(request), arguments, request.user)
+        fleet = default_fleet(request)
+        job = start_job(VerificationJob.VERIFICATION_SIMULATION, fleet, req.job_arguments(), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 

@@ -4,7 +4,6 @@ page needs a login and shows only the user's fleets' objects (another fleet's an
 
 from __future__ import annotations
 
-from django import forms
 from django.contrib.auth.decorators import login_required
 from django.db.models import Count, Max, Min
 from django.http import Http404, HttpRequest, HttpResponse
@@ -19,23 +18,10 @@ from apps.tenancy.scoping import visible_fleets
 from apps.verification.kinds import VerificationJob
 
 from . import charts
+from .forms import SimulationForm
 from .models import AllocationRun, Assertion, Handler, MigrationEvent, Monitor, Violation
 
 NAV = "verification"
-
-
-class SimulationForm(forms.Form):
-    scenario = forms.ChoiceField(
-        choices=[("kairos", "RB-Kairos (§4.5.2, Fig. 4.24)"), ("synthetic", "Three-level cluster (§4.5.1, Fig. 4.22)")]
-    )
-    fleet = forms.ModelChoiceField(queryset=None, empty_label=None)
-
-    def __init__(self, *args, fleets, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.fields["fleet"].queryset = fleets
-        if fleets.count() == 1:
-            self.fields["fleet"].widget = forms.HiddenInput()
-            self.fields["fleet"].initial = fleets.first().pk
 
 
 @login_required
@@ -92,7 +78,7 @@ def simulate(request: HttpRequest) -> HttpResponse:
     job = start_job(
         VerificationJob.VERIFICATION_SIMULATION,
         form.cleaned_data["fleet"],
-        {"scenario": form.cleaned_data["scenario"]},
+        form.job_arguments(),
         request.user,
     )
     if job.state == Job.State.SUCCEEDED and (job.result or {}).get("page"):
