@@ -167,7 +167,8 @@ class ClusterRequestSerializer(ScopedSerializer):
     containers = serializers.IntegerField(
         min_value=1,
         max_value=limits.get().nodes,
-        error_messages=at_most("containers"),
+        error_messages=at_most("containers")
+        | {"min_value": "the number of containers must be a positive integer (greater than or equal to {min_value})"},
         required=False,
         help_text="number of containers N",
     )

@@ -14,6 +14,7 @@ from typing import Any
 
 from apps.scheduling.jobs import with_defaults
 from apps.scheduling.serializers import FRAME_OPTIONS, ScheduleRequestSerializer
+from apps.tenancy.api import contract_error
 from continuum.commands import EngineCommand
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
@@ -85,7 +86,7 @@ class Command(EngineCommand):
         request |= {"algorithm": options["algorithm"], "platform": platform.to_dict(), "params": params}
         contract = ScheduleRequestSerializer(data=request)
         if not contract.is_valid():
-            raise first_error(contract.errors)
+            raise contract_error(contract.errors)
         params = with_defaults(options["algorithm"], contract.validated_data["params"])
         progress = self.progress_printer(f"{options['algorithm']}, tasks placed", force=options["progress"])
         schedule = algorithms.run(options["algorithm"], dag, platform, progress=progress, **params)
@@ -124,19 +125,6 @@ class Command(EngineCommand):
         for a in sorted(result["assignments"], key=lambda a: (a["start"], a["processor"])):
             lines.append(f"  {a['task']:>20} f{a['frame']} on {a['processor']:<12} [{a['start']:g}, {a['finish']:g})")
         return "\n".join(lines)
-
-
-def first_error(errors, path: str = "") -> InputError:
-    """A request contract's first error as one line, ``field: message`` (nested fields joined by dots)."""
-    if isinstance(errors, dict):
-        field, inner = next(iter(errors.items()))
-        name = field if field != "non_field_errors" else ""
-        return first_error(inner, f"{path}.{name}" if path and name else path or name)
-    if isinstance(errors, list) and errors and not isinstance(errors[0], str):
-        return first_error(errors[0], path)
-    message = str(errors[0]) if isinstance(errors, list) and errors else str(errors)
-    field = path.split(".")[-1] if path else None
-    return InputError(message if not path or message.startswith(field or "") else f"{path}: {message}", field)
 
 
 def _all_links_cost(platform: Platform) -> Platform:
