@@ -3,6 +3,7 @@ from rest_framework import status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
+from apps.clusters.kinds import ClusterJob
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
@@ -34,7 +35,7 @@ class ClusterViewSet(FleetScopedMixin, viewsets.ModelViewSet):
     def sync(self, request, pk=None):
         """Start a job that reads the nodes (capacity, arch, Ready, taints) from the cluster's Kubernetes API."""
         cluster = self.get_object()
-        job = start_job("sync_cluster", cluster.fleet, {"cluster": cluster.pk}, request.user)
+        job = start_job(ClusterJob.SYNC_CLUSTER, cluster.fleet, {"cluster": cluster.pk}, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 

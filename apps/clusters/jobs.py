@@ -1,5 +1,6 @@
 """Job handlers of the clusters app: ``sync_cluster`` (read a cluster's nodes from its Kubernetes API)."""
 
+from apps.clusters.kinds import ClusterJob
 from apps.jobs.registry import job_kind
 
 from . import kube
@@ -13,7 +14,7 @@ def _argument(job, name: str) -> int:
     return value
 
 
-@job_kind("sync_cluster")
+@job_kind(ClusterJob.SYNC_CLUSTER)
 def sync_cluster(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster`` (id). Reads the nodes of the cluster's Kubernetes API into its ComputeNodes."""
     pk = _argument(job, "cluster")

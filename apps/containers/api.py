@@ -9,6 +9,7 @@ from rest_framework.decorators import action
 from rest_framework.exceptions import NotFound
 from rest_framework.response import Response
 
+from apps.containers.kinds import ContainersJob
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin
@@ -71,7 +72,7 @@ class RosGraphViewSet(
         serializer = ClusterRequestSerializer(data=request.data, context=self.get_serializer_context())
         serializer.is_valid(raise_exception=True)
         return job_response(
-            self, start_job("cluster_ros", rosgraph.fleet, serializer.job_arguments(rosgraph), request.user)
+            self, start_job(ContainersJob.CLUSTER_ROS, rosgraph.fleet, serializer.job_arguments(rosgraph), request.user)
         )
 
 
@@ -115,7 +116,8 @@ class ClusteringViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Rea
         data["clustering"] = clustering.pk
         serializer = PlaceRequestSerializer(data=data, context=self.get_serializer_context())
         serializer.is_valid(raise_exception=True)
-        return job_response(self, start_job("place", clustering.fleet, serializer.job_arguments(), request.user))
+        job = start_job(ContainersJob.PLACE, clustering.fleet, serializer.job_arguments(), request.user)
+        return job_response(self, job)
 
 
 class PlacementViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
@@ -138,7 +140,8 @@ class PlacementViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Read
         """Start a placement job for a clustering or a ``continuum.containers/v1`` document."""
         serializer = PlaceRequestSerializer(data=request.data, context=self.get_serializer_context())
         serializer.is_valid(raise_exception=True)
-        return job_response(self, start_job("place", serializer.fleet(), serializer.job_arguments(), request.user))
+        job = start_job(ContainersJob.PLACE, serializer.fleet(), serializer.job_arguments(), request.user)
+        return job_response(self, job)
 
     @extend_schema(
         parameters=[OpenApiParameter("container", str, description="one container (default: every container)")],
@@ -170,5 +173,5 @@ class PlacementViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Read
                 status=status.HTTP_400_BAD_REQUEST,
             )
         return job_response(
-            self, start_job("push_placement", placement.fleet, {"placement": placement.pk}, request.user)
+            self, start_job(ContainersJob.PUSH_PLACEMENT, placement.fleet, {"placement": placement.pk}, request.user)
         )

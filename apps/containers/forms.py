@@ -1,84 +1,43 @@
-"""Dashboard forms. Requests are checked by the API's serializers, so a form and the API refuse the same
-input with the same message."""
+"""The ROS pages' forms. Clustering and placement requests are presentation layers over the API's request
+contracts (:class:`~.serializers.ClusterRequestSerializer`, :class:`~.serializers.PlaceRequestSerializer`,
+through :class:`apps.ui.forms.SerializerForm`), so a form and the API refuse the same input with the same
+message and start the same job."""
 
 from __future__ import annotations
 
 from django import forms
 
 from apps.clusters.models import Cluster
-from apps.dashboard.forms import json_object
+from apps.ui.forms import FleetSerializerForm, SerializerForm, contract_field, json_object
 from continuum.engine.containers.rosgraph import LEVELS, MODES, READERS, RosGraph
-from continuum.engine.core.errors import InputError
 
 from . import services
 from .charts import LEVEL_LABELS
 from .models import Clustering
 from .models import RosGraph as RosGraphRow
-from .serializers import ClusterRequestSerializer, PlaceRequestSerializer
+from .serializers import ClusterRequestSerializer, PlaceRequestSerializer, RosGraphImportSerializer
 
 FORMAT_LABELS = dict(RosGraphRow.Format.choices)
 PLATFORMS = [("amd64", "amd64"), ("arm64", "arm64"), ("riscv64", "riscv64")]
 
 
-def _errors_onto(form: forms.Form, errors, names: dict[str, str] | None = None) -> None:
-    """Put DRF errors onto the form's fields (nested image options flattened)."""
-    names = names or {}
-    for field, messages in errors.items():
-        if isinstance(messages, dict):
-            _errors_onto(form, messages, names)
-            continue
-        target = names.get(field, field)
-        for message in messages:
-            form.add_error(target if target in form.fields else None, str(message))
+class RosGraphUploadForm(FleetSerializerForm):
+    """A ROS graph file: the API's import request (:class:`~.serializers.RosGraphImportSerializer`) as a form."""
 
+    serializer_class = RosGraphImportSerializer
 
-class RosGraphUploadForm(forms.Form):
     file = forms.FileField(help_text="continuum.rosgraph/v1, Autoware reference system JSON, iRobot topology, .dot")
-    format = forms.ChoiceField(
-        choices=[("", "guess from the file"), *((f, FORMAT_LABELS.get(f, f)) for f in READERS)], required=False
+    format = contract_field(
+        RosGraphImportSerializer,
+        "format",
+        choices=[("", "guess from the file"), *((f, FORMAT_LABELS.get(f, f)) for f in READERS)],
+        help_text="",
     )
-    name = forms.CharField(max_length=200, required=False, help_text="default: the name in the file")
+    name = contract_field(RosGraphImportSerializer, "name")
     fleet = forms.ModelChoiceField(queryset=None, required=True, empty_label=None)
 
-    def __init__(self, *args, fleets, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.fleets = fleets
-        self.fields["fleet"].queryset = fleets
-        self.single_fleet = fleets.count() == 1
-        if self.single_fleet:
-            self.fields["fleet"].initial = fleets.first()
-            self.fields["fleet"].required = False
-            self.fields["fleet"].widget = forms.HiddenInput()
-
-    def clean(self):
-        data = super().clean()
-        if not self.fleets.exists():
-            raise forms.ValidationError("you are not a member of any fleet, so there is nowhere to store it")
-        if self.single_fleet and not data.get("fleet") and "fleet" not in self.errors:
-            data["fleet"] = self.fleets.first()
-        upload = data.get("file")
-        if upload is None:
-            return data
-        stem = upload.name.rsplit(".", 1)[0]
-        try:
-            data["graph"], data["source_format"] = services.read_graph(
-                upload.read(), data.get("format") or None, name=data.get("name") or stem
-            )
-        except InputError as exc:
-            self.add_error("file", f"{upload.name}: {exc}")
-            return data
-        if data.get("name"):
-            data["graph"].name = data["name"]
-        return data
-
-    def save(self, user) -> RosGraphRow:
-        row = RosGraphRow(
-            fleet=self.cleaned_data["fleet"], source_format=self.cleaned_data["source_format"], created_by=user
-        )
-        row.set_graph(self.cleaned_data["graph"])
-        row.name = self.cleaned_data["graph"].name
-        row.save()
-        return row
+    def serializer_data(self, data: dict) -> dict:
+        return {k: data[k] for k in ("file", "format", "name") if data.get(k) not in (None, "")}
 
 
 class LevelsForm(forms.Form):
@@ -102,15 +61,20 @@ class LevelsForm(forms.Form):
         return {f.ros_node: self.cleaned_data.get(key) or None for key, f in self.fields.items()}
 
 
-class ClusterForm(forms.Form):
-    containers = forms.IntegerField(min_value=1, required=False, label="Containers (N)")
-    memory_mib = forms.FloatField(min_value=0, required=False, label="Memory for containers (MiB)")
-    overhead_mib = forms.FloatField(
-        min_value=0, required=False, label="Overhead per container (MiB)", help_text="29 Docker, 39 K3s (Table 4.17)"
+class ClusterForm(SerializerForm):
+    serializer_class = ClusterRequestSerializer
+    C = ClusterRequestSerializer
+
+    containers = contract_field(C, "containers", label="Containers (N)", help_text="")
+    memory_mib = contract_field(C, "memory_mib", label="Memory for containers (MiB)", help_text="")
+    overhead_mib = contract_field(
+        C, "overhead_mib", label="Overhead per container (MiB)", help_text="29 Docker, 39 K3s (Table 4.17)"
     )
-    mode = forms.ChoiceField(choices=[(m, m.replace("_", " ")) for m in MODES], initial="per_topic", label="Eq. 3.12")
-    max_cluster_share = forms.FloatField(min_value=0, max_value=1, required=False, label="Largest share of ROS nodes")
-    max_cluster_memory_mib = forms.FloatField(min_value=0, required=False, label="Largest container memory (MiB)")
+    mode = contract_field(
+        C, "mode", choices=[(m, m.replace("_", " ")) for m in MODES], required=True, label="Eq. 3.12", help_text=""
+    )
+    max_cluster_share = contract_field(C, "max_cluster_share", label="Largest share of ROS nodes")
+    max_cluster_memory_mib = contract_field(C, "max_cluster_memory_mib", label="Largest container memory (MiB)")
     distro_image = forms.CharField(initial=services.IMAGE_DEFAULTS["distro_image"], label="ROS base image")
     ros_distro = forms.CharField(initial=services.IMAGE_DEFAULTS["ros_distro"], label="ROS distribution")
     distro_mib = forms.FloatField(min_value=0, initial=0, label="Base image size (MiB)")
@@ -122,24 +86,16 @@ class ClusterForm(forms.Form):
 
     IMAGE_FIELDS = ("distro_image", "ros_distro", "distro_mib", "platforms", "repository", "tag")
 
-    def clean(self):
-        data = super().clean()
-        if self.errors:
-            return data
+    def serializer_data(self, data: dict) -> dict:
         payload = {k: v for k, v in data.items() if k not in self.IMAGE_FIELDS and v not in (None, "")}
         payload["images"] = {k: data[k] for k in self.IMAGE_FIELDS if data.get(k) not in (None, "")}
-        serializer = ClusterRequestSerializer(data=payload)
-        if not serializer.is_valid():
-            _errors_onto(self, serializer.errors)
-            return data
-        self.serializer = serializer
-        return data
+        return payload
 
-    def job_arguments(self, rosgraph: RosGraphRow) -> dict:
+    def job_arguments(self, rosgraph: RosGraphRow) -> dict:  # type: ignore[override]
         return self.serializer.job_arguments(rosgraph)
 
 
-class PlaceForm(forms.Form):
+class PlaceForm(SerializerForm):
     POLICIES = [
         ("superclustering", "super-clustering (bandwidth, Eqs. 3.14-3.15)"),
         ("default-kubernetes", "default Kubernetes (least allocated + balanced)"),
@@ -165,11 +121,14 @@ class PlaceForm(forms.Form):
     def clean_overrides(self) -> dict:
         return json_object(self.cleaned_data.get("overrides"), "a JSON object: container name -> changes")
 
-    def clean(self):
-        data = super().clean()
-        if self.errors:
-            return data
-        payload = {
+    serializer_class = PlaceRequestSerializer
+    error_fields = {"containers": "overrides", "clustering": "cluster"}
+
+    def serializer_context(self) -> dict:
+        return {"request": self.request}
+
+    def serializer_data(self, data: dict) -> dict:
+        return {
             "cluster": data["cluster"].pk,
             "policy": data["policy"],
             "clustering": self.clustering.pk,
@@ -178,12 +137,3 @@ class PlaceForm(forms.Form):
             "seed": data["seed"],
             "compare": data.get("compare", False),
         }
-        serializer = PlaceRequestSerializer(data=payload, context={"request": self.request})
-        if not serializer.is_valid():
-            _errors_onto(self, serializer.errors, {"containers": "overrides", "clustering": "cluster"})
-            return data
-        self.serializer = serializer
-        return data
-
-    def job_arguments(self) -> dict:
-        return self.serializer.job_arguments()

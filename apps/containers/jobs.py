@@ -11,6 +11,7 @@ from django.db import transaction
 from django.urls import reverse
 
 from apps.clusters.models import Cluster
+from apps.containers.kinds import ContainersJob
 from apps.jobs.registry import job_kind
 from continuum.engine.containers.ros_clustering import cluster_ros as engine_cluster_ros
 from continuum.engine.containers.ros_clustering import max_containers
@@ -50,7 +51,7 @@ def container_count(arguments: dict) -> int:
     return n
 
 
-@job_kind("cluster_ros")
+@job_kind(ContainersJob.CLUSTER_ROS)
 def cluster_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``rosgraph`` (id); ``containers`` (N) or ``memory_mib`` + ``overhead_mib``; ``mode``,
     ``max_cluster_share``, ``max_cluster_memory_mib``; ``images`` (plan options)."""
@@ -122,7 +123,7 @@ def placement_params(args: dict) -> dict[str, Any]:
     return params
 
 
-@job_kind("place")
+@job_kind(ContainersJob.PLACE)
 def place_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster`` (id), ``policy``; ``clustering`` (id, with optional ``overrides`` and
     ``archs``) or ``containers`` (a continuum.containers/v1 document, with an optional ``rosgraph`` id for
@@ -193,7 +194,7 @@ def place_job(job, progress) -> tuple[dict, str]:
     return summary, f"/api/v1/placements/{row.pk}/"
 
 
-@job_kind("push_placement")
+@job_kind(ContainersJob.PUSH_PLACEMENT)
 def push_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``placement`` (id). One Deployment per container, pinned to its node (see ``kube.py``)."""
     from .kube import push_placement

@@ -3,7 +3,14 @@ from __future__ import annotations
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
-from apps.tenancy.api import DefaultFleetMixin, FleetField, ScopedModelSerializer, ScopedSerializer, VisibleRelatedField
+from apps.tenancy.api import (
+    ChosenFleetMixin,
+    DefaultFleetMixin,
+    FleetField,
+    ScopedModelSerializer,
+    ScopedSerializer,
+    VisibleRelatedField,
+)
 from apps.tenancy.bounds import BoundedFileField, at_most
 from continuum.engine.containers.ros_clustering import max_containers
 from continuum.engine.containers.rosgraph import MODES, READERS
@@ -82,7 +89,7 @@ class RosGraphListSerializer(RosGraphSerializer):
         fields = ["id", "fleet", "name", "description", "source_format", "node_count", "topic_count", "created"]
 
 
-class RosGraphImportSerializer(DefaultFleetMixin, ScopedSerializer):
+class RosGraphImportSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSerializer):
     """Upload a ROS graph: continuum.rosgraph/v1, Autoware reference system JSON, iRobot ros2-performance
     topology JSON or an rqt_graph ``.dot``. A bad file is refused whole with the line or element at fault."""
 
@@ -106,13 +113,13 @@ class RosGraphImportSerializer(DefaultFleetMixin, ScopedSerializer):
         return attrs
 
     def create(self, validated):
-        user = self.context["request"].user
+        user = self._user()
         row = RosGraph(
             fleet=validated["fleet"],
             name=validated["graph"].name,
             description=validated["description"],
             source_format=validated["source_format"],
-            created_by=user if user.is_authenticated else None,
+            created_by=user if user is not None and user.is_authenticated else None,
         )
         row.set_graph(validated["graph"])
         row.save()
@@ -160,7 +167,8 @@ class ClusterRequestSerializer(ScopedSerializer):
     containers = serializers.IntegerField(
         min_value=1,
         max_value=limits.get().nodes,
-        error_messages=at_most("containers"),
+        error_messages=at_most("containers")
+        | {"min_value": "the number of containers must be a positive integer (greater than or equal to {min_value})"},
         required=False,
         help_text="number of containers N",
     )

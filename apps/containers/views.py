@@ -11,6 +11,7 @@ from django.http import Http404, HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
+from apps.containers.kinds import ContainersJob
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
@@ -131,7 +132,7 @@ def rosgraph_cluster(request: HttpRequest, pk: int) -> HttpResponse:
     form = ClusterForm(request.POST)
     if not form.is_valid():
         return _graph_page(request, row, cluster_form=form, status=400)
-    job = start_job("cluster_ros", row.fleet, form.job_arguments(row), request.user)
+    job = start_job(ContainersJob.CLUSTER_ROS, row.fleet, form.job_arguments(row), request.user)
     return redirect("jobs:job", pk=job.pk)
 
 
@@ -211,7 +212,7 @@ def clustering_place(request: HttpRequest, pk: int) -> HttpResponse:
     form = PlaceForm(request.POST, clustering=clustering, request=request)
     if not form.is_valid():
         return _clustering_page(request, clustering, form, status=400)
-    job = start_job("place", clustering.fleet, form.job_arguments(), request.user)
+    job = start_job(ContainersJob.PLACE, clustering.fleet, form.job_arguments(), request.user)
     return redirect("jobs:job", pk=job.pk)
 
 
@@ -279,8 +280,8 @@ def placement_push(request: HttpRequest, pk: int) -> HttpResponse:
     if placement.cluster is None or not placement.cluster.kubeconfig:
         messages.error(request, "This placement's cluster has no Kubernetes API configured: nothing to push to.")
         return redirect("containers:placement", pk=placement.pk)
-    if "push_placement" not in HANDLERS:
+    if ContainersJob.PUSH_PLACEMENT not in HANDLERS:
         messages.error(request, "Pushing to Kubernetes is not available in this installation.")
         return redirect("containers:placement", pk=placement.pk)
-    job = start_job("push_placement", placement.fleet, {"placement": placement.pk}, request.user)
+    job = start_job(ContainersJob.PUSH_PLACEMENT, placement.fleet, {"placement": placement.pk}, request.user)
     return redirect("jobs:job", pk=job.pk)

@@ -7,7 +7,7 @@ from django.contrib.auth.decorators import login_required
 from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, render
 
-from apps.dashboard.forms import AdviceForm
+from apps.devices.forms import AdviceForm
 from apps.ui import charts
 from continuum.engine.core.errors import InputError
 
@@ -25,7 +25,7 @@ def device_list(request: HttpRequest) -> HttpResponse:
 @login_required
 def device_detail(request: HttpRequest, slug: str) -> HttpResponse:
     device = get_object_or_404(DeviceProfile, slug=slug)
-    form = AdviceForm(request.POST if request.method == "POST" else None)
+    form = AdviceForm(request.POST if request.method == "POST" else None, device=device)
     answer = None
     status = 200
     if request.method == "POST":

@@ -3,6 +3,7 @@ from rest_framework import status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
+from apps.heft4k.kinds import Heft4kJob
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.scheduling.api import ScheduleViewSet
@@ -25,7 +26,7 @@ def remap(self, request, pk=None):
         data=request.data, context={**self.get_serializer_context(), "schedule": schedule}
     )
     serializer.is_valid(raise_exception=True)
-    job = start_job("remap", schedule.fleet, serializer.job_arguments(), request.user)
+    job = start_job(Heft4kJob.REMAP, schedule.fleet, serializer.job_arguments(), request.user)
     return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 
@@ -45,5 +46,5 @@ class RemapEventViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):
         reason = remapping.cannot_apply(event)
         if reason:
             return Response({"non_field_errors": [reason]}, status=status.HTTP_400_BAD_REQUEST)
-        job = start_job("remap_apply", event.fleet, {"remap": event.pk}, request.user)
+        job = start_job(Heft4kJob.REMAP_APPLY, event.fleet, {"remap": event.pk}, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)

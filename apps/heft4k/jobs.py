@@ -1,5 +1,6 @@
 """Job handlers of HEFT4K remapping: ``remap`` (compute, and apply unless a what-if) and ``remap_apply``."""
 
+from apps.heft4k.kinds import Heft4kJob
 from apps.jobs.registry import job_kind
 from apps.scheduling.models import Schedule
 from continuum.engine.core.errors import InputError
@@ -15,7 +16,7 @@ def _id(job, name: str) -> int:
     return value
 
 
-@job_kind("remap")
+@job_kind(Heft4kJob.REMAP)
 def remap(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id), ``fail`` (node names), ``what_if`` (bool), ``threshold`` (fraction or
     null for the deployment's default), ``trigger`` ("api", "what-if" or "watch").
@@ -50,7 +51,7 @@ def remap(job, progress) -> tuple[dict, str]:
     return remapping.summary(event), f"/api/v1/remaps/{event.pk}/"
 
 
-@job_kind("remap_apply")
+@job_kind(Heft4kJob.REMAP_APPLY)
 def remap_apply(job, progress) -> tuple[dict, str]:
     """Arguments: ``remap`` (id of a what-if remap event). Pushes the pods its new schedule changes."""
     pk = _id(job, "remap")
@@ -62,7 +63,7 @@ def remap_apply(job, progress) -> tuple[dict, str]:
     return remapping.summary(event), f"/api/v1/remaps/{event.pk}/"
 
 
-@job_kind("heft4k_simulate")
+@job_kind(Heft4kJob.SIMULATE)
 def simulate(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id of a HEFT4K schedule). Runs its CFS simulation and the baselines and stores
     them for the schedule page (schedules stored before the jobs did it themselves)."""

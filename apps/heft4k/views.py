@@ -14,6 +14,7 @@ from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
+from apps.heft4k.kinds import Heft4kJob
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.scheduling.models import Schedule
@@ -113,7 +114,7 @@ def register() -> None:
 def simulate(request: HttpRequest, pk: int) -> HttpResponse:
     """Start the job that simulates a HEFT4K schedule stored before its job did (never in the request)."""
     schedule = get_object_or_404(scoped(request, Schedule.objects.select_related("fleet")), pk=pk)
-    job = start_job("heft4k_simulate", schedule.fleet, {"schedule": schedule.pk}, request.user)
+    job = start_job(Heft4kJob.SIMULATE, schedule.fleet, {"schedule": schedule.pk}, request.user)
     if job.state == Job.State.SUCCEEDED:
         return redirect("scheduling:schedule", pk=schedule.pk)
     return redirect("jobs:job", pk=job.pk)
@@ -129,7 +130,7 @@ def whatif(request: HttpRequest, pk: int) -> HttpResponse:
     form = WhatIfForm(request.POST, schedule=schedule)
     if not form.is_valid():
         return schedule_page(request, schedule, whatif_form=form, status=400)
-    job = start_job("remap", schedule.fleet, form.job_arguments(), request.user)
+    job = start_job(Heft4kJob.REMAP, schedule.fleet, form.job_arguments(), request.user)
     return _after_job(job)
 
 
@@ -219,7 +220,7 @@ def remap_apply(request: HttpRequest, pk: int) -> HttpResponse:
     if reason:
         messages.error(request, f"Cannot apply: {reason}.")
         return redirect("heft4k:remap", pk=event.pk)
-    job = start_job("remap_apply", event.fleet, {"remap": event.pk}, request.user)
+    job = start_job(Heft4kJob.REMAP_APPLY, event.fleet, {"remap": event.pk}, request.user)
     if job.state == Job.State.FAILED:
         messages.error(request, f"Applying failed: {job.error}")
         return redirect("heft4k:remap", pk=event.pk)

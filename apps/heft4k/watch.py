@@ -23,6 +23,7 @@ from typing import Any
 
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
+from apps.heft4k.kinds import Heft4kJob
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.kube import gateway
@@ -151,7 +152,7 @@ def _trigger(cluster: Cluster, threshold: float | None, report: WatchReport) -> 
             "threshold": threshold,
             "trigger": RemapEvent.Trigger.WATCH,
         }
-        job = start_job("remap", cluster.fleet, arguments)
+        job = start_job(Heft4kJob.REMAP, cluster.fleet, arguments)
         event = RemapEvent.objects.filter(job=job).first()
         report.remaps.append(
             {

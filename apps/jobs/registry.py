@@ -1,4 +1,10 @@
-"""Job kinds and their handlers.
+"""Job kinds and their handlers: a typed registry.
+
+Each app declares its job kinds as a :class:`JobKind` (a ``StrEnum``) in its ``kinds.py``, and the app that
+runs a kind registers its handler with ``@job_kind(SomeKinds.MEMBER)``. Callers start jobs with the member
+(``start_job(SchedulingJob.SCHEDULE, ...)``), never with a bare string, so every use of a kind is found by
+its name and a typo is an ``AttributeError`` at import time. The member's value is what ``Job.kind`` stores
+(rows and API output keep their strings).
 
 A handler is ``handler(job, progress) -> (result: dict, result_url: str)``. ``progress(percent, message)``
 records progress in the database. A handler must be idempotent: a job re-delivered after a worker died
@@ -7,18 +13,54 @@ Handlers raise :class:`~continuum.engine.core.errors.InputError` (or ``ValueErro
 job fails with that message and the worker carries on.
 """
 
+from __future__ import annotations
+
 from collections.abc import Callable
+from enum import StrEnum
 from typing import Any
 
 Progress = Callable[[float, str], None]
 Handler = Callable[[Any, Progress], tuple[dict, str]]
 
+
+class JobKind(StrEnum):
+    """The base of every app's job kinds: ``class SchedulingJob(JobKind): SCHEDULE = "schedule"``."""
+
+
+class UnknownJobKind(ValueError):
+    """A job kind that no app registered a handler for."""
+
+
+#: Handler per kind, keyed by the kind's stored string (``Job.kind``).
 HANDLERS: dict[str, Handler] = {}
+#: The registered kinds, by their stored string.
+KINDS: dict[str, JobKind] = {}
 
 
-def job_kind(name: str) -> Callable[[Handler], Handler]:
+def job_kind(kind: JobKind) -> Callable[[Handler], Handler]:
+    """Register ``fn`` as the handler of ``kind`` (a :class:`JobKind` member; a bare string is refused)."""
+    if not isinstance(kind, JobKind):
+        raise TypeError(f"job kinds are JobKind members (declared in an app's kinds.py), not {kind!r}")
+
     def register(fn: Handler) -> Handler:
-        HANDLERS[name] = fn
+        existing = HANDLERS.get(kind.value)
+        if existing is not None and _name(existing) != _name(fn):
+            raise ValueError(f"job kind {kind.value!r} already has a handler, {_name(existing)}")
+        HANDLERS[kind.value] = fn
+        KINDS[kind.value] = kind
         return fn
 
     return register
+
+
+def resolve(kind: JobKind | str) -> str:
+    """The stored string of a registered kind; :class:`UnknownJobKind` for any other."""
+    value = kind.value if isinstance(kind, JobKind) else kind
+    if not isinstance(value, str) or value not in HANDLERS:
+        known = ", ".join(sorted(HANDLERS)) or "none"
+        raise UnknownJobKind(f"unknown job kind {value!r}: no app registered a handler for it (registered: {known})")
+    return value
+
+
+def _name(fn: Callable) -> str:
+    return f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', repr(fn))}"

@@ -6,14 +6,15 @@ from django.db import transaction
 from apps.tenancy.models import Fleet
 
 from .models import Job
-from .registry import HANDLERS
+from .registry import JobKind, resolve
 
 
-def start_job(kind: str, fleet: Fleet, arguments: dict, user=None) -> Job:
-    if kind not in HANDLERS:
-        raise ValueError(f"unknown job kind {kind!r}")
+def start_job(kind: JobKind, fleet: Fleet, arguments: dict, user=None) -> Job:
+    """Record a job of a registered ``kind`` and run it; an unregistered kind raises
+    :class:`~apps.jobs.registry.UnknownJobKind` (a ``ValueError``) and records nothing."""
+    kind_value = resolve(kind)
     job = Job.objects.create(
-        kind=kind, fleet=fleet, arguments=arguments, created_by=user if user and user.is_authenticated else None
+        kind=kind_value, fleet=fleet, arguments=arguments, created_by=user if user and user.is_authenticated else None
     )
     from .tasks import run_job
 

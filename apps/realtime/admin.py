@@ -6,6 +6,7 @@ from django.contrib import admin, messages
 from django.core.exceptions import ValidationError
 
 from apps.jobs.services import start_job
+from apps.realtime.kinds import RealtimeJob
 from continuum.engine.core.errors import InputError
 
 from .kube import has_api
@@ -124,7 +125,7 @@ class RealTimeAdmin(admin.ModelAdmin):
         row = form.instance
         if has_api(row.cluster):
             # A job, not a Kubernetes call in this request (it runs at once without a broker).
-            job = start_job("rt_push", row.cluster.fleet, {"realtimes": [row.pk]}, request.user)
+            job = start_job(RealtimeJob.RT_PUSH, row.cluster.fleet, {"realtimes": [row.pk]}, request.user)
             if job.state == job.State.SUCCEEDED:
                 messages.info(request, f"RealTime {row} written to the Kubernetes API of {row.cluster}.")
             elif job.state == job.State.FAILED:

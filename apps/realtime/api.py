@@ -16,6 +16,7 @@ from rest_framework.response import Response
 from apps.clusters.models import Cluster
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
+from apps.realtime.kinds import RealtimeJob
 from apps.tenancy.api import FleetScopedMixin
 from apps.tenancy.scoping import visible_fleets
 from continuum.engine.core.errors import InputError
@@ -88,7 +89,7 @@ class RealTimeViewSet(ClusterScoped, viewsets.ModelViewSet):
         if not (has_api(instance.cluster) and instance.uid):
             instance.delete()
             return Response(status=status.HTTP_204_NO_CONTENT)
-        job = start_job("rt_delete", instance.cluster.fleet, {"realtime": instance.pk}, request.user)
+        job = start_job(RealtimeJob.RT_DELETE, instance.cluster.fleet, {"realtime": instance.pk}, request.user)
         if job.state == job.State.SUCCEEDED:
             return Response(status=status.HTTP_204_NO_CONTENT)
         if job.state == job.State.FAILED:
@@ -139,7 +140,7 @@ class RealTimeViewSet(ClusterScoped, viewsets.ModelViewSet):
         args = {"cluster": cluster.pk}
         if s.validated_data.get("namespace"):
             args["namespace"] = s.validated_data["namespace"]
-        job = start_job("rt_sync", cluster.fleet, args, request.user)
+        job = start_job(RealtimeJob.RT_SYNC, cluster.fleet, args, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 
@@ -147,7 +148,7 @@ def push_in_job(rows: list[RealTime], user=None):
     """Write the rows to their cluster's Kubernetes API in an ``rt_push`` job: no Kubernetes call in the web
     request. Without a broker the job runs at once and the rows show its outcome; with one they show it once
     the worker is done (``sync_state``, and the job)."""
-    job = start_job("rt_push", rows[0].cluster.fleet, {"realtimes": [r.pk for r in rows]}, user)
+    job = start_job(RealtimeJob.RT_PUSH, rows[0].cluster.fleet, {"realtimes": [r.pk for r in rows]}, user)
     fresh = {
         r.pk: r
         for r in RealTime.objects.filter(pk__in=[r.pk for r in rows]).only(
@@ -244,7 +245,7 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
         broker it runs at once and the answer is the same as in-request ingestion; with one, 202 and the job."""
         items = payload.get("reports", [payload]) if isinstance(payload, dict) else payload
         args = {"cluster": cluster.pk, "reports": items, "received_at": received.isoformat()}
-        job = start_job("rt_reports", cluster.fleet, args, request.user)
+        job = start_job(RealtimeJob.RT_REPORTS, cluster.fleet, args, request.user)
         if job.state == job.State.SUCCEEDED:
             return Response({"cluster": cluster.pk, **(job.result or {})}, status=status.HTTP_201_CREATED)
         if job.state == job.State.FAILED:
@@ -320,7 +321,7 @@ class RTPlanViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
         for key in ("realtimes", "containers", "params"):
             if key in data:
                 args[key] = data[key]
-        job = start_job("rt_whatif", cluster.fleet, args, request.user)
+        job = start_job(RealtimeJob.RT_WHATIF, cluster.fleet, args, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 

@@ -7,6 +7,7 @@ from django.db import transaction
 
 from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
+from apps.realtime.kinds import RealtimeJob
 from continuum.engine.rtkube import rt_kube
 
 from . import monitoring, planning, sync
@@ -23,7 +24,7 @@ def _cluster(job) -> Cluster:
     return cluster
 
 
-@job_kind("rt_whatif")
+@job_kind(RealtimeJob.RT_WHATIF)
 def rt_whatif(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster``; ``realtimes`` (ids, default all) and/or ``containers`` (a continuum.rtset/v1
     document); ``params`` (k, b_score_argument, sort_tiebreak); ``with_bound`` (start from the bound pods)."""
@@ -52,7 +53,7 @@ def rt_whatif(job, progress) -> tuple[dict, str]:
     return {"rt_plan": row.pk, "placed": row.placed, "pending": row.pending}, f"/api/v1/rt-plans/{row.pk}/"
 
 
-@job_kind("rt_sync")
+@job_kind(RealtimeJob.RT_SYNC)
 def rt_sync(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster``, ``namespace`` (optional, ``*`` = all). Installs the CRDs, mirrors node RT
     attributes, RealTime objects (both ways) and Monitoring counters."""
@@ -71,7 +72,7 @@ def _realtimes(job, ids) -> list[RealTime]:
     return rows
 
 
-@job_kind("rt_push")
+@job_kind(RealtimeJob.RT_PUSH)
 def rt_push(job, progress) -> tuple[dict, str]:
     """Arguments: ``realtimes`` (ids). Writes the rows to their cluster's Kubernetes API (create or replace);
     each row records its outcome (sync_state, sync_error). Runs as a job so that no web request calls
@@ -88,7 +89,7 @@ def rt_push(job, progress) -> tuple[dict, str]:
     return {"pushed": [r.pk for r in rows]}, f"/api/v1/realtimes/?cluster={rows[0].cluster_id}"
 
 
-@job_kind("rt_delete")
+@job_kind(RealtimeJob.RT_DELETE)
 def rt_delete(job, progress) -> tuple[dict, str]:
     """Arguments: ``realtime`` (id). Deletes its object from the Kubernetes API, then the row; when the API
     refuses, the row stays (with the reason in sync_error) and the job fails with it. Idempotent: a row gone
@@ -107,7 +108,7 @@ def rt_delete(job, progress) -> tuple[dict, str]:
     return {"deleted": pk}, f"/api/v1/realtimes/?cluster={row.cluster_id}"
 
 
-@job_kind("rt_reports")
+@job_kind(RealtimeJob.RT_REPORTS)
 def rt_reports(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster``, ``reports`` (Monitoring objects or specs), ``received_at`` (ISO 8601). Ingests a
     missed-deadline batch whose reconcile may call Kubernetes (eviction, taint), out of the web request.

@@ -23,7 +23,7 @@ from typing import Any
 
 from django.db import transaction
 
-from apps.clusters.models import Cluster, ComputeNode
+from apps.clusters.models import Cluster
 from continuum.engine.core.errors import InputError
 from continuum.engine.rtkube.rt_model import RT_TAINT, realtime_from_dict
 

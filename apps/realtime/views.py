@@ -15,6 +15,7 @@ from django.views.decorators.http import require_POST
 
 from apps.clusters.models import Cluster
 from apps.jobs.services import start_job
+from apps.realtime.kinds import RealtimeJob
 from apps.tenancy.scoping import visible_fleets
 from apps.ui.charts import to_html
 
@@ -220,7 +221,10 @@ def run_whatif(request: HttpRequest, pk: int) -> HttpResponse:
         messages.error(request, "This cluster has no RealTime objects to place.")
         return redirect("realtime:cluster", pk=cluster.pk)
     job = start_job(
-        "rt_whatif", cluster.fleet, {"cluster": cluster.pk, "with_bound": "with_bound" in request.POST}, request.user
+        RealtimeJob.RT_WHATIF,
+        cluster.fleet,
+        {"cluster": cluster.pk, "with_bound": "with_bound" in request.POST},
+        request.user,
     )
     if job.state == "succeeded" and (job.result or {}).get("rt_plan"):
         return redirect("realtime:plan", pk=job.result["rt_plan"])

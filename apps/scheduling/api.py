@@ -5,6 +5,7 @@ from rest_framework.response import Response
 
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 from apps.tenancy.api import ExtensibleViewSetMixin, FleetScopedMixin
 from apps.workloads.api import ApplicationViewSet
 
@@ -47,7 +48,7 @@ class ScheduleViewSet(
                 {"cluster": ["this schedule's cluster has no Kubernetes API configured"]},
                 status=status.HTTP_400_BAD_REQUEST,
             )
-        job = start_job("push_schedule", schedule.fleet, {"schedule": schedule.pk}, request.user)
+        job = start_job(SchedulingJob.PUSH_SCHEDULE, schedule.fleet, {"schedule": schedule.pk}, request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 
@@ -68,19 +69,20 @@ class ComparisonViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Rea
 
 
 # ---- actions on applications (``/applications/{id}/schedule/`` and ``/compare/``) ----------------------------
+def _request_context(viewset, app) -> dict:
+    """The context of the schedule and compare request contracts (apps/scheduling/serializers.py)."""
+    return {**viewset.get_serializer_context(), "application": app}
+
+
 @ApplicationViewSet.extra_action
 @extend_schema(request=ScheduleRequestSerializer, responses={202: JobSerializer})
 @action(detail=True, methods=["post"])
 def schedule(self, request, pk=None):
     """Start a scheduling job; its result links to the stored schedule."""
     app = self.get_object()
-    serializer = ScheduleRequestSerializer(data=request.data, context=self.get_serializer_context())
+    serializer = ScheduleRequestSerializer(data=request.data, context=_request_context(self, app))
     serializer.is_valid(raise_exception=True)
-    data = serializer.validated_data
-    if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
-        return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
-    arguments = {"application": app.pk, "algorithm": data["algorithm"], "params": data["params"]}
-    job = start_job("schedule", app.fleet, arguments | _target_arguments(data), request.user)
+    job = start_job(SchedulingJob.SCHEDULE, app.fleet, serializer.job_arguments(), request.user)
     return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 
@@ -91,23 +93,7 @@ def compare(self, request, pk=None):
     """Start a job that runs several algorithms on this application and target (frames optional) and stores
     each schedule plus a comparison (makespan, SLR, speedup vs VisionWorks, overlap, idle time)."""
     app = self.get_object()
-    serializer = CompareRequestSerializer(data=request.data, context=self.get_serializer_context())
+    serializer = CompareRequestSerializer(data=request.data, context=_request_context(self, app))
     serializer.is_valid(raise_exception=True)
-    data = serializer.validated_data
-    if data.get("cluster") is not None and data["cluster"].fleet_id != app.fleet_id:
-        return Response({"cluster": ["the cluster belongs to another fleet"]}, status=status.HTTP_400_BAD_REQUEST)
-    arguments = {
-        "application": app.pk,
-        "algorithms": data["algorithms"],
-        "rank_mode": data["rank_mode"],
-        "comm_mode": data["comm_mode"],
-        **serializer.frame_options(),
-    }
-    job = start_job("compare", app.fleet, arguments | _target_arguments(data), request.user)
+    job = start_job(SchedulingJob.COMPARE, app.fleet, serializer.job_arguments(), request.user)
     return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
-
-
-def _target_arguments(data: dict) -> dict:
-    if data.get("cluster") is not None:
-        return {"cluster": data["cluster"].pk}
-    return {"platform": data["platform"]}

@@ -1,6 +1,7 @@
 """The demo's first schedule (``load_demo``): HEFT of the first demo application on the demo cluster."""
 
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 from apps.tenancy.demo import Demo
 
 
@@ -9,4 +10,4 @@ def demo_schedule(demo: Demo) -> None:
     app, cluster = demo.objects["applications"][0], demo.objects["cluster"]
     if not app.schedules.exists():
         arguments = {"application": app.pk, "algorithm": "heft", "cluster": cluster.pk}
-        demo.after_commit.append(lambda: start_job("schedule", demo.fleet, arguments))
+        demo.after_commit.append(lambda: start_job(SchedulingJob.SCHEDULE, demo.fleet, arguments))

@@ -5,6 +5,7 @@ from django.db import transaction
 
 from apps.clusters.models import Cluster
 from apps.jobs.registry import job_kind
+from apps.scheduling.kinds import SchedulingJob
 from apps.workloads.models import Application
 from continuum.engine.core.platform import Platform
 from continuum.engine.device import algorithms
@@ -37,7 +38,7 @@ def _target(job) -> tuple[Application, Cluster | None, Platform]:
     return application, cluster, platform
 
 
-@job_kind("schedule")
+@job_kind(SchedulingJob.SCHEDULE)
 def schedule_application(job, progress) -> tuple[dict, str]:
     """Arguments: application, algorithm, params (frames, fps... included), and either cluster (id) or
     platform (a document)."""
@@ -61,7 +62,7 @@ def schedule_application(job, progress) -> tuple[dict, str]:
     return {"schedule": row.pk, "makespan": row.makespan}, f"/api/v1/schedules/{row.pk}/"
 
 
-@job_kind("compare")
+@job_kind(SchedulingJob.COMPARE)
 def compare_algorithms(job, progress) -> tuple[dict, str]:
     """Arguments: application, algorithms, cluster or platform, optional frames/fps/period/batch, rank_mode,
     comm_mode. Stores each algorithm's schedule and a :class:`Comparison` with the figures side by side."""

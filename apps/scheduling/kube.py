@@ -15,6 +15,7 @@ from apps.clusters.kube import api_client_for
 from apps.jobs.registry import job_kind
 from apps.kube import gateway
 from apps.kube.gateway import KubeError, Outcome, PodSet, Progress
+from apps.scheduling.kinds import SchedulingJob
 
 from .models import Assignment, Schedule
 
@@ -108,7 +109,7 @@ def _argument(job, name: str) -> int:
     return value
 
 
-@job_kind("push_schedule")
+@job_kind(SchedulingJob.PUSH_SCHEDULE)
 def push_schedule_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id). Creates one pod per assignment and binds it to the assigned node."""
     pk = _argument(job, "schedule")

@@ -19,10 +19,25 @@ FRAME_OPTIONS = ("frames", "fps", "period", "batch")
 
 #: The algorithms the API offers (one OpenAPI enum, AlgorithmEnum).
 ALGORITHM_CHOICES = sorted(SCHEDULERS)
+#: An unknown algorithm, in the engine's words (``continuum.engine.device.algorithms.run``).
+UNKNOWN_ALGORITHM = {"invalid_choice": "unknown algorithm '{input}' (choose from " + ", ".join(ALGORITHM_CHOICES) + ")"}
+
+
+FPS_OR_PERIOD = "give either FPS or a period, not both (either fps or period sets when frames are released)"
+
+
+def positive(name: str, kind: str) -> dict[str, str]:
+    """``error_messages`` for a count that must be positive, in the engine's words (and DRF's)."""
+    return {"min_value": f"{name} must be a positive {kind} (greater than or equal to {{min_value}})"}
 
 
 class TargetSerializer(ScopedSerializer):
-    """A cluster (its Ready nodes) or a ``continuum.platform/v1`` document, and the frame options."""
+    """A cluster (its Ready nodes) or a ``continuum.platform/v1`` document, and the frame options.
+
+    The request contract of the API's schedule and compare actions and of the dashboard's forms
+    (``apps/scheduling/forms.py``). ``context["application"]`` is the application to schedule; ``job_arguments()``
+    gives the job's arguments.
+    """
 
     cluster = VisibleClusterField(required=False)
     platform = serializers.JSONField(required=False, help_text="a continuum.platform/v1 document")
@@ -30,10 +45,15 @@ class TargetSerializer(ScopedSerializer):
         required=False,
         min_value=1,
         max_value=MAX_FRAMES,
-        error_messages=at_most("frames"),
+        error_messages=at_most("frames") | positive("frames", "integer"),
         help_text="schedule this many frames (pipelined)",
     )
-    fps = serializers.FloatField(required=False, min_value=1e-9, help_text="camera rate: frame f released at f/fps")
+    fps = serializers.FloatField(
+        required=False,
+        min_value=1e-9,
+        error_messages={"min_value": "fps must be a positive number"},
+        help_text="camera rate: frame f released at f/fps",
+    )
     period = serializers.FloatField(
         required=False, min_value=0, help_text="frame period in the DAG's time unit (instead of fps)"
     )
@@ -41,7 +61,7 @@ class TargetSerializer(ScopedSerializer):
         required=False,
         min_value=1,
         max_value=MAX_FRAMES,
-        error_messages=at_most("batch"),
+        error_messages=at_most("batch") | positive("batch", "integer"),
         help_text="frames buffered and released together",
     )
 
@@ -57,25 +77,52 @@ class TargetSerializer(ScopedSerializer):
         if ("cluster" in attrs) == ("platform" in attrs):
             raise serializers.ValidationError({"cluster": ["give exactly one of 'cluster' and 'platform'"]})
         if "fps" in attrs and "period" in attrs:
-            raise serializers.ValidationError({"fps": ["give either fps or period, not both"]})
+            raise serializers.ValidationError({"fps": [FPS_OR_PERIOD]})
+        application, cluster = self.context.get("application"), attrs.get("cluster")
+        if cluster is not None and application is not None and cluster.fleet_id != application.fleet_id:
+            raise serializers.ValidationError({"cluster": ["the cluster belongs to another fleet"]})
         return attrs
 
     def frame_options(self) -> dict:
         return {k: self.validated_data[k] for k in FRAME_OPTIONS if k in self.validated_data}
+
+    def target_args(self) -> dict:
+        data = self.validated_data
+        if data.get("cluster") is not None:
+            return {"cluster": data["cluster"].pk}
+        return {"platform": data["platform"]}
+
+    def runnable_errors(self) -> dict[str | None, str]:
+        """Why the job would fail on this target (a cluster without a Ready node, a task no processor can
+        run), for a page that says so before starting it; the API starts the job, which fails saying so."""
+        data = self.validated_data
+        cluster = data.get("cluster")
+        if cluster is not None:
+            if not cluster.nodes.filter(status="Ready").exists():
+                return {"cluster": f"cluster {cluster.name!r} has no Ready node"}
+            platform = cluster.to_platform()
+        else:
+            platform = Platform.from_dict(data["platform"])
+        try:
+            platform.cost_table(self.context["application"].graph)
+        except InputError as exc:
+            return {None: f"cannot schedule on this target: {exc}"}
+        return {}
 
 
 class ScheduleRequestSerializer(TargetSerializer):
     """Schedule an application on a cluster (its Ready nodes) or on a platform document, for one frame or
     several (``frames``, ``fps`` or ``period``, ``batch``: thesis Eqs. 3.5-3.7)."""
 
-    algorithm = serializers.ChoiceField(choices=ALGORITHM_CHOICES, default="heft")
+    algorithm = serializers.ChoiceField(choices=ALGORITHM_CHOICES, default="heft", error_messages=UNKNOWN_ALGORITHM)
     params = serializers.DictField(required=False, default=dict, help_text="algorithm parameters, e.g. rank_mode")
 
     def validate(self, attrs):
         attrs = super().validate(attrs)
         clash = sorted(k for k in FRAME_OPTIONS if k in attrs and k in attrs["params"])
         if clash:
-            raise serializers.ValidationError({clash[0]: ["given both as a field and in params; give it once"]})
+            message = f"{clash[0]} is given both as a field and in the parameters (params); give it once"
+            raise serializers.ValidationError({clash[0]: [message]})
         # Frame options given in params are checked exactly like the fields (the same bounds).
         for key in FRAME_OPTIONS:
             if key in attrs["params"]:
@@ -85,6 +132,12 @@ class ScheduleRequestSerializer(TargetSerializer):
                     raise serializers.ValidationError({"params": {key: exc.detail}}) from exc
         attrs["params"] = {**attrs["params"], **{k: attrs[k] for k in FRAME_OPTIONS if k in attrs}}
         return attrs
+
+    def job_arguments(self) -> dict:
+        """The schedule job's arguments (``apps/scheduling/jobs.py``)."""
+        data = self.validated_data
+        arguments = {"application": self.context["application"].pk, "algorithm": data["algorithm"]}
+        return arguments | {"params": data["params"]} | self.target_args()
 
 
 class CompareRequestSerializer(TargetSerializer):
@@ -108,6 +161,17 @@ class CompareRequestSerializer(TargetSerializer):
         if dup:
             raise serializers.ValidationError(f"{dup[0]!r} is listed twice")
         return value
+
+    def job_arguments(self) -> dict:
+        """The compare job's arguments (``apps/scheduling/jobs.py``)."""
+        data = self.validated_data
+        arguments = {
+            "application": self.context["application"].pk,
+            "algorithms": data["algorithms"],
+            "rank_mode": data["rank_mode"],
+            "comm_mode": data["comm_mode"],
+        }
+        return arguments | self.frame_options() | self.target_args()
 
 
 class AssignmentSerializer(ScopedModelSerializer):

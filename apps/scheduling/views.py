@@ -18,9 +18,10 @@ from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
-from apps.dashboard.forms import CompareForm, ScheduleForm
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
+from apps.scheduling.forms import CompareForm, ScheduleForm
+from apps.scheduling.kinds import SchedulingJob
 from apps.ui import charts
 from apps.ui.helpers import paginate, scoped
 from apps.ui.links import register_result_page
@@ -47,8 +48,8 @@ def application_panel(
 ) -> dict:
     """The schedule and compare forms (bound ones when a POST was refused) and the schedules made."""
     return {
-        "form": schedule_form or ScheduleForm(application=app),
-        "compare": compare_form or CompareForm(application=app, prefix="compare"),
+        "form": schedule_form or ScheduleForm(application=app, request=request),
+        "compare": compare_form or CompareForm(application=app, prefix="compare", request=request),
         "schedules": app.schedules.filter(comparison=None).select_related("cluster")[:20],
         "comparisons": app.comparisons.select_related("cluster")[:10],
     }
@@ -75,10 +76,10 @@ def register() -> None:
 @require_POST
 def application_schedule(request: HttpRequest, pk: int) -> HttpResponse:
     app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
-    form = ScheduleForm(request.POST, application=app)
+    form = ScheduleForm(request.POST, application=app, request=request)
     if not form.is_valid():
         return application_page(request, app, status=400, schedule_form=form)
-    job = start_job("schedule", app.fleet, form.job_arguments(), request.user)
+    job = start_job(SchedulingJob.SCHEDULE, app.fleet, form.job_arguments(), request.user)
     return redirect("jobs:job", pk=job.pk)
 
 
@@ -86,10 +87,10 @@ def application_schedule(request: HttpRequest, pk: int) -> HttpResponse:
 @require_POST
 def application_compare(request: HttpRequest, pk: int) -> HttpResponse:
     app = get_object_or_404(scoped(request, Application.objects.select_related("fleet")), pk=pk)
-    form = CompareForm(request.POST, application=app, prefix="compare")
+    form = CompareForm(request.POST, application=app, prefix="compare", request=request)
     if not form.is_valid():
         return application_page(request, app, status=400, compare_form=form)
-    job = start_job("compare", app.fleet, form.job_arguments(), request.user)
+    job = start_job(SchedulingJob.COMPARE, app.fleet, form.job_arguments(), request.user)
     return redirect("jobs:job", pk=job.pk)
 
 
@@ -236,10 +237,10 @@ def schedule_push(request: HttpRequest, pk: int) -> HttpResponse:
     if schedule.cluster is None or not schedule.cluster.kubeconfig:
         messages.error(request, "This schedule's cluster has no Kubernetes API configured: nothing to push to.")
         return redirect("scheduling:schedule", pk=schedule.pk)
-    if "push_schedule" not in HANDLERS:
+    if SchedulingJob.PUSH_SCHEDULE not in HANDLERS:
         messages.error(request, "Pushing to Kubernetes is not available in this installation.")
         return redirect("scheduling:schedule", pk=schedule.pk)
-    job = start_job("push_schedule", schedule.fleet, {"schedule": schedule.pk}, request.user)
+    job = start_job(SchedulingJob.PUSH_SCHEDULE, schedule.fleet, {"schedule": schedule.pk}, request.user)
     return redirect("jobs:job", pk=job.pk)
 
 

@@ -48,6 +48,21 @@ def exception_handler(exc, context):
     return Response({"detail": "internal error", "error_id": error_id}, status=status.HTTP_500_INTERNAL_SERVER_ERROR)
 
 
+def contract_error(errors, path: str = "") -> InputError:
+    """A request serializer's first error as one :class:`InputError` line, ``field: message`` (nested fields
+    joined by dots): how a management command that checks its options with the API's request contract
+    reports bad input (exit status 2, one line on stderr)."""
+    if isinstance(errors, dict):
+        field, inner = next(iter(errors.items()))
+        name = field if field != "non_field_errors" else ""
+        return contract_error(inner, f"{path}.{name}" if path and name else path or name)
+    if isinstance(errors, list) and errors and not isinstance(errors[0], str):
+        return contract_error(errors[0], path)
+    message = str(errors[0]) if isinstance(errors, list) and errors else str(errors)
+    field = path.split(".")[-1] if path else None
+    return InputError(message if not path or message.startswith(field or "") else f"{path}: {message}", field)
+
+
 @extend_schema_field(OpenApiTypes.STR)
 class FleetField(serializers.SlugRelatedField):
     """The owning fleet by slug, limited to the fleets the caller may see (others are "not found")."""
@@ -68,6 +83,22 @@ class DefaultFleetMixin:
         if self.instance is None and "fleet" not in attrs:
             attrs["fleet"] = default_fleet(self.context["request"])
         return attrs
+
+
+class ChosenFleetMixin:
+    """``context["fleet"]``, when given, is the fleet: the dashboard's forms ask for it among the user's fleets
+    (``apps.ui.forms.FleetSerializerForm``) and pass it so; ``context["user"]`` is then who stores the result."""
+
+    def validate(self, attrs):
+        attrs = super().validate(attrs)
+        if "fleet" in self.context:
+            attrs["fleet"] = self.context["fleet"]
+        return attrs
+
+    def _user(self):
+        if "user" in self.context:
+            return self.context["user"]
+        return self.context["request"].user
 
 
 @extend_schema_field(OpenApiTypes.INT)

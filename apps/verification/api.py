@@ -11,6 +11,7 @@ from rest_framework.response import Response
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.tenancy.api import FleetScopedMixin, default_fleet
+from apps.verification.kinds import VerificationJob
 
 from . import services
 from .models import AllocationRun, Assertion, Handler, MigrationEvent, Monitor, MonitorVerdict, Violation
@@ -126,7 +127,7 @@ class AllocationRunViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):
     def create(self, request):
         req = AllocationRequestSerializer(data=request.data, context=self.get_serializer_context())
         req.is_valid(raise_exception=True)
-        job = start_job("allocate_monitors", req.fleet(request), req.job_arguments(), request.user)
+        job = start_job(VerificationJob.ALLOCATE_MONITORS, req.fleet(request), req.job_arguments(), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
     @extend_schema(request=SimulationRequestSerializer, responses={202: JobSerializer})
@@ -134,7 +135,8 @@ class AllocationRunViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):
     def simulate(self, request):
         req = SimulationRequestSerializer(data=request.data)
         req.is_valid(raise_exception=True)
-        job = start_job("verification_simulation", default_fleet(request), dict(req.validated_data), request.user)
+        fleet = default_fleet(request)
+        job = start_job(VerificationJob.VERIFICATION_SIMULATION, fleet, req.job_arguments(), request.user)
         return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
 

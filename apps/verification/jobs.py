@@ -6,6 +6,7 @@ from django.db import transaction
 from django.urls import reverse
 
 from apps.jobs.registry import job_kind
+from apps.verification.kinds import VerificationJob
 from continuum.engine.verification.abv_simulation import scenario as make_scenario
 from continuum.engine.verification.abv_simulation import simulate
 
@@ -13,7 +14,7 @@ from . import services
 from .models import AllocationRun
 
 
-@job_kind("allocate_monitors")
+@job_kind(VerificationJob.ALLOCATE_MONITORS)
 def allocate_monitors(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster`` (id) or ``stats`` (a monitorstats document), ``apply`` (bool), ``time_limit``."""
     run = services.run_allocation(job, progress)
@@ -30,7 +31,7 @@ def allocate_monitors(job, progress) -> tuple[dict, str]:
     return result, f"/api/v1/allocations/{run.pk}/"
 
 
-@job_kind("verification_simulation")
+@job_kind(VerificationJob.VERIFICATION_SIMULATION)
 def verification_simulation(job, progress) -> tuple[dict, str]:
     """Arguments: ``scenario`` ("kairos" or "synthetic"), optional ``duration_s`` and ``time_limit``.
 

@@ -272,3 +272,7 @@ class SimulationRequestSerializer(ScopedSerializer):
     scenario = serializers.ChoiceField(["kairos", "synthetic"], default="kairos")
     duration_s = serializers.FloatField(required=False, min_value=1, max_value=600)
     time_limit = serializers.FloatField(required=False, min_value=0.05, max_value=10)
+
+    def job_arguments(self) -> dict:
+        """The verification_simulation job's arguments (``apps/verification/jobs.py``)."""
+        return dict(self.validated_data)

@@ -4,7 +4,6 @@ page needs a login and shows only the user's fleets' objects (another fleet's an
 
 from __future__ import annotations
 
-from django import forms
 from django.contrib.auth.decorators import login_required
 from django.db.models import Count, Max, Min
 from django.http import Http404, HttpRequest, HttpResponse
@@ -16,25 +15,13 @@ from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
 from apps.ui.charts import to_html
 from apps.ui.helpers import paginate, scoped
+from apps.verification.kinds import VerificationJob
 
 from . import charts
+from .forms import SimulationForm
 from .models import AllocationRun, Assertion, Handler, MigrationEvent, Monitor, Violation
 
 NAV = "verification"
-
-
-class SimulationForm(forms.Form):
-    scenario = forms.ChoiceField(
-        choices=[("kairos", "RB-Kairos (§4.5.2, Fig. 4.24)"), ("synthetic", "Three-level cluster (§4.5.1, Fig. 4.22)")]
-    )
-    fleet = forms.ModelChoiceField(queryset=None, empty_label=None)
-
-    def __init__(self, *args, fleets, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.fields["fleet"].queryset = fleets
-        if fleets.count() == 1:
-            self.fields["fleet"].widget = forms.HiddenInput()
-            self.fields["fleet"].initial = fleets.first().pk
 
 
 @login_required
@@ -89,7 +76,10 @@ def simulate(request: HttpRequest) -> HttpResponse:
     if not form.is_valid():
         raise Http404("no such fleet")
     job = start_job(
-        "verification_simulation", form.cleaned_data["fleet"], {"scenario": form.cleaned_data["scenario"]}, request.user
+        VerificationJob.VERIFICATION_SIMULATION,
+        form.cleaned_data["fleet"],
+        form.job_arguments(),
+        request.user,
     )
     if job.state == Job.State.SUCCEEDED and (job.result or {}).get("page"):
         return redirect(job.result["page"])

@@ -1,6 +1,6 @@
 from rest_framework import serializers
 
-from apps.tenancy.api import DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
+from apps.tenancy.api import ChosenFleetMixin, DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
 from apps.tenancy.bounds import BoundedFileField, at_most
 from continuum.engine.core import limits
 from continuum.engine.core.dag import TaskGraph
@@ -73,7 +73,7 @@ class ApplicationImportResultSerializer(ApplicationSerializer):
         read_only_fields = [*ApplicationSerializer.Meta.read_only_fields, "warnings"]
 
 
-class ApplicationImportSerializer(DefaultFleetMixin, ScopedSerializer):
+class ApplicationImportSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSerializer):
     """Upload a DAG file: continuum JSON, WfCommons WfFormat 1.5, Pegasus DAX, Kasahara STG or the thesis CSV.
 
     The format is ``format`` when given, else the file name's (``.stg``, ``.dax``/``.xml``, ``.csv``), else
@@ -116,10 +116,10 @@ class ApplicationImportSerializer(DefaultFleetMixin, ScopedSerializer):
 
     def create(self, validated):
         v = validated
-        return _store(self.context["request"], v["fleet"], v["graph"], v["source_format"], v["description"])
+        return _store(self._user(), v["fleet"], v["graph"], v["source_format"], v["description"])
 
 
-class ApplicationGenerateSerializer(DefaultFleetMixin, ScopedSerializer):
+class ApplicationGenerateSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSerializer):
     """A seeded synthetic DAG: the thesis' ``thesis`` generator (Tree/Linear OpenVX-like CPU/GPU DAGs,
     spec 01 section 8.2) or the HEFT literature's ``layered`` random graphs (Topcuoglu et al. 2002)."""
 
@@ -127,7 +127,7 @@ class ApplicationGenerateSerializer(DefaultFleetMixin, ScopedSerializer):
     generator = serializers.ChoiceField(choices=GENERATORS)
     seed = serializers.IntegerField(default=0, min_value=0)
     n = serializers.IntegerField(
-        required=False, min_value=1, max_value=LIMITS.tasks, error_messages=at_most("n"), help_text="tasks"
+        required=False, min_value=2, max_value=LIMITS.tasks, error_messages=at_most("n"), help_text="tasks"
     )
     dag_class = serializers.ChoiceField(
         choices=generators.SHAPES, required=False, help_text="thesis: tree or linear (default: drawn from the seed)"
@@ -154,9 +154,19 @@ class ApplicationGenerateSerializer(DefaultFleetMixin, ScopedSerializer):
     description = serializers.CharField(required=False, allow_blank=True, default="")
 
     PARAMS = ("seed", "n", "dag_class", "shape", "out_degree", "ccr", "mean_cost", "processors", "heterogeneity")
+    #: The parameters only one generator takes.
+    THESIS_ONLY = ("dag_class",)
+    LAYERED_ONLY = ("shape", "out_degree", "ccr", "mean_cost", "processors", "heterogeneity")
 
     def validate(self, attrs):
         attrs = super().validate(attrs)
+        if attrs["generator"] == "thesis":
+            wrong = {k: ["the layered generator's; leave it empty for a thesis DAG"] for k in self.LAYERED_ONLY}
+        else:
+            wrong = {k: ["the thesis generator's; leave it empty for a layered DAG"] for k in self.THESIS_ONLY}
+        wrong = {k: v for k, v in wrong.items() if k in attrs}
+        if wrong:
+            raise serializers.ValidationError(wrong)
         try:
             graph = generate_dag(attrs["generator"], **{k: attrs[k] for k in self.PARAMS if k in attrs})
         except InputError as exc:
@@ -168,17 +178,16 @@ class ApplicationGenerateSerializer(DefaultFleetMixin, ScopedSerializer):
 
     def create(self, validated):
         source = f"generator:{validated['generator']}"
-        return _store(self.context["request"], validated["fleet"], validated["graph"], source, validated["description"])
+        return _store(self._user(), validated["fleet"], validated["graph"], source, validated["description"])
 
 
-def _store(request, fleet, graph: TaskGraph, source_format: str, description: str = "") -> Application:
-    user = request.user
+def _store(user, fleet, graph: TaskGraph, source_format: str, description: str = "") -> Application:
     app = Application(
         fleet=fleet,
         name=graph.name,
         description=description,
         source_format=source_format,
-        created_by=user if user.is_authenticated else None,
+        created_by=user if user is not None and user.is_authenticated else None,
     )
     app.set_graph(graph)
     app.save()

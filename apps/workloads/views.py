@@ -15,11 +15,11 @@ from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
-from apps.dashboard.forms import GenerateForm, UploadForm
 from apps.tenancy.scoping import visible_fleets
 from apps.ui import charts
 from apps.ui.helpers import paginate, scoped
 from apps.ui.panels import render_panels
+from apps.workloads.forms import GenerateForm, UploadForm
 
 from .models import Application
 

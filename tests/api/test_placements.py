@@ -6,6 +6,7 @@ import json
 import pytest
 from django.core.files.uploadedfile import SimpleUploadedFile
 
+from apps.containers.kinds import ContainersJob
 from apps.containers.models import Placement
 from apps.jobs.models import Job
 from apps.jobs.registry import HANDLERS
@@ -243,9 +244,9 @@ def test_a_redelivered_place_job_replaces_its_placement(api, cluster):
 def test_a_failed_place_job_records_the_reason(api, cluster, fleet):
     from apps.jobs.services import start_job
 
-    job = start_job("place", fleet, {"cluster": cluster.pk, "containers": {"containers": []}})
+    job = start_job(ContainersJob.PLACE, fleet, {"cluster": cluster.pk, "containers": {"containers": []}})
     assert job.state == "failed" and "'containers' must be a non-empty list" in job.error
-    job = start_job("place", fleet, {"cluster": 987654, "containers": FIG_3_28})
+    job = start_job(ContainersJob.PLACE, fleet, {"cluster": 987654, "containers": FIG_3_28})
     assert job.state == "failed" and job.error == "cluster 987654 does not exist"
     assert not Placement.objects.exists()
 

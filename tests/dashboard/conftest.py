@@ -4,6 +4,7 @@ import json
 
 import pytest
 
+from apps.scheduling.kinds import SchedulingJob
 from tests.conftest import DATA
 
 
@@ -31,7 +32,7 @@ def schedule_on_platform(app, platform_doc, user=None):
     from apps.scheduling.models import Schedule
 
     job = start_job(
-        "schedule",
+        SchedulingJob.SCHEDULE,
         app.fleet,
         {"application": app.pk, "algorithm": "heft", "params": {}, "platform": platform_doc},
         user,

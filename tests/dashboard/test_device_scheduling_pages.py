@@ -11,6 +11,7 @@ from apps.devices import charts as device_charts
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.scheduling import charts as scheduling_charts
+from apps.scheduling.kinds import SchedulingJob
 from apps.scheduling.models import Comparison, Schedule
 from apps.ui import charts
 from apps.workloads.models import Application
@@ -43,7 +44,7 @@ def fig31(fleet):
 @pytest.fixture
 def comparison(fig31):
     job = start_job(
-        "compare",
+        SchedulingJob.COMPARE,
         fig31.fleet,
         {"application": fig31.pk, "algorithms": ["heft", "xeft"], "platform": board(1).to_dict(), "frames": 2},
     )
@@ -54,9 +55,8 @@ def comparison(fig31):
 @pytest.fixture
 def foreign_comparison(fleets):
     app = make_application(fleets[1], "fig31.dag.json")
-    job = start_job(
-        "compare", fleets[1], {"application": app.pk, "algorithms": ["heft"], "platform": board(1).to_dict()}
-    )
+    arguments = {"application": app.pk, "algorithms": ["heft"], "platform": board(1).to_dict()}
+    job = start_job(SchedulingJob.COMPARE, fleets[1], arguments)
     return Comparison.objects.get(job=job)
 
 

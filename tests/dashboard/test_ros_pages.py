@@ -10,6 +10,7 @@ from django.core.files.uploadedfile import SimpleUploadedFile
 from django.urls import reverse
 
 from apps.containers import charts
+from apps.containers.kinds import ContainersJob
 from apps.containers.models import Clustering, Placement, RosGraph
 from apps.containers.services import read_graph
 from apps.jobs.models import Job
@@ -30,13 +31,14 @@ def make_graph(fleet, content: bytes | str, name: str = "") -> RosGraph:
 
 
 def cluster_it(row: RosGraph, n: int = 4) -> Clustering:
-    job = start_job("cluster_ros", row.fleet, {"rosgraph": row.pk, "containers": n})
+    job = start_job(ContainersJob.CLUSTER_ROS, row.fleet, {"rosgraph": row.pk, "containers": n})
     assert job.state == "succeeded", job.error
     return Clustering.objects.get(job=job)
 
 
 def place_it(clustering: Clustering, cluster, **extra) -> Placement:
-    job = start_job("place", clustering.fleet, {"clustering": clustering.pk, "cluster": cluster.pk, **extra})
+    arguments = {"clustering": clustering.pk, "cluster": cluster.pk, **extra}
+    job = start_job(ContainersJob.PLACE, clustering.fleet, arguments)
     assert job.state == "succeeded", job.error
     return Placement.objects.get(job=job)
 

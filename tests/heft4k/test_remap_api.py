@@ -5,6 +5,7 @@ The cluster here is model-only (no kubeconfig); what Kubernetes sees is tested i
 
 import pytest
 
+from apps.heft4k.kinds import Heft4kJob
 from apps.heft4k.models import RemapEvent
 from apps.jobs.models import Job
 from apps.scheduling.models import Schedule
@@ -217,11 +218,11 @@ def test_a_redelivered_remap_job_does_not_compute_twice(api, cluster):
 def test_remap_jobs_reject_bad_arguments(fleet):
     from apps.jobs.services import start_job
 
-    job = start_job("remap", fleet, {"schedule": "x", "fail": ["n"]})
+    job = start_job(Heft4kJob.REMAP, fleet, {"schedule": "x", "fail": ["n"]})
     assert job.state == "failed" and job.error == "argument 'schedule' must be the id of a schedule, got 'x'"
-    job = start_job("remap", fleet, {"schedule": 999999, "fail": ["n"]})
+    job = start_job(Heft4kJob.REMAP, fleet, {"schedule": 999999, "fail": ["n"]})
     assert job.state == "failed" and job.error == "schedule 999999 does not exist"
-    job = start_job("remap_apply", fleet, {"remap": 999999})
+    job = start_job(Heft4kJob.REMAP_APPLY, fleet, {"remap": 999999})
     assert job.state == "failed" and job.error == "remap 999999 does not exist"
 
 

@@ -7,6 +7,7 @@ import pytest
 
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 from apps.scheduling.models import Schedule
 from apps.workloads.models import Application
 from continuum.engine import TaskGraph
@@ -55,7 +56,7 @@ PLATFORM = {
 def test_worker_runs_a_scheduling_job_with_progress(fleet, start_worker):
     start_worker()
     app = make_app(fleet, 6000)
-    job = start_job("schedule", fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
+    job = start_job(SchedulingJob.SCHEDULE, fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
     assert job.state == Job.State.PENDING  # queued, not run in this process
     seen: list = []
     job = wait_for(job.pk, lambda j: j.done, seen=seen)
@@ -72,13 +73,13 @@ def test_bad_job_fails_cleanly_and_the_worker_carries_on(fleet, start_worker):
     worker = start_worker()
     app = make_app(fleet, 10)
     bad = start_job(
-        "schedule",
+        SchedulingJob.SCHEDULE,
         fleet,
         {"application": app.pk, "algorithm": "heft", "platform": {"processors": [{"id": "g", "class": "gpu"}]}},
     )
     bad = wait_for(bad.pk, lambda j: j.done)
     assert bad.state == Job.State.FAILED and "cannot run on any processor" in bad.error
-    good = start_job("schedule", fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
+    good = start_job(SchedulingJob.SCHEDULE, fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
     assert wait_for(good.pk, lambda j: j.done).state == Job.State.SUCCEEDED
     assert worker.proc.poll() is None
 
@@ -86,7 +87,7 @@ def test_bad_job_fails_cleanly_and_the_worker_carries_on(fleet, start_worker):
 def test_worker_killed_mid_job_leaves_the_job_retried_not_lost(fleet, start_worker):
     first = start_worker(visibility_timeout=3)
     app = make_app(fleet, 20000)
-    job = start_job("schedule", fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
+    job = start_job(SchedulingJob.SCHEDULE, fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
     wait_for(job.pk, lambda j: j.state == Job.State.RUNNING and j.progress > 0)
     first.kill()
     assert Job.objects.get(pk=job.pk).state == Job.State.RUNNING  # interrupted, not finished

@@ -5,6 +5,7 @@ import pytest
 
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
+from apps.scheduling.kinds import SchedulingJob
 
 from .test_celery_worker import PLATFORM, make_app, wait_for
 
@@ -15,7 +16,7 @@ def long_job(fleet) -> Job:
     """A job far longer than a second: 100 pipelined frames of a 6,000-task DAG on 16 processors."""
     app = make_app(fleet, 6000)
     args = {"application": app.pk, "algorithm": "heft", "platform": PLATFORM, "params": {"frames": 100}}
-    return start_job("schedule", fleet, args)
+    return start_job(SchedulingJob.SCHEDULE, fleet, args)
 
 
 def test_a_job_past_the_soft_time_limit_fails_with_that_reason(fleet, start_worker):

@@ -13,6 +13,7 @@ from apps.jobs.liveness import identity, lost_reason, recover_lost_jobs
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
 from apps.jobs.tasks import claim
+from apps.scheduling.kinds import SchedulingJob
 from apps.scheduling.models import Schedule
 
 from .test_celery_worker import PLATFORM, make_app, wait_for
@@ -25,7 +26,7 @@ def test_worker_killed_mid_job_is_queued_again_long_before_the_visibility_timeou
     # Both workers keep the hour-long visibility timeout: Redis would not deliver the job again in time.
     first = start_worker(visibility_timeout=3600, env={"CONTINUUM_JOB_HEARTBEAT_S": "1"})
     app = make_app(fleet, 12000)
-    job = start_job("schedule", fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
+    job = start_job(SchedulingJob.SCHEDULE, fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
     # The running job shows its worker's heartbeats.
     running = wait_for(job.pk, lambda j: j.state == Job.State.RUNNING and j.heartbeat and j.heartbeat > j.started)
     assert running.worker == identity(first.proc.pid)

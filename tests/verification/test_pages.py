@@ -5,6 +5,7 @@ import pytest
 from django.urls import reverse
 
 from apps.jobs.services import start_job
+from apps.verification.kinds import VerificationJob
 from apps.verification.models import AllocationRun, Assertion, Monitor, Violation
 
 pytestmark = pytest.mark.django_db
@@ -30,7 +31,7 @@ def monitored(fleet, cluster):
 
 @pytest.fixture
 def simulation(fleet):
-    job = start_job("verification_simulation", fleet, {"scenario": "kairos", "duration_s": 25})
+    job = start_job(VerificationJob.VERIFICATION_SIMULATION, fleet, {"scenario": "kairos", "duration_s": 25})
     assert job.state == "succeeded", job.error
     return job
 
@@ -40,7 +41,7 @@ def foreign(fleets):
     other = fleets[1]
     a = Assertion.objects.create(fleet=other, name="beta-secret-assertion", text="G(a -> b)")
     run = AllocationRun.objects.create(fleet=other, status="optimal", nodes={"x": {"cpu": 1, "monitors": 1}})
-    job = start_job("verification_simulation", other, {"scenario": "synthetic", "duration_s": 5})
+    job = start_job(VerificationJob.VERIFICATION_SIMULATION, other, {"scenario": "synthetic", "duration_s": 5})
     return {"assertion": a, "run": run, "series": job.result["series"]}
 
 
@@ -107,7 +108,7 @@ def test_run_simulation_from_the_page(member, fleet):
 
 
 def test_allocation_run_page(member, fleet, cluster, monitored):
-    job = start_job("allocate_monitors", fleet, {"cluster": cluster.pk})
+    job = start_job(VerificationJob.ALLOCATE_MONITORS, fleet, {"cluster": cluster.pk})
     assert job.state == "succeeded", job.error
     r = member.get(job.result["page"])
     html = r.content.decode()

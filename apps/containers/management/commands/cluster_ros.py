@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from apps.containers.serializers import ClusterRequestSerializer
+from apps.tenancy.api import contract_error
 from continuum.commands import EngineCommand
 from continuum.engine.containers.image_inheritance import plan_from_graph
 from continuum.engine.containers.ros_clustering import cluster_ros, max_containers
@@ -35,9 +37,21 @@ class Command(EngineCommand):
         graph = load_rosgraph(self.read_text(path), options.get("graph_format"), name=Path(path).stem)
         n = options.get("containers")
         memory, overhead = options.get("memory_mib"), options.get("overhead_mib")
+        if n is None and (memory is None or overhead is None):
+            raise InputError("give --containers N, or --memory-mib and --overhead-mib to use the Eq. 3.13 bound")
+        # The API's request contract checks the options, with the API's messages.
+        request = {
+            "containers": n,
+            "memory_mib": memory,
+            "overhead_mib": overhead,
+            "mode": options.get("mode") or "per_topic",
+            "max_cluster_share": options.get("max_share"),
+            "max_cluster_memory_mib": options.get("max_memory_mib"),
+        }
+        contract = ClusterRequestSerializer(data={k: v for k, v in request.items() if v is not None})
+        if not contract.is_valid():
+            raise contract_error(contract.errors)
         if n is None:
-            if memory is None or overhead is None:
-                raise InputError("give --containers N, or --memory-mib and --overhead-mib to use the Eq. 3.13 bound")
             n = max_containers(memory, overhead)
         result = cluster_ros(
             graph,

@@ -13,6 +13,8 @@ import json
 from typing import Any
 
 from apps.scheduling.jobs import with_defaults
+from apps.scheduling.serializers import FRAME_OPTIONS, ScheduleRequestSerializer
+from apps.tenancy.api import contract_error
 from continuum.commands import EngineCommand
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
@@ -77,13 +79,15 @@ class Command(EngineCommand):
         dag = load_dag(self.read_text(path), fmt, options=reader_options or None)
         self.warn_about(dag)
         platform = self._platform(options)
-        params = {
-            k: options[k]
-            for k in ("rank_mode", "comm_mode", "frames", "fps", "period", "batch")
-            if options[k] is not None
-        }
+        # The API's request contract checks the algorithm and the frame options, with the API's messages.
+        request = {k: options[k] for k in FRAME_OPTIONS if options[k] is not None}
+        params = {k: options[k] for k in ("rank_mode", "comm_mode") if options[k] is not None}
         params.update(_key_values(options["param"], "--param"))
-        params = with_defaults(options["algorithm"], params)
+        request |= {"algorithm": options["algorithm"], "platform": platform.to_dict(), "params": params}
+        contract = ScheduleRequestSerializer(data=request)
+        if not contract.is_valid():
+            raise contract_error(contract.errors)
+        params = with_defaults(options["algorithm"], contract.validated_data["params"])
         progress = self.progress_printer(f"{options['algorithm']}, tasks placed", force=options["progress"])
         schedule = algorithms.run(options["algorithm"], dag, platform, progress=progress, **params)
         return schedule.to_dict()
