@@ -310,8 +310,10 @@ def main() -> None:
               f"jobs U(0.3, {args.exec_high}) x WCET")  # fmt: skip
         cap = admission_cap(parts)
         results["admission_cap"] = {"measured": cap, "sched_rt_ratio": rt_bandwidth()}
-        print(f"kernel admission in one partition (1 CPU), measured: {cap:.3f} of the CPU for deadline tasks; "
-              f"sched_rt_runtime_us/sched_rt_period_us = {rt_bandwidth():.3f} (RT-Kube's and rt_sim's threshold)")
+        print(
+            f"kernel admission in one partition (1 CPU), measured: {cap:.3f} of the CPU for deadline tasks; "
+            f"sched_rt_runtime_us/sched_rt_period_us = {rt_bandwidth():.3f} (RT-Kube's and rt_sim's threshold)"
+        )
         for dep, mix in MIXES.items():
             docs = container_docs(mix, args.seed)
             results[dep] = {}

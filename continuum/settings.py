@@ -351,6 +351,8 @@ AUDITLOG_INCLUDE_TRACKING_MODELS = tuple(
         ("verification.Monitor", ("state", "cpu"), {}),  # runtime state, rewritten by every event batch
     ]
 )
+
+
 # ---- Kubernetes credentials (issue 10, trust boundary; apps/kube/kubeconfig.py, apps/kube/credentials.py) ----
 def _credentials_keys() -> list[str]:
     """Fernet keys that encrypt kubeconfigs at rest: CONTINUUM_CREDENTIALS_KEY (comma-separated, newest first,

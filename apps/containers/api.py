@@ -54,9 +54,7 @@ class RosGraphViewSet(
         return RosGraphListSerializer if self.action == "list" else RosGraphSerializer
 
     @extend_schema(request={"multipart/form-data": RosGraphImportSerializer}, responses={201: RosGraphSerializer})
-    @action(
-        detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser]
-    )
+    @action(detail=False, methods=["post"], url_path="import", parser_classes=[SafeMultiPartParser, SafeFormParser])
     def import_file(self, request):
         """Create a ROS graph from an uploaded file (contract JSON, Autoware JSON, iRobot topology, .dot)."""
         serializer = RosGraphImportSerializer(data=request.data, context=self.get_serializer_context())

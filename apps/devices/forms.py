@@ -10,6 +10,7 @@ from .serializers import AdviceRequestSerializer
 
 A = AdviceRequestSerializer
 
+
 class AdviceForm(SerializerForm):
     """An application's profile on a UMA board (the API's advise request, as a form)."""
 
@@ -25,9 +26,7 @@ class AdviceForm(SerializerForm):
     hit_rate_l1 = contract_field(A, "hit_rate_l1", label="GPU L1 hit rate", help_text="")
     kernel_runtime_s = contract_field(A, "kernel_runtime_s", label="kernel runtime (s)", help_text="")
     current_model = contract_field(A, "current_model", choices=MODELS, required=True, label="CUDA model now")
-    kernel_time = contract_field(
-        A, "kernel_time", label="kernel time", help_text="SC runtime (ZC runtime if on ZC)"
-    )
+    kernel_time = contract_field(A, "kernel_time", label="kernel time", help_text="SC runtime (ZC runtime if on ZC)")
     copy_time = contract_field(A, "copy_time", label="copy time per kernel", help_text="")
     cpu_time = contract_field(A, "cpu_time", label="CPU work time", help_text="")
     gpu_time = contract_field(A, "gpu_time", label="GPU work time", help_text="")
@@ -45,4 +44,3 @@ class AdviceForm(SerializerForm):
 
     def request_data(self) -> dict:
         return {k: v for k, v in self.cleaned_data.items() if v is not None}
-

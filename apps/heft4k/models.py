@@ -86,19 +86,13 @@ class ScheduleSimulation(models.Model):
     simulated (too many tasks, several frames), with ``simulated`` then empty.
     """
 
-    schedule = models.OneToOneField(
-        "scheduling.Schedule", on_delete=models.CASCADE, related_name="heft4k_simulation"
-    )
+    schedule = models.OneToOneField("scheduling.Schedule", on_delete=models.CASCADE, related_name="heft4k_simulation")
     note = models.CharField(max_length=300, blank=True, help_text="why the schedule was not simulated")
-    simulated = models.JSONField(
-        default=dict, blank=True, help_text="the CFS-simulated run, as continuum.schedule/v1"
-    )
+    simulated = models.JSONField(default=dict, blank=True, help_text="the CFS-simulated run, as continuum.schedule/v1")
     sharing = models.JSONField(
         default=list, blank=True, help_text="[task, frame, text]: time each simulated task lost to CPU sharing"
     )
-    baselines = models.JSONField(
-        default=list, blank=True, help_text="simulated makespans: [{name, makespan, vs_plan}]"
-    )
+    baselines = models.JSONField(default=list, blank=True, help_text="simulated makespans: [{name, makespan, vs_plan}]")
     created = models.DateTimeField(auto_now_add=True)
 
     def __str__(self) -> str:

@@ -26,7 +26,5 @@ def start_job(kind: JobKind, fleet: Fleet, arguments: dict, user=None) -> Job:
         # A worker may only see the job once its record is committed.
         # No time limits in the message: the worker's own CONTINUUM_JOB_*_TIME_LIMIT apply (Celery would
         # otherwise send this process's settings along, and the worker would obey them).
-        transaction.on_commit(
-            lambda: run_job.apply_async(args=(str(job.pk),), time_limit=None, soft_time_limit=None)
-        )
+        transaction.on_commit(lambda: run_job.apply_async(args=(str(job.pk),), time_limit=None, soft_time_limit=None))
     return job

@@ -111,9 +111,7 @@ def run_job(self, job_id: str) -> str:
                 result, url = handler(job, progress)
     except Exception as exc:
         detail, result = failure(job, exc)
-        mine.update(
-            state=Job.State.FAILED, finished=timezone.now(), error=detail, message="failed", result=result
-        )
+        mine.update(state=Job.State.FAILED, finished=timezone.now(), error=detail, message="failed", result=result)
         return Job.State.FAILED
     if not mine.update(
         state=Job.State.SUCCEEDED,

@@ -53,9 +53,7 @@ def call(fn, *args, what: str, server: str = "", idempotent: bool = True, **kwar
     kwargs.setdefault("_request_timeout", REQUEST_TIMEOUT)
     if not server:  # a bound method of a CoreV1Api: name its server in the error
         server = server_of(getattr(getattr(fn, "__self__", None), "api_client", None))
-    return retry.call(
-        fn, *args, what=what, idempotent=idempotent, describe=lambda exc: describe(exc, server), **kwargs
-    )
+    return retry.call(fn, *args, what=what, idempotent=idempotent, describe=lambda exc: describe(exc, server), **kwargs)
 
 
 def read_json(fn, *args, **kwargs):

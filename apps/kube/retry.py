@@ -50,8 +50,9 @@ def _never_sent(exc: BaseException) -> bool:
     """The request cannot have reached the server: the TCP connection was never established."""
     if isinstance(exc, urllib3.exceptions.MaxRetryError) and exc.reason is not None:
         exc = exc.reason
-    return isinstance(exc, (urllib3.exceptions.NewConnectionError, urllib3.exceptions.ConnectTimeoutError,
-                            ConnectionRefusedError))
+    return isinstance(
+        exc, (urllib3.exceptions.NewConnectionError, urllib3.exceptions.ConnectTimeoutError, ConnectionRefusedError)
+    )
 
 
 def _untrusted(exc: BaseException) -> bool:

@@ -65,9 +65,7 @@ def push_schedule(schedule: Schedule, progress: Progress | None = None) -> dict:
     # A task kept by a remap (apps.heft4k) still runs in the pod of the earlier schedule: keep its name.
     names = {a.pk: a.pod_name or gateway.pod_name(pods, a.task, a.frame) for a in assignments}
     with api_client:
-        results, fatal = gateway.push(
-            pods, api_client, [(a.to_engine(), names[a.pk]) for a in assignments], progress
-        )
+        results, fatal = gateway.push(pods, api_client, [(a.to_engine(), names[a.pk]) for a in assignments], progress)
     outcomes: dict[int, Outcome] = {a.pk: outcome for a, outcome in zip(assignments, results, strict=True)}
     for assignment in assignments:
         outcome = outcomes[assignment.pk]

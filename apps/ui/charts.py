@@ -724,8 +724,7 @@ def network_figure(
                     "line": {"color": "white", "width": 2},
                 },
                 hovertext=[
-                    f"<b>{esc(p.id)}</b><br>class: {esc(p.cls)}<br>speed: {fmt(p.speed)}<br>{esc(state)}"
-                    for p in procs
+                    f"<b>{esc(p.id)}</b><br>class: {esc(p.cls)}<br>speed: {fmt(p.speed)}<br>{esc(state)}" for p in procs
                 ],
                 hoverinfo="text",
                 name=esc(state),

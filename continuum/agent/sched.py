@@ -111,13 +111,21 @@ def set_deadline(params: DeadlineParams, pid: int = 0, flags: int = SCHED_FLAG_D
 
 #: What each errno of sched_setattr means for a deadline task, and the agent's exit status for it.
 REFUSALS = {
-    errno.EBUSY: (75, "the kernel refused the deadline task: admission control, the deadline bandwidth of its root "
-                      "domain's CPUs (sched_rt_runtime_us/sched_rt_period_us each, less the fair server's share on "
-                      "Linux >= 6.12) is taken"),
-    errno.EPERM: (77, "not permitted to set SCHED_DEADLINE: needs root or CAP_SYS_NICE, a CPU affinity that "
-                      "covers its whole root domain (cpuset), and RT bandwidth in its cgroup"),
-    errno.EINVAL: (69, "the kernel rejected the deadline parameters (SCHED_DEADLINE unsupported or values out of "
-                       "its limits)"),
+    errno.EBUSY: (
+        75,
+        "the kernel refused the deadline task: admission control, the deadline bandwidth of its root "
+        "domain's CPUs (sched_rt_runtime_us/sched_rt_period_us each, less the fair server's share on "
+        "Linux >= 6.12) is taken",
+    ),
+    errno.EPERM: (
+        77,
+        "not permitted to set SCHED_DEADLINE: needs root or CAP_SYS_NICE, a CPU affinity that "
+        "covers its whole root domain (cpuset), and RT bandwidth in its cgroup",
+    ),
+    errno.EINVAL: (
+        69,
+        "the kernel rejected the deadline parameters (SCHED_DEADLINE unsupported or values out of its limits)",
+    ),
     errno.ENOSYS: (69, "this kernel has no sched_setattr (SCHED_DEADLINE needs Linux >= 3.14)"),
     errno.E2BIG: (69, "this kernel does not know the sched_attr layout (SCHED_FLAG_DL_OVERRUN needs Linux >= 4.16)"),
 }

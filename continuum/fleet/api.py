@@ -281,9 +281,7 @@ class Fleet:
         return self.parsed(self.call("upload ROS graph", rosgraphs_import_create.sync_detailed, body=body))
 
     # ---- operators ----------------------------------------------------------------------------------------
-    def upload_application(
-        self, data: bytes, filename: str, *, name: str | None = None, fmt: str | None = None
-    ):
+    def upload_application(self, data: bytes, filename: str, *, name: str | None = None, fmt: str | None = None):
         """Upload a DAG file (continuum JSON, WfFormat, DAX, STG, the simulator's CSV) -> the application."""
         body = ApplicationImportRequest(
             file=File(payload=io.BytesIO(data), file_name=filename, mime_type="application/octet-stream"),

@@ -103,7 +103,7 @@ def cmd_upload(args: argparse.Namespace) -> None:
 def cmd_bag_graph(args: argparse.Namespace) -> None:
     names = _json_file(args.nodes) if args.nodes else {}
     if not isinstance(names, dict):
-        raise BadInput(f"{args.nodes}: expected {{\"publishers\": {{topic: [node]}}, \"subscribers\": {{...}}}}")
+        raise BadInput(f'{args.nodes}: expected {{"publishers": {{topic: [node]}}, "subscribers": {{...}}}}')
     doc = rosgraph_from_bag(args.bag, name=args.name, publishers=names.get("publishers"),
                             subscribers=names.get("subscribers"), topics=args.topic or None)  # fmt: skip
     if not args.upload:

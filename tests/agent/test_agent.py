@@ -321,7 +321,7 @@ def test_a_token_that_starts_with_a_dash_is_the_tokens_value(server, fleet_token
     from apps.tenancy.models import FleetToken, new_token_key
 
     token = FleetToken(fleet=fleet_token.fleet, user=fleet_token.user, scope=FleetToken.Scope.ROBOT)
-    token.set_key(key + new_token_key()[len(key):])
+    token.set_key(key + new_token_key()[len(key) :])
     token.save()
     status, out, err = agent("--runtime-ms", "5", "--deadline-ms", "50", "--period-ms", "50", "--server",
                              server["url"], "--token", token.plaintext, "--node", "node0", "--container", "dashed",
@@ -339,10 +339,39 @@ def test_a_token_that_starts_with_a_dash_is_the_tokens_value(server, fleet_token
         (["--runtime-ms", "2", "--deadline-ms", "10", "--", "true"], "missing --period-ms"),
         (["--runtime-ms", "-2", "--deadline-ms", "10", "--period-ms", "10", "--", "true"], "positive"),
         (["--realtime", "x", "--", "true"], "--realtime needs --server"),
-        (["--server", "ftp://x", "--token", "t", "--runtime-ms", "1", "--deadline-ms", "2", "--period-ms", "2",
-          "--", "true"], "http(s) URL"),
-        (["--server", "http://x", "--token", "--runtime-ms", "1", "--deadline-ms", "2", "--period-ms", "2", "--",
-          "true"], "argument --token: expected one argument"),  # an option where the value should be: not taken
+        (
+            [
+                "--server",
+                "ftp://x",
+                "--token",
+                "t",
+                "--runtime-ms",
+                "1",
+                "--deadline-ms",
+                "2",
+                "--period-ms",
+                "2",
+                "--",
+                "true",
+            ],
+            "http(s) URL",
+        ),
+        (
+            [
+                "--server",
+                "http://x",
+                "--token",
+                "--runtime-ms",
+                "1",
+                "--deadline-ms",
+                "2",
+                "--period-ms",
+                "2",
+                "--",
+                "true",
+            ],
+            "argument --token: expected one argument",
+        ),  # an option where the value should be: not taken
         (["--runtime-ms", "1", "--deadline-ms", "2", "--period-ms", "2", "--container"], "expected one argument"),
     ],
 )

@@ -83,6 +83,7 @@ def test_the_schedule_list_reads_no_large_column_and_a_constant_number_of_querie
         if s.cluster_id is None:
             assert f"{i % 3 + 1} processors" in page
 
+
 def test_a_platform_without_a_processor_list_shows_zero(member, fleet):
     app = make_application(fleet)
     Schedule.objects.create(fleet=fleet, application=app, platform={"processors": 3}, algorithm="heft", makespan=1)

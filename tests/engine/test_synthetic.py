@@ -41,6 +41,7 @@ def test_cluster_is_a_full_mesh_of_two_cpu_nodes():
 
 def test_critical_path_uses_mean_costs():
     from continuum.engine import TaskGraph
+
     dag = TaskGraph.from_dict(
         {
             "tasks": [

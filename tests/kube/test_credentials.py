@@ -287,4 +287,3 @@ def test_key_rotation_and_a_lost_key(kube_admin, cluster, settings, kube_server,
     stored = raw_column(cluster)
     assert kube_admin.patch(url, {"description": "still here"}, format="json").status_code == 200
     assert raw_column(cluster) == stored
-

@@ -253,9 +253,7 @@ def test_a_binding_answered_409_for_the_same_node_counts_as_done(api, kube, kube
     assert pods_by_name(kube, kube_namespace)[a.pod_name].spec.node_name == a.processor
 
 
-def test_a_pod_create_answered_409_is_done_only_if_the_pod_is_the_assignments(
-    api, kube, kube_cluster, kube_namespace
-):
+def test_a_pod_create_answered_409_is_done_only_if_the_pod_is_the_assignments(api, kube, kube_cluster, kube_namespace):
     from apps.clusters import kube as cluster_kube
     from apps.scheduling import kube as schedule_kube
 

@@ -126,7 +126,12 @@ def test_http_only_on_loopback_and_only_when_allowed():
 
 def test_allow_list_of_hosts_and_networks():
     policy = ServerPolicy(allowed_hosts=("k8s.example.org", "*.edge.example.org", "10.20.0.0/16", "192.0.2.7"))
-    for server in ("https://k8s.example.org", "https://a.edge.example.org:6443", "https://10.20.3.4", "https://192.0.2.7"):
+    for server in (
+        "https://k8s.example.org",
+        "https://a.edge.example.org:6443",
+        "https://10.20.3.4",
+        "https://192.0.2.7",
+    ):
         assert validate(text(doc(server=server)), "", policy).server == server
     for server in ("https://evil.example.org", "https://edge.example.org", "https://10.21.0.1", "https://127.0.0.1",
                    "https://k8s.example.org.evil.net"):  # fmt: skip

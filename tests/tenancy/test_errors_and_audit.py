@@ -130,8 +130,12 @@ def test_changes_a_job_makes_in_a_worker_name_whoever_started_it(api, operator, 
     app = api.post("/api/v1/applications/", {"name": "t", "dag": dag}, format="json")
     assert app.status_code == 201, app.data
     # As a worker runs it: outside any request, the job's creator is the actor.
-    job = Job.objects.create(kind="schedule", fleet=fleet, created_by=operator,
-                             arguments={"application": app.data["id"], "algorithm": "heft", "cluster": cluster.pk})
+    job = Job.objects.create(
+        kind="schedule",
+        fleet=fleet,
+        created_by=operator,
+        arguments={"application": app.data["id"], "algorithm": "heft", "cluster": cluster.pk},
+    )
     assert run_job(str(job.pk)) == Job.State.SUCCEEDED, Job.objects.get(pk=job.pk).error
     schedule = Schedule.objects.get(application=Application.objects.get(pk=app.data["id"]))
     entry = entries(Schedule, schedule.pk).get(action=LogEntry.Action.CREATE)

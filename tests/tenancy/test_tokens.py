@@ -118,8 +118,14 @@ def test_admin_shows_a_new_key_once_and_never_again(admin_client, fleet, django_
     robot = django_user_model.objects.create_user("admin-made-robot")
     response = admin_client.post(
         "/admin/tenancy/fleettoken/add/",
-        {"fleet": fleet.pk, "user": robot.pk, "scope": "robot", "description": "lidar", "expires_0": "",
-         "expires_1": ""},
+        {
+            "fleet": fleet.pk,
+            "user": robot.pk,
+            "scope": "robot",
+            "description": "lidar",
+            "expires_0": "",
+            "expires_1": "",
+        },
         follow=True,
     )
     assert response.status_code == 200

@@ -57,9 +57,7 @@ def test_a_bar_from_5_to_12_says_duration_7_with_its_unit(frames):
 
 
 def test_highlighted_niceness_coloured_and_laned_bars_say_the_same():
-    platform = Platform.from_dict(
-        {"processors": [{"id": "cpu0", "cores": 2}, {"id": "cpu1", "cores": 2}], "links": []}
-    )
+    platform = Platform.from_dict({"processors": [{"id": "cpu0", "cores": 2}, {"id": "cpu1", "cores": 2}], "links": []})
     fig = charts.gantt_figure(
         small(niceness=3), platform, critical=[("b", 0)], time_unit="ms", colour_by_niceness=True, lanes=True
     )
