@@ -22,7 +22,7 @@ DECLARED = [*SchedulingJob, *ClusterJob, *ContainersJob, *Heft4kJob, *RealtimeJo
 #: The strings stored in Job.kind (database rows, API output, the fleet client): they never change.
 STORED = {
     "schedule", "compare", "push_schedule", "sync_cluster", "cluster_ros", "place", "push_placement", "remap",
-    "remap_apply", "rt_whatif", "rt_sync", "rt_push", "rt_delete", "rt_reports", "allocate_monitors",
+    "remap_apply", "heft4k_simulate", "rt_whatif", "rt_sync", "rt_push", "rt_delete", "rt_reports", "allocate_monitors",
     "verification_simulation",
 }  # fmt: skip
 
