@@ -14,8 +14,7 @@ from apps.clusters.models import Cluster
 from apps.scheduling.models import Assignment, Schedule
 from apps.tenancy.models import Fleet
 from apps.workloads.models import Application
-
-from .conftest import make_application
+from tests.conftest import make_application
 
 pytestmark = pytest.mark.django_db
 

@@ -14,7 +14,7 @@ from continuum.engine.device.pipeline import frame_violations, pipeline, release
 from continuum.engine.device.visionworks import visionworks
 from continuum.engine.device.xeft import build_cluster, xeft
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 @pytest.fixture

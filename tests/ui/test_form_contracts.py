@@ -14,8 +14,7 @@ from apps.scheduling.serializers import MAX_FRAMES, CompareRequestSerializer
 from apps.ui.forms import contract_field
 from apps.workloads.models import Application
 from continuum.engine.device.board import board
-
-from .conftest import make_application
+from tests.conftest import make_application
 
 pytestmark = pytest.mark.django_db
 

@@ -14,7 +14,7 @@ from continuum.engine.heft4k.remap import CalibrationPoint, calibrate_threshold,
 
 from .test_heft4k import random_cluster, random_dag
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 @pytest.fixture

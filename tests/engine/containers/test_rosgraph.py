@@ -20,7 +20,7 @@ from continuum.engine.containers.rosgraph import (
     propose_levels,
 )
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 CONTRACT_EXAMPLE = {
     "format": "continuum.rosgraph/v1",
     "nodes": [{"name": "move_base", "level": "macro", "memory_mib": 120, "cpu": 0.4, "packages": ["nav2_core"]}],

@@ -21,7 +21,7 @@ from continuum.engine.containers.superclustering import (
 )
 from continuum.engine.core.cluster import Cluster, normalize_arch
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 # Spec 02 section 5.3: reconstructed Fig. 3.28a weights (not thesis data) and priority C4 > C0 > C1 > C2 > C3.
 FIG_3_28_BW = [("C0", "C1", 2), ("C1", "C4", 1), ("C1", "C2", 1), ("C2", "C4", 2), ("C1", "C3", 4), ("C2", "C3", 3)]
 PRIORITY = {"C4": 5, "C0": 4, "C1": 3, "C2": 2, "C3": 1}

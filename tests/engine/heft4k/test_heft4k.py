@@ -12,7 +12,7 @@ from continuum.engine.device.heft import heft
 from continuum.engine.heft4k import heft4k as h4k
 from continuum.engine.heft4k.heft4k import heft4k, map_dag, nice_container, niceness, placements
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 @pytest.fixture

@@ -21,9 +21,7 @@ from continuum.engine.core.schedule import Schedule as EngineSchedule
 from continuum.engine.device.board import board
 from continuum.engine.device.compare import compare
 from continuum.engine.device.pipeline import pipeline
-from tests.conftest import DATA
-
-from .conftest import make_application
+from tests.conftest import DATA, make_application
 
 pytestmark = pytest.mark.django_db
 

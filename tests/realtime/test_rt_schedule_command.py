@@ -10,7 +10,7 @@ from django.core.management.base import CommandError
 
 from apps.realtime.management.commands.rt_schedule import Command
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 RTSET = str(DATA / "rtkube.rtset.json")
 CLUSTER = str(DATA / "rtkube.cluster.json")
 

@@ -9,7 +9,7 @@ import pytest
 from continuum.engine import InputError, Platform, TaskGraph
 from continuum.engine.device.heft import earliest_slot, heft, upward_ranks
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 @pytest.fixture

@@ -15,7 +15,7 @@ from continuum.engine.core.cluster import cluster_platform
 from continuum.engine.heft4k.heft4k import heft4k
 from continuum.engine.heft4k.k8s_baselines import run_heft4k, run_heft_k8s, run_k8s_default, speedup
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 #: The default-Kubernetes tie-break seed of the reconstruction (kube-scheduler picks ties at random).
 K8S_SEED = 1
 

@@ -10,7 +10,7 @@ from continuum.engine.device.heft import heft
 from continuum.engine.device.overlap import cp_min
 from continuum.engine.formats import format_for_path, load_dag, sniff_text
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 def text(name: str) -> str:

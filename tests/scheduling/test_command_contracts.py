@@ -11,7 +11,7 @@ from apps.containers.serializers import ClusterRequestSerializer
 from apps.scheduling.serializers import MAX_FRAMES, ScheduleRequestSerializer
 from continuum.engine.device.board import board
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 def _contract_message(serializer_class, data: dict, field: str) -> str:

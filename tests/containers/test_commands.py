@@ -11,7 +11,7 @@ import pytest
 
 from apps.containers.management.commands import cluster_ros, place
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 def run(module, *argv):

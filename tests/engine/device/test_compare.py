@@ -9,7 +9,7 @@ from continuum.engine import InputError, TaskGraph
 from continuum.engine.device.board import board
 from continuum.engine.device.compare import compare
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 @pytest.fixture

@@ -16,8 +16,8 @@ from apps.containers.services import read_graph
 from apps.jobs.models import Job
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
-from tests.api.test_rosgraphs import CONTRACT
 from tests.conftest import DATA
+from tests.containers.test_rosgraphs_api import CONTRACT
 
 pytestmark = pytest.mark.django_db
 

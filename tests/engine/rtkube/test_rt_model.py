@@ -25,7 +25,7 @@ from continuum.engine.rtkube.rt_model import (
     untolerated,
 )
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 def rt(name="x", **kw):

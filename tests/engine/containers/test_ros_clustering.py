@@ -11,7 +11,7 @@ from continuum.engine import InputError
 from continuum.engine.containers.ros_clustering import cluster_nodes, cluster_ros, max_containers, split_bandwidth
 from continuum.engine.containers.rosgraph import RosGraph, load_rosgraph
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 # Spec 02 section 2.8: consistent with every fact of Fig. 3.21 (v1-v3 = 5, v1-v4 = 4, v0 isolated). Not thesis data.
 FIG_3_21 = {
     ("v1", "v3"): 5, ("v1", "v4"): 4, ("v2", "v4"): 3, ("v2", "v3"): 2, ("v3", "v5"): 2,

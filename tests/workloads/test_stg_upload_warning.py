@@ -5,7 +5,7 @@ from django.core.files.uploadedfile import SimpleUploadedFile
 from django.urls import reverse
 
 from apps.workloads.models import Application
-from tests.api.test_stg_dummy_count import counting_dummies
+from tests.workloads.test_stg_dummy_count import counting_dummies
 
 pytestmark = pytest.mark.django_db
 

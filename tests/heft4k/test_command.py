@@ -7,7 +7,7 @@ import pytest
 
 from apps.heft4k.management.commands.heft4k import Command
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 DAG = str(DATA / "heft4k-mini.dag.json")
 CLUSTER = str(DATA / "heft4k-mini.cluster.json")
 
