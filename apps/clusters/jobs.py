@@ -1,23 +1,16 @@
 """Job handlers of the clusters app: ``sync_cluster`` (read a cluster's nodes from its Kubernetes API)."""
 
 from apps.clusters.kinds import ClusterJob
-from apps.jobs.registry import job_kind
+from apps.jobs.registry import id_argument, job_kind
 
 from . import kube
 from .models import Cluster
 
 
-def _argument(job, name: str) -> int:
-    value = (job.arguments or {}).get(name)
-    if not isinstance(value, int) or isinstance(value, bool):
-        raise ValueError(f"argument {name!r} must be the id of a {name}, got {value!r}")
-    return value
-
-
 @job_kind(ClusterJob.SYNC_CLUSTER)
 def sync_cluster(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster`` (id). Reads the nodes of the cluster's Kubernetes API into its ComputeNodes."""
-    pk = _argument(job, "cluster")
+    pk = id_argument(job, "cluster")
     cluster = Cluster.objects.filter(pk=pk, fleet=job.fleet).first()
     if cluster is None:
         raise ValueError(f"cluster {pk} does not exist")

@@ -1,19 +1,12 @@
 """Job handlers of HEFT4K remapping: ``remap`` (compute, and apply unless a what-if) and ``remap_apply``."""
 
 from apps.heft4k.kinds import Heft4kJob
-from apps.jobs.registry import job_kind
+from apps.jobs.registry import id_argument, job_kind
 from apps.scheduling.models import Schedule
 from continuum.engine.core.errors import InputError
 
 from . import remapping, simulation
 from .models import RemapEvent
-
-
-def _id(job, name: str) -> int:
-    value = (job.arguments or {}).get(name)
-    if not isinstance(value, int) or isinstance(value, bool):
-        raise ValueError(f"argument {name!r} must be the id of a {name}, got {value!r}")
-    return value
 
 
 @job_kind(Heft4kJob.REMAP)
@@ -27,7 +20,7 @@ def remap(job, progress) -> tuple[dict, str]:
     args = job.arguments or {}
     event = RemapEvent.objects.filter(job=job).select_related("schedule", "new_schedule").first()
     if event is None:
-        pk = _id(job, "schedule")
+        pk = id_argument(job, "schedule")
         schedule = Schedule.objects.select_related("application", "cluster").filter(pk=pk, fleet=job.fleet).first()
         if schedule is None:
             raise ValueError(f"schedule {pk} does not exist")
@@ -54,7 +47,7 @@ def remap(job, progress) -> tuple[dict, str]:
 @job_kind(Heft4kJob.REMAP_APPLY)
 def remap_apply(job, progress) -> tuple[dict, str]:
     """Arguments: ``remap`` (id of a what-if remap event). Pushes the pods its new schedule changes."""
-    pk = _id(job, "remap")
+    pk = id_argument(job, "remap")
     event = RemapEvent.objects.select_related("schedule", "new_schedule").filter(pk=pk, fleet=job.fleet).first()
     if event is None:
         raise ValueError(f"remap {pk} does not exist")
@@ -67,7 +60,7 @@ def remap_apply(job, progress) -> tuple[dict, str]:
 def simulate(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id of a HEFT4K schedule). Runs its CFS simulation and the baselines and stores
     them for the schedule page (schedules stored before the jobs did it themselves)."""
-    pk = _id(job, "schedule")
+    pk = id_argument(job, "schedule")
     schedule = Schedule.objects.select_related("application").filter(pk=pk, fleet=job.fleet).first()
     if schedule is None:
         raise ValueError(f"schedule {pk} does not exist")

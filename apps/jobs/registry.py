@@ -62,5 +62,17 @@ def resolve(kind: JobKind | str) -> str:
     return value
 
 
+def id_argument(job: Any, name: str, *, required: bool = True, what: str | None = None) -> int | None:
+    """The row id stored in ``job.arguments[name]`` (stored JSON, so checked again here); ``ValueError`` naming
+    the argument when it is not an integer, or missing while ``required``. ``what`` names the row's type in
+    the message (default: ``name``)."""
+    value = (job.arguments or {}).get(name)
+    if value is None and not required:
+        return None
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise ValueError(f"argument {name!r} must be the id of a {what or name}, got {value!r}")
+    return value
+
+
 def _name(fn: Callable) -> str:
     return f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', repr(fn))}"

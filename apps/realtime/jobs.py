@@ -6,7 +6,7 @@ from datetime import datetime
 from django.db import transaction
 
 from apps.clusters.models import Cluster
-from apps.jobs.registry import job_kind
+from apps.jobs.registry import id_argument, job_kind
 from apps.realtime.kinds import RealtimeJob
 from continuum.engine.rtkube import rt_kube
 
@@ -15,9 +15,7 @@ from .models import RealTime, RTPlan, RTPolicy
 
 
 def _cluster(job) -> Cluster:
-    pk = (job.arguments or {}).get("cluster")
-    if not isinstance(pk, int) or isinstance(pk, bool):
-        raise ValueError(f"argument 'cluster' must be the id of a cluster, got {pk!r}")
+    pk = id_argument(job, "cluster")
     cluster = Cluster.objects.filter(pk=pk, fleet=job.fleet).first()
     if cluster is None:
         raise ValueError(f"cluster {pk} does not exist")
@@ -94,9 +92,7 @@ def rt_delete(job, progress) -> tuple[dict, str]:
     """Arguments: ``realtime`` (id). Deletes its object from the Kubernetes API, then the row; when the API
     refuses, the row stays (with the reason in sync_error) and the job fails with it. Idempotent: a row gone
     already means done."""
-    pk = (job.arguments or {}).get("realtime")
-    if not isinstance(pk, int) or isinstance(pk, bool):
-        raise ValueError(f"argument 'realtime' must be the id of a RealTime, got {pk!r}")
+    pk = id_argument(job, "realtime", what="RealTime")
     row = RealTime.objects.select_related("cluster").filter(pk=pk, cluster__fleet=job.fleet).first()
     if row is None:
         return {"deleted": pk, "already": True}, ""

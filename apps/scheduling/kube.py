@@ -12,7 +12,7 @@ from django.conf import settings
 from django.db import transaction
 
 from apps.clusters.kube import api_client_for
-from apps.jobs.registry import job_kind
+from apps.jobs.registry import id_argument, job_kind
 from apps.kube import gateway
 from apps.kube.gateway import KubeError, Outcome, PodSet, Progress
 from apps.scheduling.kinds import SchedulingJob
@@ -100,17 +100,10 @@ def _failure_summary(schedule, cluster, failed: list[Assignment], total: int, fa
     return f"{len(failed)} of {total} placements of schedule {schedule.pk} failed: " + "; ".join(parts)
 
 
-def _argument(job, name: str) -> int:
-    value = (job.arguments or {}).get(name)
-    if not isinstance(value, int) or isinstance(value, bool):
-        raise ValueError(f"argument {name!r} must be the id of a {name}, got {value!r}")
-    return value
-
-
 @job_kind(SchedulingJob.PUSH_SCHEDULE)
 def push_schedule_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id). Creates one pod per assignment and binds it to the assigned node."""
-    pk = _argument(job, "schedule")
+    pk = id_argument(job, "schedule")
     schedule = Schedule.objects.select_related("cluster", "application").filter(pk=pk, fleet=job.fleet).first()
     if schedule is None:
         raise ValueError(f"schedule {pk} does not exist")

@@ -17,9 +17,7 @@ from continuum.engine.core.platform import Platform, Processor
 from continuum.engine.core.schedule import Assignment
 from continuum.engine.core.schedule import Schedule as EngineSchedule
 from continuum.engine.device.heft import heft
-from tests.conftest import DATA
-
-from .conftest import make_application
+from tests.conftest import DATA, make_application
 
 pytestmark = pytest.mark.django_db
 

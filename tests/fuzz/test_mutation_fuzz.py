@@ -27,7 +27,7 @@ from hypothesis import strategies as st
 
 from .mutation import mutated_json, mutated_text
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 # CONTINUUM_FUZZ_EXAMPLES=500 explores further (random, not derandomized) when hunting for new crashes.
 EXPLORE = int(os.environ.get("CONTINUUM_FUZZ_EXAMPLES", "0"))
 FUZZ = settings(

@@ -14,7 +14,7 @@ from apps.jobs.models import Job
 from apps.workloads.models import Application
 from continuum.engine.core import limits
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 def deep_json(levels: int) -> str:

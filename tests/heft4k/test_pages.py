@@ -23,17 +23,6 @@ from .fan import FAN_DAG, heft4k_schedule
 pytestmark = pytest.mark.django_db
 
 
-@pytest.fixture
-def member(client, operator):
-    client.force_login(operator)
-    return client
-
-
-@pytest.fixture
-def fan(api, cluster):
-    return heft4k_schedule(api, cluster)
-
-
 def whatif(member, schedule, node="node1", **extra):
     return member.post(reverse("heft4k:whatif", args=[schedule.pk]), {"node": node, **extra})
 

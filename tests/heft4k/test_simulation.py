@@ -17,17 +17,6 @@ pytestmark = pytest.mark.django_db
 
 
 @pytest.fixture
-def member(client, operator):
-    client.force_login(operator)
-    return client
-
-
-@pytest.fixture
-def fan(api, cluster):
-    return heft4k_schedule(api, cluster)
-
-
-@pytest.fixture
 def no_simulator(monkeypatch):
     """Any simulation from here on fails the test."""
 

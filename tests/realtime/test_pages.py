@@ -15,12 +15,6 @@ pytestmark = pytest.mark.django_db
 
 
 @pytest.fixture
-def member(client, operator):
-    client.force_login(operator)
-    return client
-
-
-@pytest.fixture
 def rt_data(api, rt_cluster, node0_pods):
     """RealTime objects, reports over the threshold (an eviction, a taint), a pending pod and its decision."""
     slam = make_rt(rt_cluster, "slam", "B", 100, 100, {"node0": 40})

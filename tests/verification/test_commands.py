@@ -13,7 +13,7 @@ from django.core.management import call_command
 
 from apps.verification.management.commands import allocate_monitors, stl_check
 
-DATA = Path(__file__).resolve().parent.parent / "data" / "verification"
+DATA = Path(__file__).resolve().parents[1] / "data" / "verification"
 TRACE = str(DATA / "speed_trace.csv")
 STATS = str(DATA / "case_study_1.monitorstats.json")
 SPEED = "G(speed > 0 -> F[0,5000](arrived))"

@@ -12,12 +12,6 @@ pytestmark = pytest.mark.django_db
 
 
 @pytest.fixture
-def member(client, operator):
-    client.force_login(operator)
-    return client
-
-
-@pytest.fixture
 def monitored(fleet, cluster):
     a = Assertion.objects.create(fleet=fleet, name="arrives", text="G(speed > 0 -> F[0,5000](arrived))")
     node = cluster.nodes.get(name="node1")

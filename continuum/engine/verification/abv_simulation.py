@@ -20,7 +20,7 @@ Readings and model choices (each a field of :class:`Scenario`; the thesis gives 
 * Events moved by a migration (Fig. 3.43 step 5): the events of the monitor's topics published during the
   hand-over window, ``rate * (2 * link delay + handover_ms)`` (the T0 round trip plus the transfer). A
   model figure, not a measurement; the lossless protocol itself is tested on real monitors in
-  tests/engine/test_stl_migration.py and with real processes in tests/verification.
+  tests/engine/verification/test_stl_migration.py and with real processes in tests/verification.
 * RB-Kairos makespan of the navigation chain (ORB-SLAM + local planner on the Jetson): spec 03 §13.2's
   linear contention model fitted to the thesis's three points (115 ms without verification, 140 ms with
   201 monitors on the Jetson, 125 ms after 150 of them left):
