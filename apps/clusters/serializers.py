@@ -15,6 +15,9 @@ from apps.tenancy.api import (
 from apps.tenancy.bounds import at_most, at_most_items
 from apps.tenancy.models import FleetToken
 from continuum.engine.core import limits
+from continuum.engine.core.cluster import FORMAT as CLUSTER_FORMAT
+from continuum.engine.core.cluster import Cluster as EngineCluster
+from continuum.engine.core.errors import InputError
 
 from .models import Cluster, ComputeNode, Link
 
@@ -237,12 +240,36 @@ class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
                     {"links": [f"links[{i}] repeats links[{seen[pair]}] ({pair[0]} -> {pair[1]})"]}
                 )
             seen[pair] = i
+        self._read_as_the_engine_does(attrs)
         check_credentials(self.context.get("request"), attrs, None)
         if Cluster.objects.filter(fleet=attrs["fleet"], name=attrs["name"]).exists():
             raise serializers.ValidationError(
                 {"name": [f"fleet {attrs['fleet'].slug!r} already has cluster {attrs['name']!r}"]}
             )
         return attrs
+
+    def _read_as_the_engine_does(self, attrs) -> None:
+        """The document goes through the one parser of ``continuum.cluster/v1`` (``EngineCluster.from_dict``),
+        so what the API stores is what every placer and command reads from the same file: ``"rt": "false"``
+        is refused (not read as a boolean), a node's ``class`` is its processor class (``processor_class``
+        is this API's older name for it), and ``sched_rt_runtime_us``/``sched_rt_period_us`` set the RT
+        threshold when none is given. The fields above have checked types and bounds already."""
+        raw_nodes = self.initial_data.get("nodes") or []
+        document = {
+            "format": self.initial_data.get("format", CLUSTER_FORMAT),
+            "nodes": [_with_class(raw) for raw in raw_nodes],
+            "links": self.initial_data.get("links") or [],
+        }
+        try:
+            engine = EngineCluster.from_dict(document)
+        except InputError as exc:
+            field = exc.field if exc.field in self.fields else "nodes"
+            raise serializers.ValidationError({field: [str(exc)]}) from None
+        for node in attrs["nodes"]:
+            parsed = engine.nodes[node["name"]]
+            node["processor_class"] = parsed.cls
+            if node.get("rt_threshold") is None and (parsed.sched_rt_runtime_us or parsed.sched_rt_period_us):
+                node["rt_threshold"] = parsed.rt_capacity
 
     @transaction.atomic
     def create(self, validated):
@@ -266,3 +293,10 @@ class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
                 latency_ms=link["latency_ms"],
             )
         return cluster
+
+
+def _with_class(raw):
+    """A node as the format spells it: ``processor_class`` (this API's name) is the format's ``class``."""
+    if isinstance(raw, dict) and "processor_class" in raw and "class" not in raw:
+        raw = {("class" if k == "processor_class" else k): v for k, v in raw.items()}
+    return raw

@@ -32,6 +32,42 @@ def test_bad_cluster_document_is_rejected_and_nothing_stored(api, cluster_doc, c
     assert not Cluster.objects.filter(name="bad").exists() and ComputeNode.objects.count() == 0
 
 
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda d: d["nodes"][0].update(rt="false"), "rt must be true or false (a JSON boolean), not 'false'"),
+        (lambda d: d["nodes"][0].update(cpu=0), "node 'node0' cpu must be a positive number, not 0"),
+        (lambda d: d.update(format="continuum.cluster/v2"), "unsupported format 'continuum.cluster/v2'"),
+    ],
+)
+def test_the_api_reads_a_cluster_document_with_the_engines_one_parser(api, cluster_doc, change, message):
+    """What a placer or command would refuse in the file, the API refuses too (it took "rt": "false" as false)."""
+    from apps.clusters.models import Cluster
+
+    change(cluster_doc)
+    response = api.post("/api/v1/clusters/import/", {"name": "bad", **cluster_doc}, format="json")
+    assert response.status_code == 400, response.data
+    assert any(message in str(e) for errors in response.data.values() for e in errors), response.data
+    assert not Cluster.objects.filter(name="bad").exists()
+
+
+def test_the_api_stores_what_the_file_means(api, cluster_doc):
+    """The format's ``class`` is the node's processor class, and ``sched_rt_*`` set the RT threshold, as the
+    engine reads the same file (the API used to drop both)."""
+    from apps.clusters.models import Cluster
+    from continuum.engine.core.cluster import Cluster as EngineCluster
+
+    cluster_doc["nodes"][0].update({"class": "gpu"})
+    cluster_doc["nodes"][1].update({"rt": True, "sched_rt_runtime_us": 500_000, "sched_rt_period_us": 1_000_000})
+    response = api.post("/api/v1/clusters/import/", {"name": "file", **cluster_doc}, format="json")
+    assert response.status_code == 201, response.data
+    nodes = {n.name: n for n in Cluster.objects.get(name="file").nodes.all()}
+    engine = EngineCluster.from_dict(cluster_doc).nodes
+    assert nodes["node0"].processor_class == engine["node0"].cls == "gpu"
+    assert nodes["node1"].rt_capacity == pytest.approx(engine["node1"].rt_capacity) == pytest.approx(4 * 0.5)
+    assert nodes["node2"].processor_class == "cpu" and nodes["node2"].rt_threshold is None
+
+
 def test_link_must_stay_inside_its_cluster(api, cluster, cluster_doc):
     other = api.post("/api/v1/clusters/import/", {"name": "other", **cluster_doc}, format="json").data
     foreign = api.get(f"/api/v1/nodes/?cluster={other['id']}").data["results"][0]["id"]
