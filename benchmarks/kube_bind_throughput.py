@@ -5,7 +5,7 @@ Starts a :class:`continuum.devcluster.DevCluster` (etcd, kube-apiserver, control
 ``--nodes`` kubemark hollow nodes; binaries from ``scripts/build-kube.sh``, cached), then pushes ``--pods`` pods
 three ways, each into a fresh namespace, round-robin over the nodes, and measures binds per second (create +
 Binding, until the last bind answered) and the time until every pod reports Running (the hollow kubelets'
-status, polled every 0.5 s):
+status, polled every 0.5 s); each run starts once the previous run's namespace is deleted:
 
 1. ``gateway push``: :func:`apps.kube.pods.push`, what a schedule's push job runs (sequential, in rank order,
    with the gateway's retries, idempotence checks and Outcomes);
@@ -73,6 +73,18 @@ def wait_running(api: client.CoreV1Api, namespace: str, m: int, began: float, ti
             return time.monotonic() - began
         time.sleep(0.5)
     raise RuntimeError(f"{namespace}: not all {m} pods Running after {timeout:.0f} s")
+
+
+def wait_gone(api: client.CoreV1Api, namespace: str, timeout: float = 300) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            api.read_namespace(namespace, _request_timeout=30)
+        except client.ApiException as exc:
+            if exc.status == 404:
+                return
+            raise
+        time.sleep(1)
 
 
 def run_gateway_push(kubeconfig: str, nodes: list[str], m: int, namespace: str) -> float:
@@ -189,7 +201,9 @@ def main() -> None:
             results[label] = elapsed
             rows.append([label, elapsed, args.pods / elapsed, running])
             print(f"  {label}: {args.pods} binds in {elapsed:.2f} s, all Running after {running:.1f} s", flush=True)
-            watch.delete_namespace(namespace)  # the namespace controller deletes the pods meanwhile
+            # The next client starts on a quiet cluster: this namespace's pods deleted first.
+            watch.delete_namespace(namespace)
+            wait_gone(watch, namespace)
         print()
         print(table(["client", "bind s", "binds/s", "all Running s"], rows))
         plain = args.pods / results["plain client, parallel"]

@@ -156,7 +156,7 @@ def ros_part(api, kubeconfig: str, kairos: dict, live_nodes: dict, containers: i
     nodes = []
     for n in kairos["nodes"]:
         cap = live_nodes[n["name"]]["capacity"]
-        nodes.append({**n, "cpu": float(cap["cpu"]), "memory_mib": int(cap["memory"].removesuffix("Ki")) // 1024})
+        nodes.append({**n, "cpu": gateway.cores(cap["cpu"]), "memory_mib": gateway.mib(cap["memory"])})
     cl = Cluster.from_dict({**kairos, "nodes": nodes})
     total = sum(wl.bandwidth.values())
 
@@ -220,10 +220,13 @@ def rt_verdict(placed: dict[str, str], containers, rt_nodes) -> tuple[dict[str, 
             problems.append(f"{c.name}: no WCET on {node}")
             continue
         util[node] += u
+    problems = [p for i, p in enumerate(problems) if p.split(":")[0] not in {q.split(":")[0] for q in problems[:i]}]
     admitted = 0
     for c in containers:
         node = placed.get(c.name)
         if not c.is_rt:
+            continue
+        if any(p.startswith(f"{c.name}:") for p in problems):
             continue
         if node is None:
             problems.append(f"{c.name}: pending")
