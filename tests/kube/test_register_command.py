@@ -97,3 +97,18 @@ def test_check_only_needs_no_kubeconfig_and_writes_nothing(fleet, files):
     result = register("--check-only", "--cluster-file", cluster_file, "--fleet", fleet.slug)
     assert result == {"name": "testbed", "fleet": fleet.slug, "nodes": 4, "check_only": True}
     assert not Cluster.objects.exists()
+
+
+@pytest.mark.parametrize("text", ["{{{ not yaml", "[1, 2]", "a: b\n---\nc: d\n", "[" * 100_000])
+def test_a_malformed_cluster_file_is_one_line_on_stderr_no_traceback(fleet, tmp_path, capsys, text):
+    from django.core.management import get_commands, load_command_class
+
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    cmd = load_command_class(get_commands()["register_cluster"], "register_cluster")
+    with pytest.raises(SystemExit) as exc:
+        cmd.run_from_argv(["manage.py", "register_cluster", "--check-only", "--cluster-file", str(path),
+                           "--fleet", fleet.slug, "--skip-checks"])  # fmt: skip
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
