@@ -104,8 +104,9 @@ def run_gateway_push(kubeconfig: str, nodes: list[str], m: int, namespace: str) 
 def run_gateway_parallel(kubeconfig: str, nodes: list[str], m: int, namespace: str, threads: int) -> float:
     pods = PodSet(schedule=2, application=2, application_name="bench", namespace=namespace)
     work = [(a, pod_name(pods, a.task, a.frame)) for a in assignments(nodes, m)]
-    with gateway.api_client(kubeconfig, name="bench") as api_client:
-        api_client.configuration.connection_pool_maxsize = threads
+    configuration = gateway.configuration_for(gateway.target(kubeconfig, name="bench"))
+    configuration.connection_pool_maxsize = threads  # as many connections as workers, like the plain client
+    with client.ApiClient(configuration) as api_client:
         pusher = Pusher(pods, api_client)
         pusher.ensure_namespace()
         problems = pusher.node_problems()

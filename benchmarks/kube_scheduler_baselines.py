@@ -273,6 +273,12 @@ def rt_part(api, kubeconfig: str, rt_doc: dict, seeds: int) -> None:
     rows.append([f"default scheduler, engine model ({seeds} seeds)", mean_adm, n_rt - mean_adm, 0,
                  f"admitted min {min(model_adm)}, max {max(model_adm)}"])  # fmt: skip
     print(table(["placement", "RT admitted", "RT not admitted", "pending", "first problems"], rows))
+    real_adm = rt_verdict(real_placed, containers, rt_nodes)[1]
+    inside = min(model_adm) <= real_adm <= max(model_adm)
+    print(
+        f"model of the default scheduler vs the real one: {mean_adm:.2f} vs {real_adm} RT containers admitted "
+        f"({'within' if inside else 'OUTSIDE'} the model's range over seeds)"
+    )
     print(f"gateway push of RT-Kube's placement: {bound} bound in {push_s:.2f} s, {running} Running")
     print("RT utilisation per node (sum WCET/period) vs threshold:")
     for n in rt_nodes:
