@@ -1,0 +1,318 @@
+"""Continuum's placers against the real kube-scheduler on one live local cluster (run on demand, a few minutes:
+``python benchmarks/kube_scheduler_baselines.py [--containers 6] [--seeds 20]``).
+
+One :class:`continuum.devcluster.DevCluster` with six kubemark hollow nodes shaped like two thesis testbeds:
+``clusters/rb-kairos.json`` (4.2.1: MCB, Jetson Nano, server; prefixed ``kairos-``, label ``testbed=kairos``)
+and ``tests/data/rtkube.cluster.json`` (4.4: RT Jetson for criticality C, RT server for A, non-RT robot PC;
+label ``testbed=rtkube``, RT nodes tainted ``RealTime=RT:NoSchedule``). The same pods are placed twice:
+
+1. ROS graph (``tests/data/autoware_reference_system.json`` clustered into ``--containers`` containers,
+   Listing 3.20) on the kairos nodes: super-clustering (Eqs. 3.14-3.15, the engine) pushed through the
+   gateway (:func:`apps.kube.pods.push`, Binding API), against the real kube-scheduler's default profile
+   given pods with only requests and a ``testbed=kairos`` node selector. Printed: bytes/s crossing nodes
+   (Eq. 3.12 over the graph's topic rates) of each placement, with the engine's model of default Kubernetes
+   (``default_kubernetes``, mean over seeds) next to the real scheduler's figure.
+2. RT containers (``tests/data/rtkube.rtset.json``) on the rtkube nodes: RT-Kube's sort/filter/score/bind
+   (the engine) pushed through the gateway, against kube-scheduler given pods with requests, the
+   ``testbed=rtkube`` selector and a toleration of the RealTime taint. Printed: per node RT utilisation
+   (sum of WCET/period) against the node's threshold, and how many RT containers each placement admits
+   (on an RT node, with a WCET there, the node within its threshold) or leaves pending; the engine's model
+   of the default scheduler (``kube_default``) next to the real one.
+
+Hollow nodes report 1 CPU and 3840 MiB whatever the file says, so both sides see those capacities: the
+super-clustering runs on the live nodes' capacities and the real scheduler's pods request ``--cpu`` cores
+each; the RT pods' requests are the rtset's cpu scaled by 1/16 (the largest RT node has 16 cores).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import random
+import statistics
+import sys
+import tempfile
+import time
+import uuid
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
+
+import django  # noqa: E402
+
+django.setup()
+
+import yaml  # noqa: E402
+from kubernetes import client, config  # noqa: E402
+
+from apps.kube import gateway  # noqa: E402
+from apps.kube.pods import PodSet, pod_name, push  # noqa: E402
+from benchmarks._bench import table  # noqa: E402
+from continuum.devcluster import DevCluster, build_binaries, hollow_nodes  # noqa: E402
+from continuum.engine.containers.ros_clustering import cluster_ros  # noqa: E402
+from continuum.engine.containers.rosgraph import load_rosgraph  # noqa: E402
+from continuum.engine.containers.superclustering import (  # noqa: E402
+    default_kubernetes,
+    inter_node_bandwidth,
+    load_workload,
+    superclustering,
+)
+from continuum.engine.core.cluster import Cluster  # noqa: E402
+from continuum.engine.core.schedule import Assignment  # noqa: E402
+from continuum.engine.rtkube import rt_kube  # noqa: E402
+from continuum.engine.rtkube.rt_model import cluster_from_dict, rtset_from_dict  # noqa: E402
+
+DATA = ROOT / "tests" / "data"
+RT_CPU_SCALE = 1 / 16
+
+
+def progress(line: str) -> None:
+    print(f"  [cluster] {line}", file=sys.stderr, flush=True)
+
+
+def testbed() -> tuple[dict, dict, dict]:
+    """(the live cluster's document, the kairos part, the rtkube part)."""
+    kairos = json.loads((ROOT / "clusters" / "rb-kairos.json").read_text())
+    rename = {n["name"]: f"kairos-{n['name']}" for n in kairos["nodes"]}
+    kairos = {
+        "format": "continuum.cluster/v1",
+        "nodes": [{**n, "name": rename[n["name"]], "labels": {**n.get("labels", {}), "testbed": "kairos"}}
+                  for n in kairos["nodes"]],
+        "links": [{**lk, "src": rename[lk["src"]], "dst": rename[lk["dst"]]} for lk in kairos["links"]],
+    }  # fmt: skip
+    rt = json.loads((DATA / "rtkube.cluster.json").read_text())
+    rt["nodes"] = [{**n, "labels": {**n.get("labels", {}), "testbed": "rtkube"}} for n in rt["nodes"]]
+    live = {"format": "continuum.cluster/v1", "nodes": kairos["nodes"] + rt["nodes"]}
+    return live, kairos, rt
+
+
+def wait_bound(api: client.CoreV1Api, namespace: str, n: int, timeout: float = 90) -> dict[str, str | None]:
+    """Pod name -> node once every pod is bound (or, after ``timeout``, None for those still Pending)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        pods = api.list_namespaced_pod(namespace, _request_timeout=30).items
+        bound = {p.metadata.name: p.spec.node_name for p in pods}
+        if (len(bound) >= n and all(bound.values())) or time.monotonic() > deadline:
+            return bound
+        time.sleep(0.5)
+
+
+def wait_running(api: client.CoreV1Api, namespace: str, n: int, timeout: float = 120) -> int:
+    deadline = time.monotonic() + timeout
+    running = 0
+    while time.monotonic() < deadline:
+        running = sum(1 for p in api.list_namespaced_pod(namespace).items if p.status.phase == "Running")
+        if running >= n:
+            break
+        time.sleep(0.5)
+    return running
+
+
+def kube_scheduler_place(api: client.CoreV1Api, namespace: str, pods: list[dict]) -> dict[str, str | None]:
+    """Create ``pods`` ({name, cpu, memory_mib, selector, tolerate_rt}) for the default scheduler; where it bound
+    each (None: still Pending after the wait)."""
+    api.create_namespace(client.V1Namespace(metadata=client.V1ObjectMeta(name=namespace)))
+    for p in pods:
+        tolerations = [client.V1Toleration(key="RealTime", operator="Exists")] if p.get("tolerate_rt") else None
+        body = client.V1Pod(
+            metadata=client.V1ObjectMeta(name=p["name"]),
+            spec=client.V1PodSpec(
+                restart_policy="Never",
+                node_selector=p["selector"],
+                tolerations=tolerations,
+                containers=[client.V1Container(
+                    name="c", image="registry.invalid/none",
+                    resources=client.V1ResourceRequirements(
+                        requests={"cpu": f"{int(p['cpu'] * 1000)}m", "memory": f"{int(p['memory_mib'])}Mi"}),
+                )],
+            ),
+        )  # fmt: skip
+        api.create_namespaced_pod(namespace, body)
+    return wait_bound(api, namespace, len(pods))
+
+
+def gateway_push(kubeconfig: str, namespace: str, placed: dict[str, str]) -> tuple[int, float]:
+    """Push Continuum's placement through the gateway; (pods bound, seconds)."""
+    pods = PodSet(schedule=1, application=1, application_name="bench", namespace=namespace)
+    work = [(Assignment(task=c, processor=n, start=0.0, finish=1.0), pod_name(pods, c, 0)) for c, n in placed.items()]
+    began = time.monotonic()
+    with gateway.api_client(kubeconfig, name="bench") as api_client:
+        outcomes, reason = push(pods, api_client, work)
+    if reason:
+        raise RuntimeError(f"gateway push failed: {reason}")
+    return sum(o.ok for o in outcomes), time.monotonic() - began
+
+
+def ros_part(api, kubeconfig: str, kairos: dict, live_nodes: dict, containers: int, cpu: float, seeds: int) -> None:
+    graph = load_rosgraph((DATA / "autoware_reference_system.json").read_text())
+    clustered = cluster_ros(graph, containers)
+    doc = {"containers": [{"name": c.name, "nodes": list(c.nodes), "cpu": cpu, "memory_mib": 256}
+                          for c in clustered.containers]}  # fmt: skip
+    wl = load_workload(doc, graph)
+    # The live nodes' capacities (what the real scheduler sees), the file's names, arch, labels and links.
+    nodes = []
+    for n in kairos["nodes"]:
+        cap = live_nodes[n["name"]]["capacity"]
+        nodes.append({**n, "cpu": gateway.cores(cap["cpu"]), "memory_mib": gateway.mib(cap["memory"])})
+    cl = Cluster.from_dict({**kairos, "nodes": nodes})
+    total = sum(wl.bandwidth.values())
+
+    sc = superclustering(wl, cl)
+    sc_placed = sc.placed()
+    ns = f"bench-ros-sc-{uuid.uuid4().hex[:6]}"
+    bound, push_s = gateway_push(kubeconfig, ns, sc_placed)
+    running_sc = wait_running(api, ns, bound)
+
+    model = [default_kubernetes(wl, cl, seed=s).metrics["inter_node_bandwidth"] for s in range(seeds)]
+    ns_k = f"bench-ros-k8s-{uuid.uuid4().hex[:6]}"
+    names = {c.name: f"c{i}-{c.name.lower().replace('_', '-')}"[:60].strip("-") for i, c in enumerate(wl.containers)}
+    where = kube_scheduler_place(api, ns_k, [
+        {"name": names[c.name], "cpu": c.cpu, "memory_mib": c.memory_mib, "selector": {"testbed": "kairos"}}
+        for c in wl.containers
+    ])  # fmt: skip
+    real = {c: where.get(names[c]) for c in names}
+    real_placed = {c: n for c, n in real.items() if n}
+
+    print(f"\n== 1. Autoware reference system, {len(wl.containers)} containers ({cpu:g} CPU, 256 MiB each), "
+          f"on the 3 kairos hollow nodes (1 CPU, 3840 MiB each) ==")  # fmt: skip
+    print(f"bytes/s between containers: {total:,.0f}")
+    rows = [
+        ["super-clustering (engine) + gateway push", inter_node_bandwidth(sc_placed, wl), len(sc_placed),
+         f"{bound} bound in {push_s:.2f} s, {running_sc} Running"],
+        [f"default Kubernetes, engine model ({seeds} seeds)", statistics.mean(model), len(wl.containers),
+         f"min {min(model):,.0f}, max {max(model):,.0f}"],
+        ["kube-scheduler v1.20 default profile (live)", inter_node_bandwidth(real_placed, wl), len(real_placed),
+         f"{len(real) - len(real_placed)} Pending"],
+    ]  # fmt: skip
+    print(table(["placement", "inter-node B/s", "placed", "note"], rows))
+    sc_bw = inter_node_bandwidth(sc_placed, wl)
+    real_bw = inter_node_bandwidth(real_placed, wl)
+    if sc_bw > 0:
+        print(f"kube-scheduler / super-clustering: {real_bw / sc_bw:.2f}x the bytes/s crossing nodes")
+    else:
+        print(f"super-clustering leaves 0 B/s between nodes; kube-scheduler {real_bw:,.0f} B/s")
+    model_mean = statistics.mean(model)
+    print(
+        f"model of default Kubernetes vs the real one: {model_mean:,.0f} vs {real_bw:,.0f} B/s "
+        f"({'within' if min(model) <= real_bw <= max(model) else 'OUTSIDE'} the model's range over seeds)"
+    )
+    print("where each container went (super-clustering | kube-scheduler):")
+    for c in wl.containers:
+        print(f"  {c.name:<28} {sc_placed.get(c.name, 'pending'):<20} | {real.get(c.name) or 'Pending'}")
+    api.delete_namespace(ns)
+    api.delete_namespace(ns_k)
+
+
+def rt_verdict(placed: dict[str, str], containers, rt_nodes) -> tuple[dict[str, float], int, list[str]]:
+    """(utilisation per node, RT containers admitted, why the others are not) for any placement."""
+    nodes = {n.name: n for n in rt_nodes}
+    util = dict.fromkeys(nodes, 0.0)
+    problems = []
+    for c in containers:
+        node = placed.get(c.name)
+        if node is None or not c.is_rt:
+            continue
+        u = c.utilization(node)
+        if u is None:
+            problems.append(f"{c.name}: no WCET on {node}")
+            continue
+        util[node] += u
+    problems = [p for i, p in enumerate(problems) if p.split(":")[0] not in {q.split(":")[0] for q in problems[:i]}]
+    admitted = 0
+    for c in containers:
+        node = placed.get(c.name)
+        if not c.is_rt:
+            continue
+        if any(p.startswith(f"{c.name}:") for p in problems):
+            continue
+        if node is None:
+            problems.append(f"{c.name}: pending")
+        elif not nodes[node].rt:
+            problems.append(f"{c.name}: on non-RT node {node}")
+        elif c.utilization(node) is not None and util[node] > nodes[node].rt_threshold + 1e-9:
+            problems.append(f"{c.name}: {node} over its threshold ({util[node]:.2f} > {nodes[node].rt_threshold:g})")
+        elif c.utilization(node) is not None:
+            admitted += 1
+    return util, admitted, problems
+
+
+def rt_part(api, kubeconfig: str, rt_doc: dict, seeds: int) -> None:
+    rt_nodes = cluster_from_dict(rt_doc)
+    containers = rtset_from_dict(json.loads((DATA / "rtkube.rtset.json").read_text()), [n.name for n in rt_nodes])
+    n_rt = sum(c.is_rt for c in containers)
+    plan = rt_kube.schedule(containers, rt_nodes)
+    ours = plan.placed()
+    ns = f"bench-rt-{uuid.uuid4().hex[:6]}"
+    bound, push_s = gateway_push(kubeconfig, ns, ours)
+    running = wait_running(api, ns, bound)
+
+    ns_k = f"bench-rt-k8s-{uuid.uuid4().hex[:6]}"
+    names = {c.name: f"rt{i}-{c.name.lower().replace('_', '-')}"[:60].strip("-") for i, c in enumerate(containers)}
+    where = kube_scheduler_place(api, ns_k, [
+        {"name": names[c.name], "cpu": max(c.cpu * RT_CPU_SCALE, 0.01), "memory_mib": max(c.memory_mib, 16),
+         "selector": {"testbed": "rtkube"}, "tolerate_rt": True}
+        for c in containers
+    ])  # fmt: skip
+    real = {c: where.get(names[c]) for c in names}
+    real_placed = {c: n for c, n in real.items() if n}
+    models = [rt_kube.kube_default(containers, rt_nodes, rng=random.Random(s)).placed()
+              for s in range(seeds)]  # fmt: skip
+
+    print(f"\n== 2. RT-Kube: {len(containers)} containers ({n_rt} RT) of tests/data/rtkube.rtset.json "
+          f"on the 3 rtkube hollow nodes ==")  # fmt: skip
+    rows, utils = [], {}
+    for label, placed in (("RT-Kube (engine) + gateway push", ours), ("kube-scheduler (live)", real_placed)):
+        util, admitted, problems = rt_verdict(placed, containers, rt_nodes)
+        utils[label] = util
+        rows.append([label, admitted, n_rt - admitted, len(containers) - len(placed), "; ".join(problems[:3]) or "-"])
+    model_adm = [rt_verdict(p, containers, rt_nodes)[1] for p in models]
+    mean_adm = statistics.mean(model_adm)
+    rows.append([f"default scheduler, engine model ({seeds} seeds)", mean_adm, n_rt - mean_adm, 0,
+                 f"admitted min {min(model_adm)}, max {max(model_adm)}"])  # fmt: skip
+    print(table(["placement", "RT admitted", "RT not admitted", "pending", "first problems"], rows))
+    real_adm = rt_verdict(real_placed, containers, rt_nodes)[1]
+    inside = min(model_adm) <= real_adm <= max(model_adm)
+    print(
+        f"model of the default scheduler vs the real one: {mean_adm:.2f} vs {real_adm} RT containers admitted "
+        f"({'within' if inside else 'OUTSIDE'} the model's range over seeds)"
+    )
+    print(f"gateway push of RT-Kube's placement: {bound} bound in {push_s:.2f} s, {running} Running")
+    print("RT utilisation per node (sum WCET/period) vs threshold:")
+    for n in rt_nodes:
+        cells = "  ".join(f"{label.split(' ')[0]} {utils[label][n.name]:.2f}" for label in utils)
+        print(f"  {n.name:<10} threshold {n.rt_threshold:>5.2f} (rt={str(n.rt).lower():5})  {cells}")
+    print("where each container went (RT-Kube | kube-scheduler):")
+    for c in containers:
+        print(f"  {c.name:<16} {c.criticality:<5} {ours.get(c.name, 'pending'):<10} | {real.get(c.name) or 'Pending'}")
+    api.delete_namespace(ns)
+    api.delete_namespace(ns_k)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--containers", type=int, default=6, help="containers the Autoware graph is clustered into")
+    parser.add_argument("--cpu", type=float, default=0.3, help="CPU request of each ROS container")
+    parser.add_argument("--seeds", type=int, default=20, help="seeds of the engine's default-Kubernetes model")
+    args = parser.parse_args()
+    live, kairos, rt_doc = testbed()
+    cluster = DevCluster(tempfile.mkdtemp(prefix="bench-sched-"))
+    try:
+        began = time.monotonic()
+        cluster.up(hollow_nodes(live), build_binaries(progress=progress), timeout=900, progress=progress)
+        print(f"cluster of {len(live['nodes'])} hollow nodes up in {time.monotonic() - began:.1f} s "
+              "(etcd, kube-apiserver, controller-manager, kube-scheduler with its default profile)")  # fmt: skip
+        kubeconfig = cluster.kubeconfig()
+        api_client = config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False)
+        api = client.CoreV1Api(api_client)
+        ros_part(api, kubeconfig, kairos, cluster.nodes(), args.containers, args.cpu, args.seeds)
+        rt_part(api, kubeconfig, rt_doc, args.seeds)
+        api_client.close()
+    finally:
+        cluster.down()
+
+
+if __name__ == "__main__":
+    main()
