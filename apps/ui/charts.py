@@ -97,6 +97,16 @@ def base_layout(fig: go.Figure, height: int) -> None:
     )
 
 
+def cycle_colours(keys: Iterable[str], palette: Sequence[str]) -> dict[str, str]:
+    """A colour per key, in the order given, cycling through ``palette``."""
+    return {k: palette[i % len(palette)] for i, k in enumerate(keys)}
+
+
+def stacked_panels(titles: Sequence[str], rows: int, spacing: float) -> go.Figure:
+    """Panels stacked in one column on a shared x axis (the timelines' layout), titled ``titles``."""
+    return make_subplots(rows=rows, cols=1, shared_xaxes=True, vertical_spacing=spacing, subplot_titles=titles)
+
+
 # ---- Gantt chart ------------------------------------------------------------------------------------
 #: Niceness colours: the lowest niceness (the highest priority, HEFT4K's top-ranked tasks) darkest.
 NICE_SCALE = [[0.0, "#08306b"], [0.5, "#4292c6"], [1.0, "#c6dbef"]]
@@ -565,10 +575,6 @@ def add_edge_traces(
 def dag_figure(dag: TaskGraph) -> go.Figure:
     """The DAG drawn in layers by topological level; hover shows a task's costs or an edge's data."""
     pos = dag_layout(dag)
-    succ_count = {t: len(es) for t, es in dag.successors().items()}
-    pred_count = {t: len(es) for t, es in dag.predecessors().items()}
-    unit = dag.time_unit
-
     fig = go.Figure()
     add_edge_traces(
         fig,
@@ -578,13 +584,50 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
         width=1.2,
         hover_size=10,
     )
+    labelled = len(dag.tasks) <= MAX_LABELLED_TASKS
+    fig.add_trace(_dag_task_trace(dag, pos, labelled))
+    if len(dag.edges) <= MAX_ARROWS:
+        _add_dag_arrows(fig, dag, pos)
+    _dag_axes(fig, pos, labelled)
+    return fig
+
+
+def _dag_task_trace(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], labelled: bool) -> go.Scatter:
+    """The tasks: coloured by mean cost (with its colour bar), diamonds for critical tasks, costs on hover."""
+    unit = dag.time_unit
     tasks = list(dag.tasks.values())
-    mean_cost = [fmean(t.cost.values()) for t in tasks]
-    colours, colour_opts = _cost_colours(mean_cost)
+    colours, colour_opts = _cost_colours([fmean(t.cost.values()) for t in tasks])
     colorbar = {"title": {"text": f"mean cost ({esc(unit)})", "side": "right"}, "thickness": 12}
     if "colorbar_tickvals" in colour_opts:
         colorbar["tickvals"] = colour_opts["colorbar_tickvals"]
         colorbar["ticktext"] = colour_opts["colorbar_ticktext"]
+    return go.Scatter(
+        x=[pos[t.id][0] for t in tasks],
+        y=[pos[t.id][1] for t in tasks],
+        mode="markers+text" if labelled else "markers",
+        text=[esc(t.id) for t in tasks],
+        textposition="top center",
+        marker={
+            "size": 18 if labelled else 12,
+            "color": colours,
+            "colorscale": colour_opts["colorscale"],
+            "showscale": True,
+            "colorbar": colorbar,
+            "symbol": ["diamond" if t.critical else "circle" for t in tasks],
+            "line": {"color": "#1f2933", "width": 1},
+        },
+        hovertext=_dag_task_hover(dag, pos, tasks),
+        hoverinfo="text",
+        name="tasks",
+        showlegend=False,
+    )
+
+
+def _dag_task_hover(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], tasks: Sequence) -> list[str]:
+    """Per task: its id (and name), level, in/out degree, cost per processor class, and whether it is critical."""
+    unit = dag.time_unit
+    succ_count = {t: len(es) for t, es in dag.successors().items()}
+    pred_count = {t: len(es) for t, es in dag.predecessors().items()}
     hover = []
     for t in tasks:
         costs = "<br>".join(f"  {esc(k)}: {fmt(v)} {esc(unit)}" for k, v in sorted(t.cost.items()))
@@ -594,48 +637,33 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
             f"{title}<br>level {int(pos[t.id][0])}, {pred_count[t.id]} in / {succ_count[t.id]} out"
             f"<br>cost:<br>{costs}{flags}"
         )
-    labelled = len(tasks) <= MAX_LABELLED_TASKS
-    fig.add_trace(
-        go.Scatter(
-            x=[pos[t.id][0] for t in tasks],
-            y=[pos[t.id][1] for t in tasks],
-            mode="markers+text" if labelled else "markers",
-            text=[esc(t.id) for t in tasks],
-            textposition="top center",
-            marker={
-                "size": 18 if labelled else 12,
-                "color": colours,
-                "colorscale": colour_opts["colorscale"],
-                "showscale": True,
-                "colorbar": colorbar,
-                "symbol": ["diamond" if t.critical else "circle" for t in tasks],
-                "line": {"color": "#1f2933", "width": 1},
-            },
-            hovertext=hover,
-            hoverinfo="text",
-            name="tasks",
-            showlegend=False,
+    return hover
+
+
+def _add_dag_arrows(fig: go.Figure, dag: TaskGraph, pos: Mapping[str, tuple[float, float]]) -> None:
+    """An arrow head on every edge, 82 % of the way to its destination (clear of the task's marker)."""
+    for e in dag.edges:
+        (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
+        fig.add_annotation(
+            x=x0 + 0.82 * (x1 - x0),
+            y=y0 + 0.82 * (y1 - y0),
+            ax=x0,
+            ay=y0,
+            xref="x",
+            yref="y",
+            axref="x",
+            ayref="y",
+            showarrow=True,
+            arrowhead=2,
+            arrowsize=1.2,
+            arrowwidth=1.2,
+            arrowcolor=EDGE_COLOUR,
+            text="",
         )
-    )
-    if len(dag.edges) <= MAX_ARROWS:
-        for e in dag.edges:
-            (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
-            fig.add_annotation(
-                x=x0 + 0.82 * (x1 - x0),
-                y=y0 + 0.82 * (y1 - y0),
-                ax=x0,
-                ay=y0,
-                xref="x",
-                yref="y",
-                axref="x",
-                ayref="y",
-                showarrow=True,
-                arrowhead=2,
-                arrowsize=1.2,
-                arrowwidth=1.2,
-                arrowcolor=EDGE_COLOUR,
-                text="",
-            )
+
+
+def _dag_axes(fig: go.Figure, pos: Mapping[str, tuple[float, float]], labelled: bool) -> None:
+    """Height from the tallest level; x ticks per level; y hidden, with room for the top row's labels."""
     width_levels = max((int(x) for x, _ in pos.values()), default=0) + 1
     tallest = max(
         (sum(1 for x, _ in pos.values() if int(x) == lv) for lv in range(width_levels)),
@@ -653,7 +681,6 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
     ys = [y for _, y in pos.values()]
     pad = 0.8 if labelled else 0.5  # room for the labels above the top row
     fig.update_yaxes(visible=False, showgrid=False, zeroline=False, range=[min(ys) - 0.5, max(ys) + pad])
-    return fig
 
 
 # ---- Cluster network ----------------------------------------------------------------------------------
