@@ -134,13 +134,27 @@ def rosgraph_figure(
     """The ROS graph by level and container (``groups``: container -> ROS nodes; none: one group). A dark rim
     marks a level set by the user, a white rim one proposed from the graph's structure."""
     levels = graph.levels()
-    given = {n: node.level for n, node in graph.nodes.items()}
     groups = dict(groups) if groups else {"ROS nodes": sorted(graph.nodes, key=natural_key)}
-    owner = {n: c for c, members in groups.items() for n in members}
     palette = colours(list(groups))
     pos = rosgraph_layout(graph, levels, groups)
     weights = graph.weights(mode)
     top = max(weights.values(), default=0.0)
+    fig = go.Figure(_edge_traces(_rosgraph_segments(graph, groups, pos, weights), top))
+    labelled = len(graph.nodes) <= MAX_LABELLED
+    for container, members in groups.items():
+        fig.add_trace(_ros_nodes_trace(graph, levels, container, members, pos, palette[container], labelled))
+    _rosgraph_layout_axes(fig, pos)
+    return fig
+
+
+def _rosgraph_segments(
+    graph: RosGraph,
+    groups: Mapping[str, Sequence[str]],
+    pos: Mapping[str, tuple[float, float]],
+    weights: Mapping[tuple[str, str], float],
+) -> list[tuple[tuple[float, float], tuple[float, float], float, str, str]]:
+    """One segment per communicating pair: warm between containers (when there are several), grey inside one."""
+    owner = {n: c for c, members in groups.items() for n in members}
     segments = []
     for (a, b), w in weights.items():
         inter = owner.get(a) != owner.get(b)
@@ -148,41 +162,54 @@ def rosgraph_figure(
         where = "between containers" if inter and len(groups) > 1 else "inside a container"
         text = f"<b>{esc(a)} ↔ {esc(b)}</b><br>{rate(w)}<br>{where}<br>topics: {topics}"
         segments.append((pos[a], pos[b], w, INTER_COLOUR if inter and len(groups) > 1 else EDGE_COLOUR, text))
-    fig = go.Figure(_edge_traces(segments, top))
-    labelled = len(graph.nodes) <= MAX_LABELLED
-    for container, members in groups.items():
-        names = sorted(members, key=natural_key)
-        hover = []
-        for n in names:
-            node = graph.nodes[n]
-            level = LEVEL_LABELS[levels[n]] + ("" if given[n] else " (proposed)")
-            extra = f"<br>packages: {', '.join(escs(node.packages))}" if node.packages else ""
-            hover.append(
-                f"<b>{esc(n)}</b><br>container: {esc(container)}<br>level: {level}"
-                f"<br>CPU {node.cpu:.3g} cores, memory {node.memory_mib:.4g} MiB{extra}"
-            )
-        fig.add_trace(
-            go.Scatter(
-                x=[pos[n][0] for n in names],
-                y=[pos[n][1] for n in names],
-                mode="markers+text" if labelled else "markers",
-                text=escs(names),
-                # Neighbours in a row alternate label sides (the layout nudges them up and down to match).
-                textposition=[_label_side(pos[n]) for n in names],
-                textfont={"size": 10},
-                marker={
-                    "size": 16,
-                    "color": palette[container],
-                    "line": {
-                        "color": ["#1f2933" if given[n] else "white" for n in names],
-                        "width": [2.5 if given[n] else 1.5 for n in names],
-                    },
-                },
-                hovertext=hover,
-                hoverinfo="text",
-                name=esc(container),
-            )
+    return segments
+
+
+def _ros_nodes_trace(
+    graph: RosGraph,
+    levels: Mapping[str, str],
+    container: str,
+    members: Sequence[str],
+    pos: Mapping[str, tuple[float, float]],
+    colour: str,
+    labelled: bool,
+) -> go.Scatter:
+    """One container's ROS nodes (its legend entry): a dark rim for a level the user set, white for a proposed one."""
+    given = {n: node.level for n, node in graph.nodes.items()}
+    names = sorted(members, key=natural_key)
+    hover = []
+    for n in names:
+        node = graph.nodes[n]
+        level = LEVEL_LABELS[levels[n]] + ("" if given[n] else " (proposed)")
+        extra = f"<br>packages: {', '.join(escs(node.packages))}" if node.packages else ""
+        hover.append(
+            f"<b>{esc(n)}</b><br>container: {esc(container)}<br>level: {level}"
+            f"<br>CPU {node.cpu:.3g} cores, memory {node.memory_mib:.4g} MiB{extra}"
         )
+    return go.Scatter(
+        x=[pos[n][0] for n in names],
+        y=[pos[n][1] for n in names],
+        mode="markers+text" if labelled else "markers",
+        text=escs(names),
+        # Neighbours in a row alternate label sides (the layout nudges them up and down to match).
+        textposition=[_label_side(pos[n]) for n in names],
+        textfont={"size": 10},
+        marker={
+            "size": 16,
+            "color": colour,
+            "line": {
+                "color": ["#1f2933" if given[n] else "white" for n in names],
+                "width": [2.5 if given[n] else 1.5 for n in names],
+            },
+        },
+        hovertext=hover,
+        hoverinfo="text",
+        name=esc(container),
+    )
+
+
+def _rosgraph_layout_axes(fig: go.Figure, pos: Mapping[str, tuple[float, float]]) -> None:
+    """Legend of containers on top; x hidden; y labelled with the abstraction levels, mission on top."""
     xs = [x for x, _ in pos.values()] or [0.0]
     base_layout(fig, height=560)
     fig.update_layout(
@@ -199,7 +226,6 @@ def rosgraph_figure(
         gridcolor="#eef0f2",
         zeroline=False,
     )
-    return fig
 
 
 # ---- containers ---------------------------------------------------------------------------------------

@@ -293,6 +293,26 @@ def ingest(
     first: dict[str, Report] = {}
     for r in reports:  # the same id twice in one batch: the first one counts
         first.setdefault(r.report_id, r)
+    violations, rows = _classify(cluster, first, monitor_policy, received, source)
+    # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. Each reconcile
+    # stores its own report (claiming its id) in the transaction that records the eviction.
+    events, claimed = _reconcile_all(cluster, policy, monitor_policy, violations, rows, received)
+    new = _store_batch(cluster, first, rows, claimed, node_ids, received, source)
+    duplicates = [i for i, r in enumerate(reports) if r.report_id not in new or first[r.report_id] is not r]
+    return {
+        "accepted": len(reports),
+        "stored": len(new),
+        "duplicates": duplicates,
+        "report_ids": [r.report_id for r in reports],
+        "violations": sum(1 for r, _ in violations if r.report_id in claimed),
+        "events": [event_summary(e) for e in events],
+    }
+
+
+def _classify(
+    cluster: Cluster, first: Mapping[str, Report], monitor_policy: MonitorPolicy, received: datetime, source: str
+) -> tuple[list[tuple[Report, str]], dict[str, tuple]]:
+    """The reports over a threshold (with their trigger) and every report's row (``REPORT_COLUMNS``) by id."""
     violations = []
     rows: dict[str, tuple] = {}
     stamp = connection.ops.adapt_datetimefield_value
@@ -303,8 +323,18 @@ def ingest(
             violations.append((r, trigger))
         rows[rid] = (cluster.pk, r.name, r.node, r.container, r.pod, r.missed_period, r.missed_total,
                      trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source, rid)  # fmt: skip
-    # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. Each reconcile
-    # stores its own report (claiming its id) in the transaction that records the eviction.
+    return violations, rows
+
+
+def _reconcile_all(
+    cluster: Cluster,
+    policy: RTPolicy,
+    monitor_policy: MonitorPolicy,
+    violations: Sequence[tuple[Report, str]],
+    rows: Mapping[str, tuple],
+    received: datetime,
+) -> tuple[list[RTEvent], set[str]]:
+    """Reconcile every violation in order; the events made and the report ids claimed (stored) by them."""
     events = []
     claimed: set[str] = set()
     for r, trigger in violations:
@@ -314,6 +344,20 @@ def ingest(
         claimed.add(r.report_id)
         if event is not None:
             events.append(event)
+    return events, claimed
+
+
+def _store_batch(
+    cluster: Cluster,
+    first: Mapping[str, Report],
+    rows: Mapping[str, tuple],
+    claimed: set[str],
+    node_ids: Mapping[str, int],
+    received: datetime,
+    source: str,
+) -> set[str]:
+    """Insert the reports no reconcile stored and the latest counters per container; the ids stored new."""
+    at = connection.ops.adapt_datetimefield_value(received)
     rest = [row for rid, row in rows.items() if rid not in claimed]
     synced = source == MonitoringReport.Source.KUBE
     with transaction.atomic():
@@ -328,15 +372,7 @@ def ingest(
         # Sorted, so that concurrent batches lock the rows in the same order (no deadlock).
         insert_rows(Monitoring, LATEST_COLUMNS, [latest[k] for k in sorted(latest)],
                     conflict=("cluster_id", "name"), update=LATEST_COLUMNS[2:-1])  # fmt: skip
-    duplicates = [i for i, r in enumerate(reports) if r.report_id not in new or first[r.report_id] is not r]
-    return {
-        "accepted": len(reports),
-        "stored": len(new),
-        "duplicates": duplicates,
-        "report_ids": [r.report_id for r in reports],
-        "violations": sum(1 for r, _ in violations if r.report_id in claimed),
-        "events": [event_summary(e) for e in events],
-    }
+    return new
 
 
 def event_summary(e: RTEvent) -> dict[str, Any]:

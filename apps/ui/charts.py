@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import html
 import math
-from collections.abc import Collection, Iterable, Mapping, Sequence
+from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from statistics import fmean
 
@@ -210,19 +210,7 @@ def gantt_figure(
         fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
-        fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
-        # The label sits above the plot area, where it cannot hide a bar.
-        fig.add_annotation(
-            x=makespan,
-            y=1,
-            xref="x",
-            yref="paper",
-            xanchor="right",
-            yanchor="bottom",
-            showarrow=False,
-            text=f"makespan {fmt(makespan)}",
-            font={"size": 12, "color": "#323f4b"},
-        )
+        _add_makespan_marker(fig, makespan)
     base_layout(fig, height=max(260, 150 + (30 if lanes else 44) * len(rows)))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
@@ -234,6 +222,28 @@ def gantt_figure(
     )
     if nice is not None:
         _nice_axis(fig, nice)
+    _gantt_axes(fig, unit, makespan, rows)
+    return fig
+
+
+def _add_makespan_marker(fig: go.Figure, makespan: float) -> None:
+    """A dashed line at the makespan, labelled above the plot area (where the label cannot hide a bar)."""
+    fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
+    fig.add_annotation(
+        x=makespan,
+        y=1,
+        xref="x",
+        yref="paper",
+        xanchor="right",
+        yanchor="bottom",
+        showarrow=False,
+        text=f"makespan {fmt(makespan)}",
+        font={"size": 12, "color": "#323f4b"},
+    )
+
+
+def _gantt_axes(fig: go.Figure, unit: str, makespan: float, rows: Sequence[str]) -> None:
+    """A linear time axis up to just past the makespan; one category row per processor (or CPU), top down."""
     fig.update_xaxes(
         type="linear",
         title_text=f"time ({esc(unit)})" if unit else "time",
@@ -251,7 +261,6 @@ def gantt_figure(
         title_text="processor",
         showgrid=False,
     )
-    return fig
 
 
 def stacked_gantt_figure(
@@ -285,25 +294,8 @@ def stacked_gantt_figure(
     shown: set[str] = set()
     end = max((p.schedule.makespan for p in panels), default=0.0)
     for i, (panel, (rows, row_of)) in enumerate(zip(panels, layout, strict=True), start=1):
-        for trace in gantt_traces(panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range):
-            trace.showlegend = trace.name not in shown
-            if trace.marker.showscale and trace.name in shown:
-                trace.marker.showscale = False  # one colour bar for the whole figure
-            shown.add(trace.name)
-            fig.add_trace(trace, row=i, col=1)
-        if panel.schedule.assignments:
-            fig.add_vline(
-                x=panel.schedule.makespan, line={"dash": "dash", "color": "#52606d", "width": 1}, row=i, col=1
-            )
-        fig.update_yaxes(
-            type="category",
-            categoryorder="array",
-            categoryarray=escs(rows),
-            autorange="reversed",
-            showgrid=False,
-            row=i,
-            col=1,
-        )
+        traces = gantt_traces(panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range)
+        _add_gantt_panel(fig, i, panel, traces, rows, shown)
     base_layout(fig, height=height)
     fig.update_layout(
         barmode="overlay",
@@ -325,6 +317,30 @@ def stacked_gantt_figure(
     )
     fig.update_xaxes(title_text=f"time ({esc(time_unit)})" if time_unit else "time", row=max(1, len(panels)), col=1)
     return fig
+
+
+def _add_gantt_panel(
+    fig: go.Figure, i: int, panel: GanttPanel, traces: list[go.Bar], rows: Sequence[str], shown: set[str]
+) -> None:
+    """Panel ``i`` of a stacked Gantt: its bars (each legend entry and colour bar once in the figure), its
+    makespan line, and its own processor rows."""
+    for trace in traces:
+        trace.showlegend = trace.name not in shown
+        if trace.marker.showscale and trace.name in shown:
+            trace.marker.showscale = False  # one colour bar for the whole figure
+        shown.add(trace.name)
+        fig.add_trace(trace, row=i, col=1)
+    if panel.schedule.assignments:
+        fig.add_vline(x=panel.schedule.makespan, line={"dash": "dash", "color": "#52606d", "width": 1}, row=i, col=1)
+    fig.update_yaxes(
+        type="category",
+        categoryorder="array",
+        categoryarray=escs(rows),
+        autorange="reversed",
+        showgrid=False,
+        row=i,
+        col=1,
+    )
 
 
 def gantt_rows(
@@ -439,22 +455,24 @@ def _gantt_trace(
         # The hover text is written here, not by a hovertemplate: with ``base=start`` Plotly's ``%{x}`` is the
         # bar's end in some cases, so a template's "duration" showed the finish time (issue 13).
         # customdata keeps each bar's facts for scripts (and tests) reading the figure.
-        customdata=[
-            [
-                esc(a.task),
-                a.frame,
-                esc(a.processor),
-                a.start,
-                a.finish,
-                "—" if a.niceness is None else a.niceness,
-                f"<br>{esc(notes[(a.task, a.frame)])}" if (a.task, a.frame) in notes else "",
-            ]
-            for a in assignments
-        ],
+        customdata=[_gantt_facts(a, notes) for a in assignments],
         hovertext=[_gantt_hover(a, suffix, has_nice, notes.get((a.task, a.frame))) for a in assignments],
         hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
         showlegend=True,
     )
+
+
+def _gantt_facts(a: Assignment, notes: Mapping[tuple[str, int], str]) -> list:
+    """One bar's customdata: task, frame, processor, start, finish, niceness and its note (names escaped)."""
+    return [
+        esc(a.task),
+        a.frame,
+        esc(a.processor),
+        a.start,
+        a.finish,
+        "—" if a.niceness is None else a.niceness,
+        f"<br>{esc(notes[(a.task, a.frame)])}" if (a.task, a.frame) in notes else "",
+    ]
 
 
 def _gantt_hover(a: Assignment, suffix: str, has_nice: bool, note: str | None) -> str:
@@ -732,33 +750,39 @@ def network_figure(
         hover_size=12,
     )
     # One trace per status so the legend explains the colours.
-    labelled = len(platform.processors) <= 50
-    for state in [*STATUS_COLOURS, *sorted(set(status.values()) - set(STATUS_COLOURS))]:
-        procs = [p for p in platform.processors if status.get(p.id, "Ready") == state]
-        if not procs:
-            continue
-        fig.add_trace(
-            go.Scatter(
-                x=[pos[p.id][0] for p in procs],
-                y=[pos[p.id][1] for p in procs],
-                mode="markers+text" if labelled else "markers",
-                text=[esc(p.id) for p in procs],
-                textposition="bottom center",
-                marker={
-                    "size": 24,
-                    "color": STATUS_COLOURS.get(state, "#9aa1a9"),
-                    "symbol": [CLASS_SYMBOLS.get(p.cls, "circle") for p in procs],
-                    "line": {"color": "white", "width": 2},
-                },
-                hovertext=[
-                    f"<b>{esc(p.id)}</b><br>class: {esc(p.cls)}<br>speed: {fmt(p.speed)}<br>{esc(state)}" for p in procs
-                ],
-                hoverinfo="text",
-                name=esc(state),
-            )
-        )
+    for trace in _status_traces(platform, status, pos):
+        fig.add_trace(trace)
     base_layout(fig, height=420)
     fig.update_layout(legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "right", "x": 1})
     fig.update_xaxes(visible=False, range=[-1.4, 1.4] if len(platform.processors) <= 8 else None)
     fig.update_yaxes(visible=False, range=[-1.35, 1.3] if len(platform.processors) <= 8 else None, scaleanchor="x")
     return fig
+
+
+def _status_traces(
+    platform: Platform, status: Mapping[str, str], pos: Mapping[str, tuple[float, float]]
+) -> Iterator[go.Scatter]:
+    """The processors, one trace per status (known statuses first): colour = status, symbol = class."""
+    labelled = len(platform.processors) <= 50
+    for state in [*STATUS_COLOURS, *sorted(set(status.values()) - set(STATUS_COLOURS))]:
+        procs = [p for p in platform.processors if status.get(p.id, "Ready") == state]
+        if not procs:
+            continue
+        yield go.Scatter(
+            x=[pos[p.id][0] for p in procs],
+            y=[pos[p.id][1] for p in procs],
+            mode="markers+text" if labelled else "markers",
+            text=[esc(p.id) for p in procs],
+            textposition="bottom center",
+            marker={
+                "size": 24,
+                "color": STATUS_COLOURS.get(state, "#9aa1a9"),
+                "symbol": [CLASS_SYMBOLS.get(p.cls, "circle") for p in procs],
+                "line": {"color": "white", "width": 2},
+            },
+            hovertext=[
+                f"<b>{esc(p.id)}</b><br>class: {esc(p.cls)}<br>speed: {fmt(p.speed)}<br>{esc(state)}" for p in procs
+            ],
+            hoverinfo="text",
+            name=esc(state),
+        )
