@@ -18,7 +18,7 @@ from typing import Any
 import plotly.graph_objects as go
 from plotly.colors import qualitative
 
-from apps.ui.charts import EDGE_COLOUR, base_layout, esc, escs
+from apps.ui.charts import EDGE_COLOUR, base_layout, cycle_colours, esc, escs
 from continuum.engine.containers.rosgraph import LEVELS, RosGraph, natural_key
 
 PALETTE = [*qualitative.T10, *qualitative.Pastel, *qualitative.Dark24]
@@ -49,7 +49,7 @@ def rate(bps: float) -> str:
 
 def colours(names: Sequence[str]) -> dict[str, str]:
     """A stable colour per container, in the order given."""
-    return {name: PALETTE[i % len(PALETTE)] for i, name in enumerate(names)}
+    return cycle_colours(names, PALETTE)
 
 
 def _width(w: float, top: float) -> float:
@@ -134,13 +134,27 @@ def rosgraph_figure(
     """The ROS graph by level and container (``groups``: container -> ROS nodes; none: one group). A dark rim
     marks a level set by the user, a white rim one proposed from the graph's structure."""
     levels = graph.levels()
-    given = {n: node.level for n, node in graph.nodes.items()}
     groups = dict(groups) if groups else {"ROS nodes": sorted(graph.nodes, key=natural_key)}
-    owner = {n: c for c, members in groups.items() for n in members}
     palette = colours(list(groups))
     pos = rosgraph_layout(graph, levels, groups)
     weights = graph.weights(mode)
     top = max(weights.values(), default=0.0)
+    fig = go.Figure(_edge_traces(_rosgraph_segments(graph, groups, pos, weights), top))
+    labelled = len(graph.nodes) <= MAX_LABELLED
+    for container, members in groups.items():
+        fig.add_trace(_ros_nodes_trace(graph, levels, container, members, pos, palette[container], labelled))
+    _rosgraph_layout_axes(fig, pos)
+    return fig
+
+
+def _rosgraph_segments(
+    graph: RosGraph,
+    groups: Mapping[str, Sequence[str]],
+    pos: Mapping[str, tuple[float, float]],
+    weights: Mapping[tuple[str, str], float],
+) -> list[tuple[tuple[float, float], tuple[float, float], float, str, str]]:
+    """One segment per communicating pair: warm between containers (when there are several), grey inside one."""
+    owner = {n: c for c, members in groups.items() for n in members}
     segments = []
     for (a, b), w in weights.items():
         inter = owner.get(a) != owner.get(b)
@@ -148,41 +162,54 @@ def rosgraph_figure(
         where = "between containers" if inter and len(groups) > 1 else "inside a container"
         text = f"<b>{esc(a)} ↔ {esc(b)}</b><br>{rate(w)}<br>{where}<br>topics: {topics}"
         segments.append((pos[a], pos[b], w, INTER_COLOUR if inter and len(groups) > 1 else EDGE_COLOUR, text))
-    fig = go.Figure(_edge_traces(segments, top))
-    labelled = len(graph.nodes) <= MAX_LABELLED
-    for container, members in groups.items():
-        names = sorted(members, key=natural_key)
-        hover = []
-        for n in names:
-            node = graph.nodes[n]
-            level = LEVEL_LABELS[levels[n]] + ("" if given[n] else " (proposed)")
-            extra = f"<br>packages: {', '.join(escs(node.packages))}" if node.packages else ""
-            hover.append(
-                f"<b>{esc(n)}</b><br>container: {esc(container)}<br>level: {level}"
-                f"<br>CPU {node.cpu:.3g} cores, memory {node.memory_mib:.4g} MiB{extra}"
-            )
-        fig.add_trace(
-            go.Scatter(
-                x=[pos[n][0] for n in names],
-                y=[pos[n][1] for n in names],
-                mode="markers+text" if labelled else "markers",
-                text=escs(names),
-                # Neighbours in a row alternate label sides (the layout nudges them up and down to match).
-                textposition=[_label_side(pos[n]) for n in names],
-                textfont={"size": 10},
-                marker={
-                    "size": 16,
-                    "color": palette[container],
-                    "line": {
-                        "color": ["#1f2933" if given[n] else "white" for n in names],
-                        "width": [2.5 if given[n] else 1.5 for n in names],
-                    },
-                },
-                hovertext=hover,
-                hoverinfo="text",
-                name=esc(container),
-            )
+    return segments
+
+
+def _ros_nodes_trace(
+    graph: RosGraph,
+    levels: Mapping[str, str],
+    container: str,
+    members: Sequence[str],
+    pos: Mapping[str, tuple[float, float]],
+    colour: str,
+    labelled: bool,
+) -> go.Scatter:
+    """One container's ROS nodes (its legend entry): a dark rim for a level the user set, white for a proposed one."""
+    given = {n: node.level for n, node in graph.nodes.items()}
+    names = sorted(members, key=natural_key)
+    hover = []
+    for n in names:
+        node = graph.nodes[n]
+        level = LEVEL_LABELS[levels[n]] + ("" if given[n] else " (proposed)")
+        extra = f"<br>packages: {', '.join(escs(node.packages))}" if node.packages else ""
+        hover.append(
+            f"<b>{esc(n)}</b><br>container: {esc(container)}<br>level: {level}"
+            f"<br>CPU {node.cpu:.3g} cores, memory {node.memory_mib:.4g} MiB{extra}"
         )
+    return go.Scatter(
+        x=[pos[n][0] for n in names],
+        y=[pos[n][1] for n in names],
+        mode="markers+text" if labelled else "markers",
+        text=escs(names),
+        # Neighbours in a row alternate label sides (the layout nudges them up and down to match).
+        textposition=[_label_side(pos[n]) for n in names],
+        textfont={"size": 10},
+        marker={
+            "size": 16,
+            "color": colour,
+            "line": {
+                "color": ["#1f2933" if given[n] else "white" for n in names],
+                "width": [2.5 if given[n] else 1.5 for n in names],
+            },
+        },
+        hovertext=hover,
+        hoverinfo="text",
+        name=esc(container),
+    )
+
+
+def _rosgraph_layout_axes(fig: go.Figure, pos: Mapping[str, tuple[float, float]]) -> None:
+    """Legend of containers on top; x hidden; y labelled with the abstraction levels, mission on top."""
     xs = [x for x, _ in pos.values()] or [0.0]
     base_layout(fig, height=560)
     fig.update_layout(
@@ -199,7 +226,6 @@ def rosgraph_figure(
         gridcolor="#eef0f2",
         zeroline=False,
     )
-    return fig
 
 
 # ---- containers ---------------------------------------------------------------------------------------
@@ -278,23 +304,48 @@ def placement_figure(
     palette = colours(list(container_order))
     pos = _circle(nodes)
     fig = go.Figure()
+    links = _link_trace(pos, cluster_doc.get("links", []))
+    if links is not None:
+        fig.add_trace(links)
+    for trace in _traffic_traces(pos, traffic):
+        fig.add_trace(trace)
+    on_node, scores = _containers_by_node(nodes, plan)
+    fig.add_trace(_node_trace(nodes, archs, pos, on_node))
+    spots = _placed_spots(nodes, pos, on_node, scores)
+    pending = [p["container"] for p in plan.get("pending", [])]
+    spots.update(_pending_spots(pending))
+    # One trace per container: the legend gives each container its colour, as on the ROS graph.
+    for c in [*container_order, *(c for c in spots if c not in container_order)]:
+        if c in spots:
+            fig.add_trace(_container_trace(c, spots[c], palette.get(c, NODE_COLOUR), c in pending))
+    if pending:
+        fig.add_annotation(x=1.75, y=1.15, text="<b>pending</b>", showarrow=False, font={"color": PENDING_COLOUR})
+    _placement_layout(fig, bool(pending))
+    return fig
+
+
+def _link_trace(pos: Mapping[str, tuple[float, float]], links: Sequence[Mapping[str, Any]]) -> go.Scatter | None:
+    """The physical network links as thin dotted lines (None: no link)."""
     link_x: list[float | None] = []
     link_y: list[float | None] = []
-    for lk in cluster_doc.get("links", []):
+    for lk in links:
         (x0, y0), (x1, y1) = pos[lk["src"]], pos[lk["dst"]]
         link_x += [x0, x1, None]
         link_y += [y0, y1, None]
-    if link_x:
-        fig.add_trace(
-            go.Scatter(
-                x=link_x,
-                y=link_y,
-                mode="lines",
-                line={"color": "#cbd2d9", "width": 1, "dash": "dot"},
-                hoverinfo="skip",
-                name="network links",
-            )
-        )
+    if not link_x:
+        return None
+    return go.Scatter(
+        x=link_x,
+        y=link_y,
+        mode="lines",
+        line={"color": "#cbd2d9", "width": 1, "dash": "dot"},
+        hoverinfo="skip",
+        name="network links",
+    )
+
+
+def _traffic_traces(pos: Mapping[str, tuple[float, float]], traffic: Sequence[Mapping[str, Any]]) -> list[go.Scatter]:
+    """The traffic between nodes: lines growing with the bandwidth, hover on their middles."""
     top = max((t["bytes_per_s"] for t in traffic), default=0.0)
     segments = [
         (
@@ -306,30 +357,49 @@ def placement_figure(
         )
         for t in traffic
     ]
-    for trace in _edge_traces(segments, top):
-        fig.add_trace(trace)
+    return _edge_traces(segments, top)
+
+
+def _containers_by_node(nodes: Sequence[str], plan: Mapping[str, Any]) -> tuple[dict[str, list[str]], dict[str, float]]:
+    """The plan's containers on each node (every node listed, empty ones too) and each placement's score."""
     on_node: dict[str, list[str]] = {n: [] for n in nodes}
     scores = {}
     for p in plan.get("placements", []):
         on_node.setdefault(p["node"], []).append(p["container"])
         scores[p["container"]] = p["score"]
-    fig.add_trace(
-        go.Scatter(
-            x=[pos[n][0] for n in nodes],
-            y=[pos[n][1] for n in nodes],
-            mode="markers+text",
-            text=[f"<b>{esc(n)}</b> ({esc(archs[n])})" for n in nodes],
-            textposition="bottom center",
-            marker={"size": 46, "symbol": "square", "color": "#f5f7fa", "line": {"color": NODE_COLOUR, "width": 2}},
-            hovertext=[
-                f"<b>{esc(n)}</b> ({esc(archs[n])})<br>containers: {', '.join(escs(on_node[n])) or 'none'}"
-                for n in nodes
-            ],
-            hoverinfo="text",
-            name="nodes",
-            showlegend=False,
-        )
+    return on_node, scores
+
+
+def _node_trace(
+    nodes: Sequence[str],
+    archs: Mapping[str, str],
+    pos: Mapping[str, tuple[float, float]],
+    on_node: Mapping[str, list[str]],
+) -> go.Scatter:
+    """The cluster's nodes as squares, labelled with their architecture; hover lists their containers."""
+    return go.Scatter(
+        x=[pos[n][0] for n in nodes],
+        y=[pos[n][1] for n in nodes],
+        mode="markers+text",
+        text=[f"<b>{esc(n)}</b> ({esc(archs[n])})" for n in nodes],
+        textposition="bottom center",
+        marker={"size": 46, "symbol": "square", "color": "#f5f7fa", "line": {"color": NODE_COLOUR, "width": 2}},
+        hovertext=[
+            f"<b>{esc(n)}</b> ({esc(archs[n])})<br>containers: {', '.join(escs(on_node[n])) or 'none'}" for n in nodes
+        ],
+        hoverinfo="text",
+        name="nodes",
+        showlegend=False,
     )
+
+
+def _placed_spots(
+    nodes: Sequence[str],
+    pos: Mapping[str, tuple[float, float]],
+    on_node: Mapping[str, list[str]],
+    scores: Mapping[str, float],
+) -> dict[str, tuple[float, float, str]]:
+    """(x, y, hover text) of every placed container: on a small circle around its node (alone: on it)."""
     spots: dict[str, tuple[float, float, str]] = {}
     for n in nodes:
         members = on_node[n]
@@ -342,40 +412,41 @@ def placement_figure(
                 cy + r * math.sin(angle),
                 f"<b>{esc(c)}</b><br>on {esc(n)}, score {scores[c]:.4g}",
             )
-    pending = [p["container"] for p in plan.get("pending", [])]
-    for i, c in enumerate(pending):
-        spots[c] = (1.75, 0.9 - 0.25 * i, f"<b>{esc(c)}</b><br>pending: no node passed the filters")
-    # One trace per container: the legend gives each container its colour, as on the ROS graph.
-    for c in [*container_order, *(c for c in spots if c not in container_order)]:
-        if c not in spots:
-            continue
-        x, y, text = spots[c]
-        fig.add_trace(
-            go.Scatter(
-                x=[x],
-                y=[y],
-                mode="markers",
-                marker={
-                    "size": 13,
-                    "color": palette.get(c, NODE_COLOUR),
-                    "line": {
-                        "color": PENDING_COLOUR if c in pending else "white",
-                        "width": 2.5 if c in pending else 1.5,
-                    },
-                },
-                hovertext=[text],
-                hoverinfo="text",
-                name=esc(c),
-                legendgroup="containers",
-            )
-        )
-    if pending:
-        fig.add_annotation(x=1.75, y=1.15, text="<b>pending</b>", showarrow=False, font={"color": PENDING_COLOUR})
+    return spots
+
+
+def _pending_spots(pending: Sequence[str]) -> dict[str, tuple[float, float, str]]:
+    """(x, y, hover text) of the pending containers: a column on the right."""
+    return {
+        c: (1.75, 0.9 - 0.25 * i, f"<b>{esc(c)}</b><br>pending: no node passed the filters")
+        for i, c in enumerate(pending)
+    }
+
+
+def _container_trace(c: str, spot: tuple[float, float, str], colour: str, pending: bool) -> go.Scatter:
+    """One container's dot (its own legend entry); a pending one has a red rim."""
+    x, y, text = spot
+    return go.Scatter(
+        x=[x],
+        y=[y],
+        mode="markers",
+        marker={
+            "size": 13,
+            "color": colour,
+            "line": {"color": PENDING_COLOUR if pending else "white", "width": 2.5 if pending else 1.5},
+        },
+        hovertext=[text],
+        hoverinfo="text",
+        name=esc(c),
+        legendgroup="containers",
+    )
+
+
+def _placement_layout(fig: go.Figure, pending: bool) -> None:
     base_layout(fig, height=480)
     fig.update_layout(legend={"orientation": "v", "yanchor": "top", "y": 1, "xanchor": "left", "x": 1.01})
     fig.update_xaxes(visible=False, range=[-1.5, 2.1 if pending else 1.5])
     fig.update_yaxes(visible=False, range=[-1.4, 1.3], scaleanchor="x")
-    return fig
 
 
 # ---- disk ---------------------------------------------------------------------------------------------

@@ -10,9 +10,8 @@ from datetime import datetime
 from statistics import fmean, quantiles
 
 import plotly.graph_objects as go
-from plotly.subplots import make_subplots
 
-from apps.ui.charts import FONT, base_layout, esc
+from apps.ui.charts import FONT, base_layout, cycle_colours, esc, stacked_panels
 
 PALETTE = ["#4c78a8", "#f58518", "#54a24b", "#b279a2", "#e45756", "#72b7b2", "#eeca3b", "#9d755d", "#bab0ac"]
 CLASS_COLOURS = {"C": "#b03a2e", "B": "#d68910", "A": "#2e86c1", "NONE": "#9aa1a9"}
@@ -91,85 +90,109 @@ def timeline_figure(
     nodes = sorted({r["node"] for r in reports} | {e["node"] for e in events} | {t["node"] for t in taints})
     if not nodes:
         nodes = ["—"]
-    fig = make_subplots(rows=len(nodes), cols=1, shared_xaxes=True, vertical_spacing=0.06,
-                        subplot_titles=[esc(n) for n in nodes])  # fmt: skip
+    fig = stacked_panels([esc(n) for n in nodes], len(nodes), 0.06)
     containers = sorted({r["container"] for r in reports})
-    colour = {c: PALETTE[i % len(PALETTE)] for i, c in enumerate(containers)}
+    colour = cycle_colours(containers, PALETTE)
     shown: set[str] = set()
     for row, node in enumerate(nodes, 1):
         for c in containers:
-            pts = [r for r in reports if r["node"] == node and r["container"] == c]
-            if not pts:
-                continue
-            fig.add_trace(
-                go.Scatter(
-                    x=[p["time"] for p in pts],
-                    y=[p["missed_period"] for p in pts],
-                    mode="lines+markers",
-                    line={"color": colour[c], "width": 1.5, "shape": "hv"},
-                    marker={"size": 4},
-                    name=esc(c),
-                    legendgroup=esc(c),
-                    showlegend=c not in shown,
-                    customdata=[[p["missed_total"]] for p in pts],
-                    hovertemplate=f"{esc(c)} on {esc(node)}<br>%{{x}}<br>missed in period %{{y}}, "
-                    "total %{customdata[0]}<extra></extra>",
-                ),
-                row=row,
-                col=1,
-            )
-            shown.add(c)
-        evs = [e for e in events if e["node"] == node]
-        if evs:
-            ymax = max([r["missed_period"] for r in reports if r["node"] == node] or [threshold or 1])
-            fig.add_trace(
-                go.Scatter(
-                    x=[e["time"] for e in evs],
-                    y=[ymax * 1.05 + 0.5] * len(evs),
-                    mode="markers",
-                    marker={
-                        "symbol": ["x" if e["kind"] == "eviction" else "triangle-down" for e in evs],
-                        "size": 11,
-                        "color": [EVICTION_COLOUR if e["kind"] == "eviction" else "#c98a0b" for e in evs],
-                    },
-                    name="eviction / alert",
-                    legendgroup="events",
-                    showlegend="events" not in shown,
-                    text=[
-                        f"evicted {esc(e['victim'])} for {esc(e['container'])}"
-                        if e["kind"] == "eviction"
-                        else f"alert: {esc(e['container'])}"
-                        for e in evs
-                    ],
-                    hovertemplate="%{x}<br>%{text}<extra></extra>",
-                ),
-                row=row,
-                col=1,
-            )
-            shown.add("events")
+            _add_container_trace(fig, row, node, c, colour[c], reports, shown)
+        _add_event_trace(fig, row, node, reports, events, threshold, shown)
         for t in (t for t in taints if t["node"] == node):
-            fig.add_vrect(
-                x0=t["start"],
-                x1=t["end"] or now,
-                fillcolor=TAINT_FILL,
-                line_width=0,
-                layer="below",
-                row=row,
-                col=1,
-            )
+            fig.add_vrect(x0=t["start"], x1=t["end"] or now, fillcolor=TAINT_FILL, line_width=0, layer="below",
+                          row=row, col=1)  # fmt: skip
         if threshold is not None:
             fig.add_hline(y=threshold, line={"dash": "dash", "color": "#52606d", "width": 1}, row=row, col=1)
     if taints:
-        fig.add_trace(
-            go.Scatter(
-                x=[None],
-                y=[None],
-                mode="markers",
-                marker={"size": 12, "color": TAINT_FILL, "symbol": "square"},
-                name="node tainted",
-            )
+        _add_taint_legend(fig)
+    _timeline_layout(fig, len(nodes))
+    return fig
+
+
+def _add_container_trace(
+    fig: go.Figure, row: int, node: str, c: str, colour: str, reports: Sequence[Mapping], shown: set[str]
+) -> None:
+    """One container's missed-in-period line on its node's panel (one legend entry per container)."""
+    pts = [r for r in reports if r["node"] == node and r["container"] == c]
+    if not pts:
+        return
+    fig.add_trace(
+        go.Scatter(
+            x=[p["time"] for p in pts],
+            y=[p["missed_period"] for p in pts],
+            mode="lines+markers",
+            line={"color": colour, "width": 1.5, "shape": "hv"},
+            marker={"size": 4},
+            name=esc(c),
+            legendgroup=esc(c),
+            showlegend=c not in shown,
+            customdata=[[p["missed_total"]] for p in pts],
+            hovertemplate=f"{esc(c)} on {esc(node)}<br>%{{x}}<br>missed in period %{{y}}, "
+            "total %{customdata[0]}<extra></extra>",
+        ),
+        row=row,
+        col=1,
+    )
+    shown.add(c)
+
+
+def _event_text(e: Mapping) -> str:
+    if e["kind"] == "eviction":
+        return f"evicted {esc(e['victim'])} for {esc(e['container'])}"
+    return f"alert: {esc(e['container'])}"
+
+
+def _add_event_trace(
+    fig: go.Figure,
+    row: int,
+    node: str,
+    reports: Sequence[Mapping],
+    events: Sequence[Mapping],
+    threshold: int | None,
+    shown: set[str],
+) -> None:
+    """A node's evictions (x) and alerts (triangles), drawn just above its highest report."""
+    evs = [e for e in events if e["node"] == node]
+    if not evs:
+        return
+    ymax = max([r["missed_period"] for r in reports if r["node"] == node] or [threshold or 1])
+    fig.add_trace(
+        go.Scatter(
+            x=[e["time"] for e in evs],
+            y=[ymax * 1.05 + 0.5] * len(evs),
+            mode="markers",
+            marker={
+                "symbol": ["x" if e["kind"] == "eviction" else "triangle-down" for e in evs],
+                "size": 11,
+                "color": [EVICTION_COLOUR if e["kind"] == "eviction" else "#c98a0b" for e in evs],
+            },
+            name="eviction / alert",
+            legendgroup="events",
+            showlegend="events" not in shown,
+            text=[_event_text(e) for e in evs],
+            hovertemplate="%{x}<br>%{text}<extra></extra>",
+        ),
+        row=row,
+        col=1,
+    )
+    shown.add("events")
+
+
+def _add_taint_legend(fig: go.Figure) -> None:
+    """A legend entry for the shaded taint spans (shapes have none of their own)."""
+    fig.add_trace(
+        go.Scatter(
+            x=[None],
+            y=[None],
+            mode="markers",
+            marker={"size": 12, "color": TAINT_FILL, "symbol": "square"},
+            name="node tainted",
         )
-    height = max(280, 110 + 190 * len(nodes))
+    )
+
+
+def _timeline_layout(fig: go.Figure, panels: int) -> None:
+    height = max(280, 110 + 190 * panels)
     base_layout(fig, height=height)
     fig.update_layout(
         # Above the first panel's title (subplot titles sit just above their panel).
@@ -179,7 +202,6 @@ def timeline_figure(
     fig.update_yaxes(title_text="missed / period", rangemode="tozero", gridcolor="#e4e7eb")
     fig.update_xaxes(gridcolor="#e4e7eb")
     fig.update_annotations(font={**FONT, "size": 12})
-    return fig
 
 
 def response_figure(values_ms: Sequence[float], components: Mapping[str, float] | None = None) -> go.Figure:

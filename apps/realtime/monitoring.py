@@ -42,6 +42,7 @@ from continuum.engine.rtkube.rt_victims import (
     ContainerInfo,
     MonitorPolicy,
     NodeCapacity,
+    ReconcileDecision,
     is_violation,
     response_time,
 )
@@ -292,6 +293,26 @@ def ingest(
     first: dict[str, Report] = {}
     for r in reports:  # the same id twice in one batch: the first one counts
         first.setdefault(r.report_id, r)
+    violations, rows = _classify(cluster, first, monitor_policy, received, source)
+    # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. Each reconcile
+    # stores its own report (claiming its id) in the transaction that records the eviction.
+    events, claimed = _reconcile_all(cluster, policy, monitor_policy, violations, rows, received)
+    new = _store_batch(cluster, first, rows, claimed, node_ids, received, source)
+    duplicates = [i for i, r in enumerate(reports) if r.report_id not in new or first[r.report_id] is not r]
+    return {
+        "accepted": len(reports),
+        "stored": len(new),
+        "duplicates": duplicates,
+        "report_ids": [r.report_id for r in reports],
+        "violations": sum(1 for r, _ in violations if r.report_id in claimed),
+        "events": [event_summary(e) for e in events],
+    }
+
+
+def _classify(
+    cluster: Cluster, first: Mapping[str, Report], monitor_policy: MonitorPolicy, received: datetime, source: str
+) -> tuple[list[tuple[Report, str]], dict[str, tuple]]:
+    """The reports over a threshold (with their trigger) and every report's row (``REPORT_COLUMNS``) by id."""
     violations = []
     rows: dict[str, tuple] = {}
     stamp = connection.ops.adapt_datetimefield_value
@@ -302,8 +323,18 @@ def ingest(
             violations.append((r, trigger))
         rows[rid] = (cluster.pk, r.name, r.node, r.container, r.pod, r.missed_period, r.missed_total,
                      trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source, rid)  # fmt: skip
-    # The violations first: the eviction is on the clock (Eq. 3.19), the bookkeeping is not. Each reconcile
-    # stores its own report (claiming its id) in the transaction that records the eviction.
+    return violations, rows
+
+
+def _reconcile_all(
+    cluster: Cluster,
+    policy: RTPolicy,
+    monitor_policy: MonitorPolicy,
+    violations: Sequence[tuple[Report, str]],
+    rows: Mapping[str, tuple],
+    received: datetime,
+) -> tuple[list[RTEvent], set[str]]:
+    """Reconcile every violation in order; the events made and the report ids claimed (stored) by them."""
     events = []
     claimed: set[str] = set()
     for r, trigger in violations:
@@ -313,6 +344,20 @@ def ingest(
         claimed.add(r.report_id)
         if event is not None:
             events.append(event)
+    return events, claimed
+
+
+def _store_batch(
+    cluster: Cluster,
+    first: Mapping[str, Report],
+    rows: Mapping[str, tuple],
+    claimed: set[str],
+    node_ids: Mapping[str, int],
+    received: datetime,
+    source: str,
+) -> set[str]:
+    """Insert the reports no reconcile stored and the latest counters per container; the ids stored new."""
+    at = connection.ops.adapt_datetimefield_value(received)
     rest = [row for rid, row in rows.items() if rid not in claimed]
     synced = source == MonitoringReport.Source.KUBE
     with transaction.atomic():
@@ -327,15 +372,7 @@ def ingest(
         # Sorted, so that concurrent batches lock the rows in the same order (no deadlock).
         insert_rows(Monitoring, LATEST_COLUMNS, [latest[k] for k in sorted(latest)],
                     conflict=("cluster_id", "name"), update=LATEST_COLUMNS[2:-1])  # fmt: skip
-    duplicates = [i for i, r in enumerate(reports) if r.report_id not in new or first[r.report_id] is not r]
-    return {
-        "accepted": len(reports),
-        "stored": len(new),
-        "duplicates": duplicates,
-        "report_ids": [r.report_id for r in reports],
-        "violations": sum(1 for r, _ in violations if r.report_id in claimed),
-        "events": [event_summary(e) for e in events],
-    }
+    return new
 
 
 def event_summary(e: RTEvent) -> dict[str, Any]:
@@ -412,7 +449,6 @@ def reconcile(
     id is taken already (a concurrent retry of the same report), nothing is done and :data:`DUPLICATE` is
     returned.
     """
-    now_s = received.timestamp()
     with transaction.atomic():
         if claim is not None and not insert_rows(MonitoringReport, REPORT_COLUMNS, [claim], conflict=REPORT_KEY):
             return DUPLICATE
@@ -420,87 +456,152 @@ def reconcile(
         pods = list(
             RTPod.objects.filter(cluster=cluster, node=r.node, deleted_at__isnull=True).select_related("realtime")
         )
-        violator, problem = _match(pods, r)
-        base = {
-            "cluster": cluster,
-            "node": r.node,
-            "trigger": trigger,
-            "missed_period": r.missed_period,
-            "missed_total": r.missed_total,
-            "policy": monitor_policy.eviction_policy,
-            "miss_at": r.miss_at,
-            "sent_at": r.sent_at,
-            "received_at": received,
-        }
+        violator, reason = _match(pods, r)
+        base = _event_fields(cluster, monitor_policy, r, trigger, received)
         if violator is None:
-            container = f"{r.node}/{r.container}"[:253]  # the column's length: both parts may be that long
-            if _alert_recently(cluster, container, received - timedelta(seconds=monitor_policy.cooldown_time)):
-                return None
-            return RTEvent.objects.create(
-                kind=RTEvent.Kind.ALERT, container=container, message=problem, reconcile_done_at=timezone.now(), **base
-            )
-        infos = [
-            ContainerInfo(p.key, p.criticality, p.stateless, max(p.cpu, p.utilization or 0.0), p.memory_mib)
-            for p in pods
-        ]
-        monitor = ClusterMonitor(monitor_policy)
-        # The monitor's only state, the last action per container, matters for the total trigger's cooldown.
-        last = None
-        if trigger == "total":
-            last = (
-                RTEvent.objects.filter(cluster=cluster, container=violator.key)
-                .order_by("-received_at")
-                .values_list("received_at", "missed_total")
-                .first()
-            )
-        if last is not None:
-            monitor.last_action[violator.key] = (last[0].timestamp(), last[1])
-        report = EngineReport(r.node, violator.key, r.missed_period, r.missed_total, now_s)
-        decision = monitor.reconcile(
-            report, infos, NodeCapacity(node.cpu or 1.0, float(node.memory_mib or 1)), _traffic(policy, pods), now_s
-        )
+            return _unmatched_alert(cluster, monitor_policy, r, reason, base)
+        decision = _decide(cluster, policy, monitor_policy, node, pods, violator, r, trigger, received)
         if decision.skipped:
             return None
         done = timezone.now()
         base.update(container=violator.key, pod=violator.key, candidates=list(decision.candidates))
         if decision.victim is None:
-            if _alert_recently(cluster, violator.key, received - timedelta(seconds=monitor_policy.cooldown_time)):
-                return None
-            return RTEvent.objects.create(
-                kind=RTEvent.Kind.ALERT,
-                message=decision.alert or "",
-                decision=decision.to_dict(),
-                reconcile_done_at=done,
-                **base,
-            )
+            return _decision_alert(cluster, monitor_policy, violator, decision, done, base)
         victim = next(p for p in pods if p.key == decision.victim)
-        event = RTEvent(
-            kind=RTEvent.Kind.EVICTION,
-            victim=victim.key,
-            message=f"{violator.key} missed {r.missed_period} deadlines in the period ({r.missed_total} in total)",
-            decision=decision.to_dict(),
-            reconcile_done_at=done,
-            **base,
-        )
-        taint = decision.taint
-        expires = datetime.fromtimestamp(taint.until, UTC) if taint and taint.until is not None else done
-        node_taint = NodeTaint(cluster=cluster, node=node, key=taint.key, value=taint.value, effect=taint.effect,
-                               expires_at=expires)  # fmt: skip
+        event, node_taint = _eviction_records(cluster, node, victim, violator, r, decision, done, base)
         # Still holding the node's row lock (one reconcile per node at a time), the API calls come first: the
         # eviction is on the clock (Eq. 3.19), the bookkeeping below is not.
         deleted = _evict(cluster, event, victim, node_taint)
         _response(event)
-        event.save()
-        node_taint.event = event
-        node_taint.save()
-        if not (event.eviction_sent_at and event.eviction_error):  # evicted (or decided, on a model-only cluster)
-            RTPod.objects.filter(pk=victim.pk).update(deleted_at=event.eviction_done_at or done)
-        if not any(t.get("key") == taint.key and t.get("effect") == taint.effect for t in node.taints):
-            node.taints = [*node.taints, node_taint.as_dict()]
-            node.save(update_fields=["taints"])
+        _record_eviction(event, node_taint, node, victim, done)
     if deleted and not victim.owned and policy.recreate_orphans:
         _recreate(cluster, event, victim, deleted)
     return event
+
+
+def _event_fields(
+    cluster: Cluster, monitor_policy: MonitorPolicy, r: Report, trigger: str, received: datetime
+) -> dict[str, Any]:
+    """The fields every event of this report shares, whatever the decision."""
+    return {
+        "cluster": cluster,
+        "node": r.node,
+        "trigger": trigger,
+        "missed_period": r.missed_period,
+        "missed_total": r.missed_total,
+        "policy": monitor_policy.eviction_policy,
+        "miss_at": r.miss_at,
+        "sent_at": r.sent_at,
+        "received_at": received,
+    }
+
+
+def _cooling_down(cluster: Cluster, monitor_policy: MonitorPolicy, container: str, received: datetime) -> bool:
+    """An alert for ``container`` within the cooldown before ``received``: do not repeat it."""
+    return _alert_recently(cluster, container, received - timedelta(seconds=monitor_policy.cooldown_time))
+
+
+def _unmatched_alert(
+    cluster: Cluster, monitor_policy: MonitorPolicy, r: Report, reason: str, base: dict[str, Any]
+) -> RTEvent | None:
+    """The report names no pod we know on the node: an alert saying why (unless one was raised recently)."""
+    container = f"{r.node}/{r.container}"[:253]  # the column's length: both parts may be that long
+    if _cooling_down(cluster, monitor_policy, container, base["received_at"]):
+        return None
+    return RTEvent.objects.create(
+        kind=RTEvent.Kind.ALERT, container=container, message=reason, reconcile_done_at=timezone.now(), **base
+    )
+
+
+def _decide(
+    cluster: Cluster,
+    policy: RTPolicy,
+    monitor_policy: MonitorPolicy,
+    node: ComputeNode,
+    pods: Sequence[RTPod],
+    violator: RTPod,
+    r: Report,
+    trigger: str,
+    received: datetime,
+) -> ReconcileDecision:
+    """The engine's ``ClusterMonitor`` decision on the node's pods (victim, candidates, taint, or an alert)."""
+    now_s = received.timestamp()
+    infos = [
+        ContainerInfo(p.key, p.criticality, p.stateless, max(p.cpu, p.utilization or 0.0), p.memory_mib) for p in pods
+    ]
+    monitor = ClusterMonitor(monitor_policy)
+    # The monitor's only state, the last action per container, matters for the total trigger's cooldown.
+    last = None
+    if trigger == "total":
+        last = (
+            RTEvent.objects.filter(cluster=cluster, container=violator.key)
+            .order_by("-received_at")
+            .values_list("received_at", "missed_total")
+            .first()
+        )
+    if last is not None:
+        monitor.last_action[violator.key] = (last[0].timestamp(), last[1])
+    report = EngineReport(r.node, violator.key, r.missed_period, r.missed_total, now_s)
+    capacity = NodeCapacity(node.cpu or 1.0, float(node.memory_mib or 1))
+    return monitor.reconcile(report, infos, capacity, _traffic(policy, pods), now_s)
+
+
+def _decision_alert(
+    cluster: Cluster,
+    monitor_policy: MonitorPolicy,
+    violator: RTPod,
+    decision: ReconcileDecision,
+    done: datetime,
+    base: dict,
+) -> RTEvent | None:
+    """The engine found no victim: an alert with its reason (unless one was raised recently)."""
+    if _cooling_down(cluster, monitor_policy, violator.key, base["received_at"]):
+        return None
+    return RTEvent.objects.create(
+        kind=RTEvent.Kind.ALERT,
+        message=decision.alert or "",
+        decision=decision.to_dict(),
+        reconcile_done_at=done,
+        **base,
+    )
+
+
+def _eviction_records(
+    cluster: Cluster,
+    node: ComputeNode,
+    victim: RTPod,
+    violator: RTPod,
+    r: Report,
+    decision: ReconcileDecision,
+    done: datetime,
+    base: dict,
+) -> tuple[RTEvent, NodeTaint]:
+    """The eviction event and the node's taint, not saved yet (the API calls fill in their times first)."""
+    event = RTEvent(
+        kind=RTEvent.Kind.EVICTION,
+        victim=victim.key,
+        message=f"{violator.key} missed {r.missed_period} deadlines in the period ({r.missed_total} in total)",
+        decision=decision.to_dict(),
+        reconcile_done_at=done,
+        **base,
+    )
+    taint = decision.taint
+    expires = datetime.fromtimestamp(taint.until, UTC) if taint and taint.until is not None else done
+    node_taint = NodeTaint(cluster=cluster, node=node, key=taint.key, value=taint.value, effect=taint.effect,
+                           expires_at=expires)  # fmt: skip
+    return event, node_taint
+
+
+def _record_eviction(event: RTEvent, node_taint: NodeTaint, node: ComputeNode, victim: RTPod, done: datetime) -> None:
+    """Save the event and the taint, retire the victim from the ledger, and list the taint on the node row."""
+    event.save()
+    node_taint.event = event
+    node_taint.save()
+    if not (event.eviction_sent_at and event.eviction_error):  # evicted (or decided, on a model-only cluster)
+        RTPod.objects.filter(pk=victim.pk).update(deleted_at=event.eviction_done_at or done)
+    if not any(t.get("key") == node_taint.key and t.get("effect") == node_taint.effect for t in node.taints):
+        node.taints = [*node.taints, node_taint.as_dict()]
+        node.save(update_fields=["taints"])
 
 
 def _evict(cluster: Cluster, event: RTEvent, victim: RTPod, taint: NodeTaint) -> dict | None:

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import html
 import math
-from collections.abc import Collection, Iterable, Mapping, Sequence
+from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from statistics import fmean
 
@@ -95,6 +95,16 @@ def base_layout(fig: go.Figure, height: int) -> None:
         paper_bgcolor="white",
         hoverlabel={"bgcolor": "white", "font": FONT},
     )
+
+
+def cycle_colours(keys: Iterable[str], palette: Sequence[str]) -> dict[str, str]:
+    """A colour per key, in the order given, cycling through ``palette``."""
+    return {k: palette[i % len(palette)] for i, k in enumerate(keys)}
+
+
+def stacked_panels(titles: Sequence[str], rows: int, spacing: float) -> go.Figure:
+    """Panels stacked in one column on a shared x axis (the timelines' layout), titled ``titles``."""
+    return make_subplots(rows=rows, cols=1, shared_xaxes=True, vertical_spacing=spacing, subplot_titles=titles)
 
 
 # ---- Gantt chart ------------------------------------------------------------------------------------
@@ -200,19 +210,7 @@ def gantt_figure(
         fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
-        fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
-        # The label sits above the plot area, where it cannot hide a bar.
-        fig.add_annotation(
-            x=makespan,
-            y=1,
-            xref="x",
-            yref="paper",
-            xanchor="right",
-            yanchor="bottom",
-            showarrow=False,
-            text=f"makespan {fmt(makespan)}",
-            font={"size": 12, "color": "#323f4b"},
-        )
+        _add_makespan_marker(fig, makespan)
     base_layout(fig, height=max(260, 150 + (30 if lanes else 44) * len(rows)))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
@@ -224,6 +222,28 @@ def gantt_figure(
     )
     if nice is not None:
         _nice_axis(fig, nice)
+    _gantt_axes(fig, unit, makespan, rows)
+    return fig
+
+
+def _add_makespan_marker(fig: go.Figure, makespan: float) -> None:
+    """A dashed line at the makespan, labelled above the plot area (where the label cannot hide a bar)."""
+    fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
+    fig.add_annotation(
+        x=makespan,
+        y=1,
+        xref="x",
+        yref="paper",
+        xanchor="right",
+        yanchor="bottom",
+        showarrow=False,
+        text=f"makespan {fmt(makespan)}",
+        font={"size": 12, "color": "#323f4b"},
+    )
+
+
+def _gantt_axes(fig: go.Figure, unit: str, makespan: float, rows: Sequence[str]) -> None:
+    """A linear time axis up to just past the makespan; one category row per processor (or CPU), top down."""
     fig.update_xaxes(
         type="linear",
         title_text=f"time ({esc(unit)})" if unit else "time",
@@ -241,7 +261,6 @@ def gantt_figure(
         title_text="processor",
         showgrid=False,
     )
-    return fig
 
 
 def stacked_gantt_figure(
@@ -275,25 +294,8 @@ def stacked_gantt_figure(
     shown: set[str] = set()
     end = max((p.schedule.makespan for p in panels), default=0.0)
     for i, (panel, (rows, row_of)) in enumerate(zip(panels, layout, strict=True), start=1):
-        for trace in gantt_traces(panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range):
-            trace.showlegend = trace.name not in shown
-            if trace.marker.showscale and trace.name in shown:
-                trace.marker.showscale = False  # one colour bar for the whole figure
-            shown.add(trace.name)
-            fig.add_trace(trace, row=i, col=1)
-        if panel.schedule.assignments:
-            fig.add_vline(
-                x=panel.schedule.makespan, line={"dash": "dash", "color": "#52606d", "width": 1}, row=i, col=1
-            )
-        fig.update_yaxes(
-            type="category",
-            categoryorder="array",
-            categoryarray=escs(rows),
-            autorange="reversed",
-            showgrid=False,
-            row=i,
-            col=1,
-        )
+        traces = gantt_traces(panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range)
+        _add_gantt_panel(fig, i, panel, traces, rows, shown)
     base_layout(fig, height=height)
     fig.update_layout(
         barmode="overlay",
@@ -315,6 +317,30 @@ def stacked_gantt_figure(
     )
     fig.update_xaxes(title_text=f"time ({esc(time_unit)})" if time_unit else "time", row=max(1, len(panels)), col=1)
     return fig
+
+
+def _add_gantt_panel(
+    fig: go.Figure, i: int, panel: GanttPanel, traces: list[go.Bar], rows: Sequence[str], shown: set[str]
+) -> None:
+    """Panel ``i`` of a stacked Gantt: its bars (each legend entry and colour bar once in the figure), its
+    makespan line, and its own processor rows."""
+    for trace in traces:
+        trace.showlegend = trace.name not in shown
+        if trace.marker.showscale and trace.name in shown:
+            trace.marker.showscale = False  # one colour bar for the whole figure
+        shown.add(trace.name)
+        fig.add_trace(trace, row=i, col=1)
+    if panel.schedule.assignments:
+        fig.add_vline(x=panel.schedule.makespan, line={"dash": "dash", "color": "#52606d", "width": 1}, row=i, col=1)
+    fig.update_yaxes(
+        type="category",
+        categoryorder="array",
+        categoryarray=escs(rows),
+        autorange="reversed",
+        showgrid=False,
+        row=i,
+        col=1,
+    )
 
 
 def gantt_rows(
@@ -429,22 +455,24 @@ def _gantt_trace(
         # The hover text is written here, not by a hovertemplate: with ``base=start`` Plotly's ``%{x}`` is the
         # bar's end in some cases, so a template's "duration" showed the finish time (issue 13).
         # customdata keeps each bar's facts for scripts (and tests) reading the figure.
-        customdata=[
-            [
-                esc(a.task),
-                a.frame,
-                esc(a.processor),
-                a.start,
-                a.finish,
-                "—" if a.niceness is None else a.niceness,
-                f"<br>{esc(notes[(a.task, a.frame)])}" if (a.task, a.frame) in notes else "",
-            ]
-            for a in assignments
-        ],
+        customdata=[_gantt_facts(a, notes) for a in assignments],
         hovertext=[_gantt_hover(a, suffix, has_nice, notes.get((a.task, a.frame))) for a in assignments],
         hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
         showlegend=True,
     )
+
+
+def _gantt_facts(a: Assignment, notes: Mapping[tuple[str, int], str]) -> list:
+    """One bar's customdata: task, frame, processor, start, finish, niceness and its note (names escaped)."""
+    return [
+        esc(a.task),
+        a.frame,
+        esc(a.processor),
+        a.start,
+        a.finish,
+        "—" if a.niceness is None else a.niceness,
+        f"<br>{esc(notes[(a.task, a.frame)])}" if (a.task, a.frame) in notes else "",
+    ]
 
 
 def _gantt_hover(a: Assignment, suffix: str, has_nice: bool, note: str | None) -> str:
@@ -565,10 +593,6 @@ def add_edge_traces(
 def dag_figure(dag: TaskGraph) -> go.Figure:
     """The DAG drawn in layers by topological level; hover shows a task's costs or an edge's data."""
     pos = dag_layout(dag)
-    succ_count = {t: len(es) for t, es in dag.successors().items()}
-    pred_count = {t: len(es) for t, es in dag.predecessors().items()}
-    unit = dag.time_unit
-
     fig = go.Figure()
     add_edge_traces(
         fig,
@@ -578,13 +602,50 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
         width=1.2,
         hover_size=10,
     )
+    labelled = len(dag.tasks) <= MAX_LABELLED_TASKS
+    fig.add_trace(_dag_task_trace(dag, pos, labelled))
+    if len(dag.edges) <= MAX_ARROWS:
+        _add_dag_arrows(fig, dag, pos)
+    _dag_axes(fig, pos, labelled)
+    return fig
+
+
+def _dag_task_trace(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], labelled: bool) -> go.Scatter:
+    """The tasks: coloured by mean cost (with its colour bar), diamonds for critical tasks, costs on hover."""
+    unit = dag.time_unit
     tasks = list(dag.tasks.values())
-    mean_cost = [fmean(t.cost.values()) for t in tasks]
-    colours, colour_opts = _cost_colours(mean_cost)
+    colours, colour_opts = _cost_colours([fmean(t.cost.values()) for t in tasks])
     colorbar = {"title": {"text": f"mean cost ({esc(unit)})", "side": "right"}, "thickness": 12}
     if "colorbar_tickvals" in colour_opts:
         colorbar["tickvals"] = colour_opts["colorbar_tickvals"]
         colorbar["ticktext"] = colour_opts["colorbar_ticktext"]
+    return go.Scatter(
+        x=[pos[t.id][0] for t in tasks],
+        y=[pos[t.id][1] for t in tasks],
+        mode="markers+text" if labelled else "markers",
+        text=[esc(t.id) for t in tasks],
+        textposition="top center",
+        marker={
+            "size": 18 if labelled else 12,
+            "color": colours,
+            "colorscale": colour_opts["colorscale"],
+            "showscale": True,
+            "colorbar": colorbar,
+            "symbol": ["diamond" if t.critical else "circle" for t in tasks],
+            "line": {"color": "#1f2933", "width": 1},
+        },
+        hovertext=_dag_task_hover(dag, pos, tasks),
+        hoverinfo="text",
+        name="tasks",
+        showlegend=False,
+    )
+
+
+def _dag_task_hover(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], tasks: Sequence) -> list[str]:
+    """Per task: its id (and name), level, in/out degree, cost per processor class, and whether it is critical."""
+    unit = dag.time_unit
+    succ_count = {t: len(es) for t, es in dag.successors().items()}
+    pred_count = {t: len(es) for t, es in dag.predecessors().items()}
     hover = []
     for t in tasks:
         costs = "<br>".join(f"  {esc(k)}: {fmt(v)} {esc(unit)}" for k, v in sorted(t.cost.items()))
@@ -594,48 +655,33 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
             f"{title}<br>level {int(pos[t.id][0])}, {pred_count[t.id]} in / {succ_count[t.id]} out"
             f"<br>cost:<br>{costs}{flags}"
         )
-    labelled = len(tasks) <= MAX_LABELLED_TASKS
-    fig.add_trace(
-        go.Scatter(
-            x=[pos[t.id][0] for t in tasks],
-            y=[pos[t.id][1] for t in tasks],
-            mode="markers+text" if labelled else "markers",
-            text=[esc(t.id) for t in tasks],
-            textposition="top center",
-            marker={
-                "size": 18 if labelled else 12,
-                "color": colours,
-                "colorscale": colour_opts["colorscale"],
-                "showscale": True,
-                "colorbar": colorbar,
-                "symbol": ["diamond" if t.critical else "circle" for t in tasks],
-                "line": {"color": "#1f2933", "width": 1},
-            },
-            hovertext=hover,
-            hoverinfo="text",
-            name="tasks",
-            showlegend=False,
+    return hover
+
+
+def _add_dag_arrows(fig: go.Figure, dag: TaskGraph, pos: Mapping[str, tuple[float, float]]) -> None:
+    """An arrow head on every edge, 82 % of the way to its destination (clear of the task's marker)."""
+    for e in dag.edges:
+        (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
+        fig.add_annotation(
+            x=x0 + 0.82 * (x1 - x0),
+            y=y0 + 0.82 * (y1 - y0),
+            ax=x0,
+            ay=y0,
+            xref="x",
+            yref="y",
+            axref="x",
+            ayref="y",
+            showarrow=True,
+            arrowhead=2,
+            arrowsize=1.2,
+            arrowwidth=1.2,
+            arrowcolor=EDGE_COLOUR,
+            text="",
         )
-    )
-    if len(dag.edges) <= MAX_ARROWS:
-        for e in dag.edges:
-            (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
-            fig.add_annotation(
-                x=x0 + 0.82 * (x1 - x0),
-                y=y0 + 0.82 * (y1 - y0),
-                ax=x0,
-                ay=y0,
-                xref="x",
-                yref="y",
-                axref="x",
-                ayref="y",
-                showarrow=True,
-                arrowhead=2,
-                arrowsize=1.2,
-                arrowwidth=1.2,
-                arrowcolor=EDGE_COLOUR,
-                text="",
-            )
+
+
+def _dag_axes(fig: go.Figure, pos: Mapping[str, tuple[float, float]], labelled: bool) -> None:
+    """Height from the tallest level; x ticks per level; y hidden, with room for the top row's labels."""
     width_levels = max((int(x) for x, _ in pos.values()), default=0) + 1
     tallest = max(
         (sum(1 for x, _ in pos.values() if int(x) == lv) for lv in range(width_levels)),
@@ -653,7 +699,6 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
     ys = [y for _, y in pos.values()]
     pad = 0.8 if labelled else 0.5  # room for the labels above the top row
     fig.update_yaxes(visible=False, showgrid=False, zeroline=False, range=[min(ys) - 0.5, max(ys) + pad])
-    return fig
 
 
 # ---- Cluster network ----------------------------------------------------------------------------------
@@ -705,33 +750,39 @@ def network_figure(
         hover_size=12,
     )
     # One trace per status so the legend explains the colours.
-    labelled = len(platform.processors) <= 50
-    for state in [*STATUS_COLOURS, *sorted(set(status.values()) - set(STATUS_COLOURS))]:
-        procs = [p for p in platform.processors if status.get(p.id, "Ready") == state]
-        if not procs:
-            continue
-        fig.add_trace(
-            go.Scatter(
-                x=[pos[p.id][0] for p in procs],
-                y=[pos[p.id][1] for p in procs],
-                mode="markers+text" if labelled else "markers",
-                text=[esc(p.id) for p in procs],
-                textposition="bottom center",
-                marker={
-                    "size": 24,
-                    "color": STATUS_COLOURS.get(state, "#9aa1a9"),
-                    "symbol": [CLASS_SYMBOLS.get(p.cls, "circle") for p in procs],
-                    "line": {"color": "white", "width": 2},
-                },
-                hovertext=[
-                    f"<b>{esc(p.id)}</b><br>class: {esc(p.cls)}<br>speed: {fmt(p.speed)}<br>{esc(state)}" for p in procs
-                ],
-                hoverinfo="text",
-                name=esc(state),
-            )
-        )
+    for trace in _status_traces(platform, status, pos):
+        fig.add_trace(trace)
     base_layout(fig, height=420)
     fig.update_layout(legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "xanchor": "right", "x": 1})
     fig.update_xaxes(visible=False, range=[-1.4, 1.4] if len(platform.processors) <= 8 else None)
     fig.update_yaxes(visible=False, range=[-1.35, 1.3] if len(platform.processors) <= 8 else None, scaleanchor="x")
     return fig
+
+
+def _status_traces(
+    platform: Platform, status: Mapping[str, str], pos: Mapping[str, tuple[float, float]]
+) -> Iterator[go.Scatter]:
+    """The processors, one trace per status (known statuses first): colour = status, symbol = class."""
+    labelled = len(platform.processors) <= 50
+    for state in [*STATUS_COLOURS, *sorted(set(status.values()) - set(STATUS_COLOURS))]:
+        procs = [p for p in platform.processors if status.get(p.id, "Ready") == state]
+        if not procs:
+            continue
+        yield go.Scatter(
+            x=[pos[p.id][0] for p in procs],
+            y=[pos[p.id][1] for p in procs],
+            mode="markers+text" if labelled else "markers",
+            text=[esc(p.id) for p in procs],
+            textposition="bottom center",
+            marker={
+                "size": 24,
+                "color": STATUS_COLOURS.get(state, "#9aa1a9"),
+                "symbol": [CLASS_SYMBOLS.get(p.cls, "circle") for p in procs],
+                "line": {"color": "white", "width": 2},
+            },
+            hovertext=[
+                f"<b>{esc(p.id)}</b><br>class: {esc(p.cls)}<br>speed: {fmt(p.speed)}<br>{esc(state)}" for p in procs
+            ],
+            hoverinfo="text",
+            name=esc(state),
+        )
