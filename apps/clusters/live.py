@@ -57,6 +57,14 @@ def event_text(state: PodState, limit: int = 500) -> str:
     return state.event.text(limit) if state.event else ""
 
 
+def live_values(state: PodState, **values: Any) -> dict[str, Any]:
+    """``values`` plus ``pod_event`` when the pod's newest event is known: a pod seen before its Events (a
+    restarted watcher gets the pods and the Events from two watches, in any order) keeps the stored one."""
+    if state.event is not None:
+        values["pod_event"] = event_text(state)
+    return values
+
+
 @dataclass
 class LiveState:
     """The dispatcher: pods and their newest events in memory, each change handed to the handlers.
@@ -138,7 +146,7 @@ class LiveState:
 
     def report(self) -> dict:
         return {
-            "cluster": self.cluster.pk,
+            "cluster": getattr(self.cluster, "pk", None),
             "pod_events": self.pod_events,
             "events": self.events,
             "pods": len(self.pods),

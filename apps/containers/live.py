@@ -8,7 +8,7 @@ a new pod replaces the stored one, while a terminating or deleted pod only updat
 
 from __future__ import annotations
 
-from apps.clusters.live import event_text, store
+from apps.clusters.live import event_text, live_values, store
 from apps.clusters.models import Cluster
 from apps.kube.gateway import PREFIX, PodState
 
@@ -24,10 +24,7 @@ def store_pod_state(cluster: Cluster, state: PodState) -> int:
     ).exclude(state=ContainerDeployment.State.SUPERSEDED)
     if state.deleted or state.terminating:
         rows = rows.filter(pod_name=state.name)
-    values = {
-        "pod_name": state.name,
-        "pod_phase": state.phase,
-        "pod_node": state.node,
-        "pod_event": event_text(state),
-    }
-    return store(rows, values)
+    values = live_values(state, pod_name=state.name, pod_phase=state.phase, pod_node=state.node)
+    # Rows that showed another pod take this one with its event (none yet: empty); the others keep theirs.
+    replaced = store(rows.exclude(pod_name=state.name), {**values, "pod_event": event_text(state)})
+    return replaced + store(rows.filter(pod_name=state.name), values)

@@ -7,7 +7,7 @@ the scheduler knows, and creates none.
 
 from __future__ import annotations
 
-from apps.clusters.live import event_text, store
+from apps.clusters.live import live_values, store
 from apps.clusters.models import Cluster
 from apps.kube.gateway import PodState
 
@@ -18,7 +18,6 @@ def store_pod_state(cluster: Cluster, state: PodState) -> int:
     rows = RTPod.objects.filter(cluster=cluster, namespace=state.namespace, name=state.name)
     if state.uid:
         rows = rows.filter(uid__in=["", state.uid])
-    values = {"pod_event": event_text(state)}
-    if not state.deleted:  # a deleted pod keeps its last phase: the scheduler records the deletion (deleted_at)
-        values["phase"] = state.phase
-    return store(rows, values)
+    # A deleted pod keeps its last phase: the RT scheduler records the deletion (deleted_at).
+    values = live_values(state) if state.deleted else live_values(state, phase=state.phase)
+    return store(rows, values) if values else 0

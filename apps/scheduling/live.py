@@ -7,7 +7,7 @@ keeps the pods of the schedule it came from) get its phase, node and newest even
 
 from __future__ import annotations
 
-from apps.clusters.live import event_text, store
+from apps.clusters.live import live_values, store
 from apps.clusters.models import Cluster
 from apps.kube.gateway import PREFIX, PodState
 
@@ -21,5 +21,4 @@ def store_pod_state(cluster: Cluster, state: PodState) -> int:
     rows = Assignment.objects.filter(
         schedule__cluster=cluster, schedule__application_id=int(application), pod_name=state.name
     )
-    values = {"pod_phase": state.phase, "pod_node": state.node, "pod_event": event_text(state)}
-    return store(rows, values)
+    return store(rows, live_values(state, pod_phase=state.phase, pod_node=state.node))
