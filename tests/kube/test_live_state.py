@@ -300,3 +300,47 @@ def test_a_pushed_schedules_pods_show_running_on_their_node_with_the_kubelets_ev
     # What kubemark's kubelet reports for a pod it ran with its fake runtime.
     assert {r["pod_event"].split(":")[0] for r in rows} <= {"Scheduled", "Pulled", "Created", "Started"}
     assert all(r["pod_state_at"] for r in rows)
+
+
+@pytest.mark.kube
+@pytest.mark.django_db
+def test_a_pushed_placements_deployments_show_their_pods_running_where_kube_scheduler_put_them(
+    api, kube_admin, kube_multinode
+):
+    from apps.containers.models import ContainerDeployment
+    from tests.kube.conftest import MULTINODE_CLUSTER
+    from tests.kube.test_ros_push import autoware_placement, run
+
+    by_name = {n["name"]: n for n in MULTINODE_CLUSTER["nodes"]}
+    nodes = [{"name": name, "arch": by_name[name]["arch"], "cpu": 1, "memory_mib": 3840, "labels": by_name[name].get(
+        "labels", {})} for name in ("hollow-a", "hollow-b")]  # fmt: skip
+    namespace = f"live-{uuid.uuid4().hex[:12]}"
+    doc = {"name": "hollow-ros", "kubeconfig": kube_multinode.kubeconfig(), "format": "continuum.cluster/v1",
+           "nodes": nodes, "links": [{"src": "hollow-a", "dst": "hollow-b", "bandwidth_mbps": 1000}]}  # fmt: skip
+    response = kube_admin.post("/api/v1/clusters/import/", doc, format="json")
+    assert response.status_code == 201, response.data
+    cluster_id = response.data["id"]
+    response = api.patch(f"/api/v1/clusters/{cluster_id}/", {"namespace": namespace}, format="json")
+    assert response.status_code == 200, response.data
+    from apps.clusters.models import Cluster
+
+    placement = autoware_placement(api, Cluster.objects.get(pk=cluster_id), cpu=0.2, extra={"overhead_mib": 0})
+    job = run(api, f"/api/v1/placements/{placement.pk}/push/")
+    assert job["state"] == "succeeded", job["error"]
+    assert ContainerDeployment.objects.filter(placement=placement).count() == 4
+
+    def live():
+        call_command("watch_cluster", str(cluster_id), "--namespace", namespace, "--max-seconds", "4", "--json")
+        rows = api.get(f"/api/v1/placements/{placement.pk}/").data["deployments"]
+        done = all(r["pod_phase"] == "Running" and r["pod_node"] == r["node"] and r["pod_event"] for r in rows)
+        return rows if done else None
+
+    deadline = time.monotonic() + TIMEOUT
+    rows = None
+    while rows is None and time.monotonic() < deadline:
+        rows = live()
+    last = api.get(f"/api/v1/placements/{placement.pk}/").data["deployments"]
+    assert rows, f"the API never showed every Deployment's pod Running on its node with an event: {last}"
+    # kube-scheduler's own event for the pods it bound where the node selectors say
+    assert all(r["pod_event"].startswith("Scheduled: Successfully assigned") for r in rows), rows
+    assert all(r["pod_name"].startswith(r["deployment"]) for r in rows)
