@@ -1,5 +1,6 @@
 """Live state of a cluster's pods: follow its pods and their Events, and let the apps that own pods store
-each pod's phase, node and newest event on their rows.
+each pod's phase, node and newest event on their rows; follow its Nodes too and keep each ComputeNode's
+Ready status (the clusters app's own rows).
 
 The clusters app runs the watcher (``python manage.py watch_cluster``), but the rows belong to apps above
 it (a schedule's assignments, a placement's containers, RT-Kube's pods): each of them registers a handler in
@@ -26,7 +27,7 @@ from apps.kube import gateway
 from apps.kube.gateway import PodEvent, PodState
 
 from .kube import api_client_for
-from .models import Cluster
+from .models import Cluster, ComputeNode
 
 log = logging.getLogger(__name__)
 
@@ -79,6 +80,8 @@ class LiveState:
     pending: dict[tuple[str, str], tuple[str, PodEvent]] = field(default_factory=dict)
     sent: dict[tuple[str, str], tuple] = field(default_factory=dict)
     pod_events: int = 0
+    node_events: int = 0
+    nodes_updated: int = 0
     events: int = 0
     dispatched: int = 0
     updated: dict[str, int] = field(default_factory=dict)
@@ -123,6 +126,19 @@ class LiveState:
         self.pods[key] = state
         return self.dispatch(state)
 
+    def on_node(self, event: dict) -> int:
+        """A Node's Ready status onto its ComputeNode row (a deleted node is NotReady); rows of nodes Continuum
+        does not know are not created (``kube_sync`` adds them)."""
+        obj = event.get("raw_object") or event.get("object") or {}
+        if event.get("type") not in ("ADDED", "MODIFIED", "DELETED") or not isinstance(obj, dict):
+            return 0
+        self.node_events += 1
+        status = ComputeNode.Status.NOT_READY if event["type"] == "DELETED" else gateway.node_status(obj)
+        rows = ComputeNode.objects.filter(cluster=self.cluster, name=gateway.name_of(obj)).exclude(status=status)
+        count = rows.update(status=status)
+        self.nodes_updated += count
+        return count
+
     def dispatch(self, state: PodState) -> int:
         signature = state.signature()
         if self.sent.get(state.key) == signature:
@@ -148,6 +164,8 @@ class LiveState:
         return {
             "cluster": getattr(self.cluster, "pk", None),
             "pod_events": self.pod_events,
+            "node_events": self.node_events,
+            "nodes_updated": self.nodes_updated,
             "events": self.events,
             "pods": len(self.pods),
             "dispatched": self.dispatched,
@@ -165,8 +183,8 @@ def watch_cluster(
     handlers: dict[str, PodHandler] | None = None,
     on_change: Callable[[LiveState], Any] | None = None,
 ) -> dict:
-    """Follow the pods and pod Events of ``cluster`` (in ``namespaces``; default: all) until ``stop`` is set
-    or ``timeout`` seconds passed, dispatching each change to the registered handlers; returns counts.
+    """Follow the Nodes, and the pods and pod Events of ``cluster`` (in ``namespaces``; default: all), until
+    ``stop`` is set or ``timeout`` seconds passed, dispatching each change to the handlers; returns counts.
 
     The two watches (per namespace) run in threads that only queue what they receive; this thread, the
     caller's, does every database write (so a test's transaction sees them)."""
@@ -196,7 +214,11 @@ def watch_cluster(
         except BaseException as exc:  # handed to the dispatching thread, which raises it
             inbox.put(("error", exc))
 
-    threads = []
+    threads = [
+        threading.Thread(
+            target=run, args=("node", gateway.watch_nodes(), f"node watch of cluster {cluster.name!r}"), daemon=True
+        )
+    ]
     for ns in scopes:
         where = f"namespace {ns}" if ns else "all namespaces"
         for kind, pick in (
@@ -213,7 +235,7 @@ def watch_cluster(
     def handle(kind: str, payload: Any) -> None:
         if kind == "error":
             raise payload
-        changed = live.on_pod(payload) if kind == "pod" else live.on_event(payload)
+        changed = {"pod": live.on_pod, "event": live.on_event, "node": live.on_node}[kind](payload)
         if changed and on_change is not None:
             on_change(live)
 

@@ -248,6 +248,26 @@ def test_the_command_refuses_an_unknown_or_model_only_cluster(cluster):
         call_command("watch_cluster", cluster.name)
 
 
+@pytest.mark.django_db
+def test_a_nodes_ready_status_reaches_its_compute_node_once(cluster):
+    node = cluster.nodes.first()
+    live = LiveState(cluster)
+
+    def node_event(kind, ready):
+        obj = {"metadata": {"name": node.name}, "status": {"conditions": [{"type": "Ready", "status": ready}]}}
+        return w(kind, obj)
+
+    assert live.on_node(node_event("MODIFIED", "False")) == 1
+    assert live.on_node(node_event("MODIFIED", "False")) == 0  # unchanged: nothing written
+    node.refresh_from_db()
+    assert node.status == "NotReady"
+    assert live.on_node(node_event("MODIFIED", "True")) == 1
+    assert live.on_node(node_event("DELETED", "True")) == 1  # gone from the API: NotReady, the row is kept
+    node.refresh_from_db()
+    assert node.status == "NotReady"
+    assert live.on_node(w("ADDED", {"metadata": {"name": "unknown"}, "status": {}})) == 0  # not created
+
+
 # -- on the real multi-node cluster -------------------------------------------------------------------------------
 
 
@@ -300,6 +320,8 @@ def test_a_pushed_schedules_pods_show_running_on_their_node_with_the_kubelets_ev
     # What kubemark's kubelet reports for a pod it ran with its fake runtime.
     assert {r["pod_event"].split(":")[0] for r in rows} <= {"Scheduled", "Pulled", "Created", "Started"}
     assert all(r["pod_state_at"] for r in rows)
+    # the node watch stored the hollow nodes' Ready status on the imported nodes
+    assert dict(schedule.cluster.nodes.values_list("name", "status")) == {"hollow-a": "Ready", "hollow-b": "Ready"}
 
 
 @pytest.mark.kube

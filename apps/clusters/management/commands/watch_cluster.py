@@ -35,7 +35,7 @@ def find_cluster(ref: str) -> Cluster:
 class Command(EngineCommand):
     help = (
         "Watch a cluster's pods and their events and store each pod's phase, node and newest event on the "
-        "schedule assignments, container deployments and RT pods it belongs to."
+        "schedule assignments, container deployments and RT pods it belongs to; keep its nodes' Ready status."
     )
 
     def add_arguments(self, parser) -> None:
@@ -76,5 +76,6 @@ class Command(EngineCommand):
         return (
             f"cluster {result['cluster']} ({', '.join(result['namespaces'])}): {result['pod_events']} pod events, "
             f"{result['events']} pod Events, {result['pods']} pods; rows updated: {updated}; "
+            f"{result['node_events']} node events, {result['nodes_updated']} node statuses changed; "
             f"{result['reconnects']} reconnects"
         )
