@@ -240,8 +240,9 @@ def test_the_api_shows_the_live_state_read_only(api, owned):
 def test_the_command_refuses_an_unknown_or_model_only_cluster(cluster):
     from django.core.management.base import CommandError
 
-    with pytest.raises(CommandError, match="does not exist"):
+    with pytest.raises(CommandError, match="does not exist") as refused:
         call_command("watch_cluster", "no-such-cluster")
+    assert refused.value.returncode == 2  # bad input, as every command
     with pytest.raises(CommandError, match="model-only"):
         call_command("watch_cluster", str(cluster.pk), "--max-seconds", "1")
     with pytest.raises(CommandError, match="model-only"):
