@@ -7,4 +7,9 @@ class ContainersConfig(AppConfig):
     verbose_name = "ROS graphs, containers and placements"
 
     def ready(self) -> None:
+        from apps.clusters.live import register_pod_handler
+
         from . import jobs  # noqa: F401 - registers the cluster_ros, place and push_placement job kinds
+        from .live import store_pod_state
+
+        register_pod_handler("containers", store_pod_state)  # the live state of its pods (watch_cluster)

@@ -154,6 +154,12 @@ class ContainerDeployment(models.Model):
     #: created / updated / unchanged on the last push, or why it failed.
     message = models.CharField(max_length=500, blank=True)
     updated = models.DateTimeField(auto_now=True)
+    #: The Deployment's newest pod, as stored by the cluster's watcher (``watch_cluster``).
+    pod_name = models.CharField(max_length=253, blank=True)
+    pod_phase = models.CharField(max_length=16, blank=True, help_text="Pending, Running, ..., Deleted")
+    pod_node = models.CharField(max_length=253, blank=True, help_text="the node the pod is bound to")
+    pod_event = models.CharField(max_length=500, blank=True, help_text="the pod's newest event: reason: message")
+    pod_state_at = models.DateTimeField(null=True, blank=True, help_text="when the watcher last stored a change")
 
     class Meta:
         ordering = ["placement", "container"]

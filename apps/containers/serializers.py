@@ -346,7 +346,8 @@ class PlaceRequestSerializer(ScopedSerializer):
 class ContainerDeploymentSerializer(ScopedModelSerializer):
     class Meta:
         model = ContainerDeployment
-        fields = ["container", "node", "deployment", "namespace", "state", "message", "updated"]
+        fields = ["container", "node", "deployment", "namespace", "state", "message", "updated",
+                  "pod_name", "pod_phase", "pod_node", "pod_event", "pod_state_at"]  # fmt: skip
         read_only_fields = fields
 
 

@@ -8,7 +8,8 @@ One import for callers (``from apps.kube import gateway``); the parts live in sm
 - :mod:`apps.kube.pods` -- a schedule's pods and their Bindings (engine assignments in, Outcomes out);
 - :mod:`apps.kube.deployments` -- Deployments applied idempotently (manifest hash);
 - :mod:`apps.kube.resources` -- CRDs, custom objects and their status, evictions, Events, pod conditions;
-- :mod:`apps.kube.watch` -- the one watch loop (resume, 410 Gone, backoff).
+- :mod:`apps.kube.watch` -- the one watch loop (resume, 410 Gone, backoff);
+- :mod:`apps.kube.podstate` -- a pod's live state (phase, node, latest event) from the watched JSON.
 
 It takes and returns engine types and plain data, never another app's rows: the app that owns a stored
 cluster builds the client from its kubeconfig (``apps.clusters.kube.api_client_for``) and records what
@@ -65,9 +66,11 @@ from .pods import (
     pod_name,
     push,
 )
+from .podstate import PodEvent, PodState, event_of, pod_state
 from .resources import Kube
 from .watch import WATCH_SECONDS, Watches, WatchStats, follow
 from .watch import custom_objects as watch_custom_objects
+from .watch import events as watch_events
 from .watch import nodes as watch_nodes
 from .watch import pods as watch_pods
 
@@ -85,7 +88,9 @@ __all__ = [
     "Kube",
     "KubeError",
     "Outcome",
+    "PodEvent",
     "PodSet",
+    "PodState",
     "Progress",
     "Pusher",
     "WatchStats",
@@ -98,6 +103,7 @@ __all__ = [
     "describe",
     "dns_part",
     "ensure_namespace",
+    "event_of",
     "follow",
     "label_value",
     "list_nodes",
@@ -110,6 +116,7 @@ __all__ = [
     "node_taints",
     "pod_manifest",
     "pod_name",
+    "pod_state",
     "problem",
     "push",
     "read_json",
@@ -120,6 +127,7 @@ __all__ = [
     "target",
     "update_node",
     "watch_custom_objects",
+    "watch_events",
     "watch_nodes",
     "watch_pods",
 ]

@@ -16,9 +16,11 @@ stores schedules records them.
 from __future__ import annotations
 
 import hashlib
+import logging
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from datetime import UTC, datetime
 
 from django.conf import settings
 from kubernetes import client
@@ -29,6 +31,8 @@ from continuum.engine.heft4k.heft4k import nice_container
 
 from . import nodes
 from .connect import API_ERRORS, REQUEST_TIMEOUT, call, describe
+
+log = logging.getLogger(__name__)
 
 #: Label and annotation prefix of everything Continuum writes.
 PREFIX = "continuum.io"
@@ -248,7 +252,32 @@ class Pusher:
         response.release_conn()
         if response.status != 201:
             return Outcome(False, f"binding refused: HTTP {response.status} {answer[:200]!r}")
+        self.scheduled_event(name, node)
         return Outcome(True, f"bound to {node}")
+
+    def scheduled_event(self, name: str, node: str) -> None:
+        """Record the binding as kube-scheduler does, a ``Scheduled`` Event on the pod (the pod's live state
+        shows it: a hollow node's kubelet reports no events of its own). Best effort: the pod is bound anyway."""
+        stamp = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+        component = settings.CONTINUUM_SCHEDULER_NAME
+        body = {
+            "apiVersion": "v1",
+            "kind": "Event",
+            "metadata": {"name": f"{name}.{hashlib.sha256(f'{name}/{node}/{stamp}'.encode()).hexdigest()[:10]}"},
+            "involvedObject": {"apiVersion": "v1", "kind": "Pod", "name": name, "namespace": self.namespace},
+            "reason": "Scheduled",
+            "message": f"Successfully assigned {self.namespace}/{name} to {node}",
+            "type": "Normal",
+            "source": {"component": component},
+            "reportingComponent": component,
+            "firstTimestamp": stamp,
+            "lastTimestamp": stamp,
+            "count": 1,
+        }
+        try:
+            self.api.create_namespaced_event(self.namespace, body, _request_timeout=REQUEST_TIMEOUT)
+        except API_ERRORS as exc:
+            log.warning("pod %s bound to %s, but its Scheduled event was refused: %s", name, node, describe(exc))
 
     def delete(self, name: str, *, force: bool) -> bool:
         """Delete a pod; ``force`` (grace period 0) for a pod on a node that is not Ready (or gone), whose

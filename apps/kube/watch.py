@@ -205,6 +205,18 @@ def pods(namespace: str | None, **query) -> Pick:
     return pick
 
 
+def events(namespace: str | None, **query) -> Pick:
+    """core/v1 Events of one namespace (``None``: of all), e.g. ``field_selector="involvedObject.kind=Pod"``."""
+
+    def pick(api_client: client.ApiClient):
+        core = client.CoreV1Api(api_client)
+        if namespace is None:
+            return core.list_event_for_all_namespaces, (), dict(query)
+        return core.list_namespaced_event, (namespace,), dict(query)
+
+    return pick
+
+
 def custom_objects(group: str, version: str, plural: str, namespace: str | None) -> Pick:
     """Custom objects of one kind, in one namespace (``None``: in all)."""
 

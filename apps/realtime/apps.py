@@ -7,4 +7,9 @@ class RealtimeConfig(AppConfig):
     verbose_name = "Real-time (RT-Kube)"
 
     def ready(self) -> None:
+        from apps.clusters.live import register_pod_handler
+
         from . import jobs  # noqa: F401 - registers the rt_whatif and rt_sync job kinds
+        from .live import store_pod_state
+
+        register_pod_handler("realtime", store_pod_state)  # the live state of its pods (watch_cluster)

@@ -267,6 +267,9 @@ class RTPod(models.Model):
     utilization = models.FloatField(null=True, blank=True, help_text="WCET(node)/P where bound")
     owned = models.BooleanField(default=False, help_text="a controller (ReplicaSet, ...) owns it")
     phase = models.CharField(max_length=16, blank=True)
+    #: The pod's newest event, stored by the cluster's watcher (``watch_cluster``) with ``phase``.
+    pod_event = models.CharField(max_length=500, blank=True, help_text="the pod's newest event: reason: message")
+    pod_state_at = models.DateTimeField(null=True, blank=True, help_text="when the watcher last stored a change")
     bound_at = models.DateTimeField(null=True, blank=True)
     deleted_at = models.DateTimeField(null=True, blank=True)
     seen = models.DateTimeField(auto_now=True)

@@ -266,7 +266,7 @@ class RTPodSerializer(ScopedModelSerializer):
         model = RTPod
         fields = ["id", "cluster", "namespace", "name", "uid", "node", "container_name", "scheduler_name", "realtime",
                   "criticality", "stateless", "cpu", "memory_mib", "utilization", "owned", "phase", "bound_at",
-                  "deleted_at"]  # fmt: skip
+                  "deleted_at", "pod_event", "pod_state_at"]  # fmt: skip
         read_only_fields = fields
 
 

@@ -14,3 +14,9 @@ class SchedulingConfig(AppConfig):
 
         register_demo(demo_schedule)
         views.register()  # the schedule and compare forms and the schedules on the application page
+
+        from apps.clusters.live import register_pod_handler
+
+        from .live import store_pod_state
+
+        register_pod_handler("scheduling", store_pod_state)  # the live state of its pods (watch_cluster)

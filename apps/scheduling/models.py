@@ -188,6 +188,11 @@ class Assignment(models.Model):
     placement = models.CharField(max_length=16, choices=Placement.choices, default=Placement.NOT_PUSHED)
     placement_message = models.CharField(max_length=500, blank=True)
     pod_name = models.CharField(max_length=253, blank=True)
+    #: Live state, stored by the cluster's watcher (``watch_cluster``) from the pod's watch and Events.
+    pod_phase = models.CharField(max_length=16, blank=True, help_text="Pending, Running, ..., Deleted")
+    pod_node = models.CharField(max_length=253, blank=True, help_text="the node the pod is bound to")
+    pod_event = models.CharField(max_length=500, blank=True, help_text="the pod's newest event: reason: message")
+    pod_state_at = models.DateTimeField(null=True, blank=True, help_text="when the watcher last stored a change")
 
     class Meta:
         ordering = ["start", "processor", "task"]

@@ -188,7 +188,13 @@ class AssignmentSerializer(ScopedModelSerializer):
             "placement",
             "placement_message",
             "pod_name",
+            "pod_phase",
+            "pod_node",
+            "pod_event",
+            "pod_state_at",
         ]
+        #: Live state, stored by ``watch_cluster``.
+        read_only_fields = ["pod_phase", "pod_node", "pod_event", "pod_state_at"]
 
 
 class ScheduleSerializer(ScopedModelSerializer):

@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import datetime
 from collections.abc import Mapping
 from typing import Any, TypeVar, cast
 
@@ -21,6 +22,10 @@ class Assignment:
         processor (str):
         start (float):
         finish (float):
+        pod_phase (str): Pending, Running, ..., Deleted
+        pod_node (str): the node the pod is bound to
+        pod_event (str): the pod's newest event: reason: message
+        pod_state_at (datetime.datetime | None): when the watcher last stored a change
         frame (int | Unset):
         core (int | None | Unset): CPU of a multi-core node
         niceness (int | None | Unset):
@@ -35,6 +40,10 @@ class Assignment:
     processor: str
     start: float
     finish: float
+    pod_phase: str
+    pod_node: str
+    pod_event: str
+    pod_state_at: datetime.datetime | None
     frame: int | Unset = UNSET
     core: int | Unset | None = UNSET
     niceness: int | Unset | None = UNSET
@@ -51,6 +60,18 @@ class Assignment:
         start = self.start
 
         finish = self.finish
+
+        pod_phase = self.pod_phase
+
+        pod_node = self.pod_node
+
+        pod_event = self.pod_event
+
+        pod_state_at: str | None
+        if isinstance(self.pod_state_at, datetime.datetime):
+            pod_state_at = self.pod_state_at.isoformat()
+        else:
+            pod_state_at = self.pod_state_at
 
         frame = self.frame
 
@@ -76,6 +97,10 @@ class Assignment:
                 "processor": processor,
                 "start": start,
                 "finish": finish,
+                "pod_phase": pod_phase,
+                "pod_node": pod_node,
+                "pod_event": pod_event,
+                "pod_state_at": pod_state_at,
             }
         )
         if frame is not UNSET:
@@ -103,6 +128,27 @@ class Assignment:
         start = d.pop("start")
 
         finish = d.pop("finish")
+
+        pod_phase = d.pop("pod_phase")
+
+        pod_node = d.pop("pod_node")
+
+        pod_event = d.pop("pod_event")
+
+        def _parse_pod_state_at(data: object) -> datetime.datetime | None:
+            if data is None:
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                pod_state_at_type_0 = datetime.datetime.fromisoformat(data)
+
+                return pod_state_at_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(datetime.datetime | None, data)
+
+        pod_state_at = _parse_pod_state_at(d.pop("pod_state_at"))
 
         frame = d.pop("frame", UNSET)
 
@@ -137,6 +183,10 @@ class Assignment:
             processor=processor,
             start=start,
             finish=finish,
+            pod_phase=pod_phase,
+            pod_node=pod_node,
+            pod_event=pod_event,
+            pod_state_at=pod_state_at,
             frame=frame,
             core=core,
             niceness=niceness,

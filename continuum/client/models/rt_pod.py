@@ -33,6 +33,8 @@ class RTPod:
         phase (str):
         bound_at (datetime.datetime | None):
         deleted_at (datetime.datetime | None):
+        pod_event (str): the pod's newest event: reason: message
+        pod_state_at (datetime.datetime | None): when the watcher last stored a change
     """
 
     id: int
@@ -53,6 +55,8 @@ class RTPod:
     phase: str
     bound_at: datetime.datetime | None
     deleted_at: datetime.datetime | None
+    pod_event: str
+    pod_state_at: datetime.datetime | None
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
@@ -96,6 +100,14 @@ class RTPod:
         deleted_at: str | None
         deleted_at = self.deleted_at.isoformat() if isinstance(self.deleted_at, datetime.datetime) else self.deleted_at
 
+        pod_event = self.pod_event
+
+        pod_state_at: str | None
+        if isinstance(self.pod_state_at, datetime.datetime):
+            pod_state_at = self.pod_state_at.isoformat()
+        else:
+            pod_state_at = self.pod_state_at
+
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update(
@@ -118,6 +130,8 @@ class RTPod:
                 "phase": phase,
                 "bound_at": bound_at,
                 "deleted_at": deleted_at,
+                "pod_event": pod_event,
+                "pod_state_at": pod_state_at,
             }
         )
 
@@ -198,6 +212,23 @@ class RTPod:
 
         deleted_at = _parse_deleted_at(d.pop("deleted_at"))
 
+        pod_event = d.pop("pod_event")
+
+        def _parse_pod_state_at(data: object) -> datetime.datetime | None:
+            if data is None:
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                pod_state_at_type_0 = datetime.datetime.fromisoformat(data)
+
+                return pod_state_at_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(datetime.datetime | None, data)
+
+        pod_state_at = _parse_pod_state_at(d.pop("pod_state_at"))
+
         rt_pod = cls(
             id=id,
             cluster=cluster,
@@ -217,6 +248,8 @@ class RTPod:
             phase=phase,
             bound_at=bound_at,
             deleted_at=deleted_at,
+            pod_event=pod_event,
+            pod_state_at=pod_state_at,
         )
 
         rt_pod.additional_properties = d
