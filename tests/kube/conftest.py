@@ -9,6 +9,8 @@ If the API server cannot be built or started the fixture FAILS (it never skips):
 
 import contextlib
 import datetime
+import os
+import shutil
 import threading
 import time
 import uuid
@@ -58,9 +60,16 @@ def kube(kubeconfig):
 
 
 @pytest.fixture
-def kube_namespace() -> str:
-    """A fresh namespace name per test (deleted namespaces stay Terminating: never reuse one)."""
-    return f"t-{uuid.uuid4().hex[:12]}"
+def kube_namespace(kube):
+    """A fresh namespace name per test (a test or the gateway creates it), deleted when the test ends (the
+    namespace controller then removes what is in it; never reuse a name: a deleted one is Terminating a while)."""
+    name = f"t-{uuid.uuid4().hex[:12]}"
+    yield name
+    try:
+        kube.delete_namespace(name)
+    except client.ApiException as exc:
+        if exc.status != 404:
+            raise
 
 
 class LeaseKeeper:
@@ -126,6 +135,44 @@ class LeaseKeeper:
                     raise
 
 
+#: The node lifecycle controller's NoExecute taints of a NotReady / Unknown node.
+EVICTION_TAINTS = {"node.kubernetes.io/not-ready", "node.kubernetes.io/unreachable"}
+
+
+def restore_ready(kube, name: str, timeout: float = 120) -> None:
+    """Before a synthetic node a test made NotReady/Unknown is deleted, make it Ready and wait until the node
+    lifecycle controller has lifted its NoExecute taint. Deleted while still queued for tainting, it stays at the
+    head of the controller's (v1.20) rate-limited NoExecute queue for the rest of the session ("no longer present
+    in nodeLister!" every 10 s) and a hollow node killed later is never tainted NoExecute."""
+    try:
+        node = kube.read_node(name)
+    except client.ApiException as exc:
+        if exc.status == 404:
+            return
+        raise
+    ready = next((c.status for c in node.status.conditions or [] if c.type == "Ready"), None)
+    if ready == "True":
+        return
+
+    def evicting() -> bool:
+        return any(t.key in EVICTION_TAINTS and t.effect == "NoExecute" for t in kube.read_node(name).spec.taints or [])
+
+    def wait(what: str, check) -> None:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if check():
+                return
+            time.sleep(0.25)
+        pytest.fail(f"timed out after {timeout} s waiting for the node lifecycle controller to {what} {name}")
+
+    # First the controller takes it off its queue (the taint), then Ready lets it forget the node.
+    wait("taint NoExecute", evicting)
+    now = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    condition = {**READY, "lastHeartbeatTime": now, "lastTransitionTime": now}
+    kube.patch_node_status(name, {"status": {"conditions": [condition]}})
+    wait("lift the NoExecute taint of", lambda: not evicting())
+
+
 @pytest.fixture
 def make_node(kube, kube_multinode):
     """Create a synthetic Node object (no kubelet: pods bound to it stay Pending) and play its kubelet:
@@ -182,6 +229,8 @@ def make_node(kube, kube_multinode):
 
     make.keeper = keeper
     yield make
+    for name in made:
+        restore_ready(kube, name)
     keeper.close()
     for name in made:
         try:
@@ -266,6 +315,9 @@ def kube_multinode(tmp_path_factory):
         cluster.down()
         pytest.fail(f"the local multi-node Kubernetes is required and could not be started: {exc}", pytrace=False)
     yield cluster
+    keep = os.environ.get("CONTINUUM_KEEP_CLUSTER_LOGS")  # a directory: the components' logs are copied there
+    if keep:
+        shutil.copytree(cluster.dir / "logs", keep, dirs_exist_ok=True)
     cluster.down()
 
 
