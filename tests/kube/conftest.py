@@ -1,9 +1,17 @@
-"""Fixtures for the Kubernetes gateway tests: a real kube-apiserver + etcd for the session, a fresh
-namespace and a set of Node objects per test.
+"""Fixtures for the Kubernetes tests: ONE real multi-node cluster per test session (etcd, kube-apiserver,
+kube-controller-manager, kube-scheduler and kubemark hollow nodes: continuum/devcluster.py, as
+./scripts/cluster runs it), a fresh namespace per test, and synthetic Node objects per test where a test needs
+a node in a given shape (``make_node``; their Leases are renewed so the real node lifecycle controller treats
+them as alive). No test runs on a bare kube-apiserver (tests/kubeapi.py's runner is only unit-tested).
 
 If the API server cannot be built or started the fixture FAILS (it never skips): CI must run these tests.
 """
 
+import contextlib
+import datetime
+import os
+import shutil
+import threading
 import time
 import uuid
 
@@ -11,27 +19,45 @@ import pytest
 import yaml
 from kubernetes import client, config
 
-from tests.kubeapi import KubeAPIError, KubeAPIServer, build_kube_apiserver
-
+LEASE_NAMESPACE = "kube-node-lease"
 READY = {"type": "Ready", "status": "True", "reason": "KubeletReady", "message": "kubelet is posting ready status"}
 
 
+class SessionAPIServer:
+    """The session cluster's API server as the tests address it (``server``, ``port``, ``token``, ``ca_path``,
+    ``kubeconfig()``, ``startup_seconds``): the multi-node cluster's kube-apiserver, not a bare one."""
+
+    def __init__(self, cluster) -> None:
+        self.cluster = cluster
+        self.server = cluster.server
+        self.port = int(cluster.state["api_port"])
+        self.token = cluster.state["token"]
+        self.ca_path = cluster.dir / "certs" / "apiserver.crt"
+        self.startup_seconds = float(cluster.state.get("startup_seconds") or 0)
+
+    def kubeconfig(self) -> str:
+        return self.cluster.kubeconfig()
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """test_multinode.py runs first in the session. Its victim test kills a hollow node and waits for the node
+    lifecycle controller's NoExecute taint; the controller (v1.20) keeps a synthetic node that a later test made
+    NotReady and then deleted at the head of its rate-limited NoExecute queue for the rest of the session ("no
+    longer present in nodeLister!" every 10 s), so a node killed after that is never tainted NoExecute."""
+    first = [i for i in items if i.nodeid.startswith("tests/kube/test_multinode.py")]
+    if first:
+        items[:] = first + [i for i in items if i not in first]
+
+
 @pytest.fixture(scope="session")
-def kube_server():
-    began = time.monotonic()
-    try:
-        binary = build_kube_apiserver()
-        server = KubeAPIServer(binary).start()
-    except KubeAPIError as exc:
-        pytest.fail(f"the real kube-apiserver is required and could not be started: {exc}", pytrace=False)
-    server.total_startup_seconds = time.monotonic() - began
-    yield server
-    server.stop()
+def kube_server(kube_multinode) -> SessionAPIServer:
+    """The session's API server: the multi-node cluster's (controller-manager, scheduler and hollow nodes run)."""
+    return SessionAPIServer(kube_multinode)
 
 
 @pytest.fixture(scope="session")
 def kubeconfig(kube_server) -> str:
-    """A self-contained kubeconfig (inline CA and bearer token in system:masters) for the test API server."""
+    """A self-contained kubeconfig (inline CA and bearer token in system:masters) of the session cluster."""
     return kube_server.kubeconfig()
 
 
@@ -44,19 +70,96 @@ def kube(kubeconfig):
 
 
 @pytest.fixture
-def kube_namespace() -> str:
-    """A fresh namespace name per test (deleted namespaces stay Terminating: never reuse one)."""
-    return f"t-{uuid.uuid4().hex[:12]}"
+def kube_namespace(kube):
+    """A fresh namespace name per test (a test or the gateway creates it), deleted when the test ends (the
+    namespace controller then removes what is in it; never reuse a name: a deleted one is Terminating a while)."""
+    name = f"t-{uuid.uuid4().hex[:12]}"
+    yield name
+    try:
+        kube.delete_namespace(name)
+    except client.ApiException as exc:
+        if exc.status != 404:
+            raise
+
+
+class LeaseKeeper:
+    """Renews the kube-node-lease Lease of synthetic nodes from a thread, as their kubelet would.
+
+    The session cluster runs the real node lifecycle controller: a node whose Lease is not renewed within the
+    grace period (devcluster.NODE_MONITOR_GRACE, 10 s) is set Ready=Unknown and tainted unreachable, which would
+    change a synthetic node under a running test. With its Lease renewed every second the controller leaves the
+    Ready condition as the test wrote it (and taints it as it would a real node in that state)."""
+
+    PERIOD = 1.0
+
+    def __init__(self, api_client) -> None:
+        self.coordination = client.CoordinationV1Api(api_client)
+        self.names: list[str] = []
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._run, name="lease-keeper", daemon=True)
+
+    @staticmethod
+    def _now() -> str:
+        return datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%S.%fZ")
+
+    def add(self, node) -> None:
+        body = {
+            "apiVersion": "coordination.k8s.io/v1",
+            "kind": "Lease",
+            "metadata": {
+                "name": node.metadata.name,
+            },  # no owner reference: a node deleted and made again by a test keeps its Lease
+            "spec": {"holderIdentity": node.metadata.name, "leaseDurationSeconds": 40, "renewTime": self._now()},
+        }
+        try:
+            self.coordination.create_namespaced_lease(LEASE_NAMESPACE, body)
+        except client.ApiException as exc:
+            if exc.status != 409:
+                raise
+        if node.metadata.name not in self.names:
+            self.names.append(node.metadata.name)
+        if not self.thread.is_alive():
+            self.thread.start()
+
+    def _run(self) -> None:
+        while not self.stop.wait(self.PERIOD):
+            for name in list(self.names):
+                # A busy API server or a node a test deleted: renewed at the next tick.
+                with contextlib.suppress(Exception):
+                    body = {"spec": {"renewTime": self._now()}}
+                    self.coordination.patch_namespaced_lease(name, LEASE_NAMESPACE, body)
+
+    def forget(self, name: str) -> None:
+        if name in self.names:
+            self.names.remove(name)
+
+    def close(self) -> None:
+        self.stop.set()
+        if self.thread.is_alive():
+            self.thread.join(timeout=30)
+        for name in self.names:
+            try:
+                self.coordination.delete_namespaced_lease(name, LEASE_NAMESPACE)
+            except client.ApiException as exc:
+                if exc.status != 404:
+                    raise
 
 
 @pytest.fixture
-def make_node(kube):
-    """Create a Node object and play its kubelet and the node lifecycle controller:
+def make_node(kube, kube_multinode):
+    """Create a synthetic Node object (no kubelet: pods bound to it stay Pending) and play its kubelet:
     ``make_node(name, cpu="4", memory="8Gi", ready="True", taints=[...], ...)``.
 
-    Nodes are cluster-scoped, so every node made here is deleted when the test ends.
-    """
+    Synthetic, not hollow, because a hollow node's capacity is fixed (1 CPU, 3840Mi) and its kubelet rewrites
+    its status: these tests need a given capacity/arch/Ready condition and delete, cordon or fail the nodes they
+    use. The real node lifecycle controller runs: :class:`LeaseKeeper` renews each node's Lease so the
+    controller treats it as alive and keeps the Ready condition written here (a node made NotReady/Unknown is
+    tainted by the controller as a real one would be: tests assert that, see test_gateway's sync test).
+
+    Nodes are cluster-scoped: every node made here (and its Lease) is deleted when the test ends, and names
+    must not collide with the session cluster's hollow nodes."""
     made = []
+    keeper = LeaseKeeper(kube.api_client)
 
     def make(
         name: str,
@@ -70,14 +173,20 @@ def make_node(kube):
         taints: list | None = None,
         unschedulable: bool = False,
     ):
+        assert name not in SESSION_NODES, f"{name} is a hollow node of the session cluster"
         body = {
             "apiVersion": "v1",
             "kind": "Node",
-            "metadata": {"name": name, "labels": {"kubernetes.io/arch": arch, **(labels or {})}},
+            # The labels a kubelet sets on its node (kube-scheduler pins a Deployment's pods by hostname).
+            "metadata": {
+                "name": name,
+                "labels": {"kubernetes.io/arch": arch, "kubernetes.io/hostname": name, **(labels or {})},
+            },
             "spec": {"taints": taints or [], "unschedulable": unschedulable},
         }
-        kube.create_node(body)
+        created = kube.create_node(body)
         made.append(name)
+        keeper.add(created)
         now = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
         capacity = {"cpu": cpu, "memory": memory, "ephemeral-storage": storage, "pods": "110"}
         condition = {**READY, "status": ready, "lastHeartbeatTime": now, "lastTransitionTime": now}
@@ -86,11 +195,13 @@ def make_node(kube):
         )
         if ready == "True":
             # The TaintNodesByCondition admission plugin tainted the new node not-ready; the node lifecycle
-            # controller (there is none here) lifts that taint once the kubelet reports Ready.
+            # controller lifts that taint once it sees Ready, and so does this (the test need not wait for it).
             node = kube.patch_node(name, {"spec": {"taints": taints or None}})
         return node
 
+    make.keeper = keeper
     yield make
+    keeper.close()
     for name in made:
         try:
             kube.delete_node(name)
@@ -116,8 +227,10 @@ def kube_admin(fleet, django_user_model):
 
 @pytest.fixture
 def kube_cluster(api, kube_admin, cluster_doc, kubeconfig, kube_namespace, make_node):
-    """The conftest's 4-node edge cluster, imported through the API with the test server's kubeconfig,
-    a fresh namespace, and the same 4 nodes (Ready) in the Kubernetes API."""
+    """The conftest's 4-node edge cluster, imported through the API with the session cluster's kubeconfig,
+    a fresh namespace, and the same 4 nodes (Ready) in the Kubernetes API: synthetic Node objects
+    (``make_node``), because the tests need their 4-CPU capacity and fail, delete or cordon them (a hollow
+    node's capacity is fixed at 1 CPU and it is shared by the whole session)."""
     from apps.clusters.models import Cluster
 
     response = kube_admin.post(
@@ -146,6 +259,9 @@ MULTINODE_CLUSTER = {
     ],
 }
 
+#: The session cluster's hollow nodes: every Kubernetes test sees them in the API beside the nodes it makes.
+SESSION_NODES = frozenset(n["name"] for n in MULTINODE_CLUSTER["nodes"])
+
 
 @pytest.fixture(scope="session")
 def kube_multinode(tmp_path_factory):
@@ -169,6 +285,9 @@ def kube_multinode(tmp_path_factory):
         cluster.down()
         pytest.fail(f"the local multi-node Kubernetes is required and could not be started: {exc}", pytrace=False)
     yield cluster
+    keep = os.environ.get("CONTINUUM_KEEP_CLUSTER_LOGS")  # a directory: the components' logs are copied there
+    if keep:
+        shutil.copytree(cluster.dir / "logs", keep, dirs_exist_ok=True)
     cluster.down()
 
 

@@ -1,10 +1,16 @@
-"""The Kubernetes gateway against a real kube-apiserver + etcd (no kubelet: nodes are plain objects)."""
+"""The Kubernetes gateway against the session's real multi-node cluster (controllers, scheduler, hollow nodes).
+
+The cluster's nodes a test places on are synthetic Node objects (``make_node``: a given capacity and state,
+their Leases renewed so the node lifecycle controller treats them as alive; no kubelet, so pods bound to them
+stay Pending); pods reaching Running on hollow nodes is tested in test_multinode.py."""
 
 import re
+import time
 
 import pytest
 from django.conf import settings
 
+from tests.kube.conftest import SESSION_NODES
 from tests.kubeapi import free_port, kubeconfig_text
 
 pytestmark = [pytest.mark.kube, pytest.mark.django_db]
@@ -24,6 +30,8 @@ DAG = {
         *({"src": t, "dst": "sink", "data": 0.1} for t in PARALLEL),
     ],
 }
+#: Generous: the suite runs on a busy 2-core machine; tests wait for conditions, never for fixed times.
+TIMEOUT = 120
 DNS_1123_LABEL = re.compile(r"^[a-z0-9]([-a-z0-9]*[a-z0-9])?$")
 
 
@@ -47,6 +55,20 @@ def heft_schedule(api, cluster):
     return Schedule.objects.get(pk=job["result"]["schedule"])
 
 
+def wait_for(what: str, check, timeout: float = TIMEOUT):
+    """Poll ``check()`` until it is truthy (returned); fail naming ``what`` after ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if value := check():
+            return value
+        time.sleep(0.25)
+    pytest.fail(f"timed out after {timeout} s waiting for {what}")
+
+
+def taint_set(kube, node: str) -> set:
+    return {(t.key, t.value or "", t.effect) for t in kube.read_node(node).spec.taints or []}
+
+
 def pods_by_name(kube, namespace: str) -> dict:
     return {p.metadata.name: p for p in kube.list_namespaced_pod(namespace).items}
 
@@ -54,7 +76,7 @@ def pods_by_name(kube, namespace: str) -> dict:
 # -- sync ---------------------------------------------------------------------------------------------------
 
 
-def test_sync_reads_capacity_arch_ready_taints_and_keeps_vanished_nodes(kube_admin, api, kubeconfig, make_node):
+def test_sync_reads_capacity_arch_ready_taints_and_keeps_vanished_nodes(kube_admin, api, kube, kubeconfig, make_node):
     from apps.clusters.models import ComputeNode
 
     doc = {
@@ -79,20 +101,37 @@ def test_sync_reads_capacity_arch_ready_taints_and_keeps_vanished_nodes(kube_adm
     )
     make_node("rpi-5", cpu="3500m", memory="8253028Ki", storage="0", arch="aarch64", ready="False")
     make_node("vm-1", arch="riscv64", ready="Unknown", unschedulable=True)
+    # The real node lifecycle controller taints a node by its Ready condition (NoSchedule, and NoExecute for
+    # taint-based eviction): Unknown -> unreachable (replacing the API server's not-ready taint of a new node),
+    # False -> not-ready. Wait until it has, so the sync reads settled nodes.
+    vm_taints = {
+        ("node.kubernetes.io/unreachable", "", "NoSchedule"),
+        ("node.kubernetes.io/unreachable", "", "NoExecute"),
+        ("node.kubernetes.io/unschedulable", "", "NoSchedule"),
+    }
+    wait_for(
+        "the node lifecycle controller's taints on vm-1 and rpi-5",
+        lambda: (
+            taint_set(kube, "vm-1") == vm_taints
+            and ("node.kubernetes.io/not-ready", "", "NoExecute") in taint_set(kube, "rpi-5")
+        ),
+    )
 
     job = run(api, f"/api/v1/clusters/{cluster_id}/sync/")
     assert job["state"] == "succeeded", job
     assert job["progress"] == 100
+    # The session cluster's hollow nodes are in the API too: created like the new ones.
+    hollow = len(SESSION_NODES)
     assert job["result"] == {
         "cluster": cluster_id,
-        "nodes": 3,
-        "created": 2,
+        "nodes": 3 + hollow,
+        "created": 2 + hollow,
         "updated": 1,
         "unchanged": 0,
         "gone": 1,
     }
     nodes = {n.name: n for n in ComputeNode.objects.filter(cluster_id=cluster_id)}
-    assert set(nodes) == {"jetson", "rpi-5", "vm-1", "retired"}
+    assert set(nodes) == {"jetson", "rpi-5", "vm-1", "retired"} | SESSION_NODES
     jetson = nodes["jetson"]
     assert (jetson.arch, jetson.cpu, jetson.memory_mib, jetson.storage_mib) == ("arm64", 6.0, 7870, 58 * 1024)
     assert jetson.status == "Ready"
@@ -104,15 +143,15 @@ def test_sync_reads_capacity_arch_ready_taints_and_keeps_vanished_nodes(kube_adm
     assert (rpi.arch, rpi.cpu, rpi.memory_mib, rpi.status) == ("arm64", 3.5, 8253028 // 1024, "NotReady")
     vm = nodes["vm-1"]
     assert vm.status == "Unknown" and vm.arch == "riscv64"
-    # not-ready: added by the API server's TaintNodesByCondition admission; unschedulable: the cordon.
-    assert vm.taints == [
-        {"key": "node.kubernetes.io/not-ready", "value": "", "effect": "NoSchedule"},
-        {"key": "node.kubernetes.io/unschedulable", "value": "", "effect": "NoSchedule"},
-    ]
+    # unreachable: the node lifecycle controller's taints of an Unknown node; unschedulable: the cordon.
+    assert {(t["key"], t["value"], t["effect"]) for t in vm.taints} == vm_taints and len(vm.taints) == 3
+    # A hollow node (a real kubelet) reports kubemark's fixed capacity and is Ready.
+    hollow_a = nodes["hollow-a"]
+    assert (hollow_a.arch, hollow_a.cpu, hollow_a.memory_mib, hollow_a.status) == ("amd64", 1.0, 3840, "Ready")
     assert nodes["retired"].status == "NotReady"  # gone from the API: kept, not deleted
 
     again = run(api, f"/api/v1/clusters/{cluster_id}/sync/")
-    assert again["result"] == {**job["result"], "created": 0, "updated": 0, "unchanged": 3, "gone": 0}
+    assert again["result"] == {**job["result"], "created": 0, "updated": 0, "unchanged": 3 + hollow, "gone": 0}
     assert api.get(f"/api/v1/clusters/{cluster_id}/").data["last_synced"] is not None
 
 
@@ -279,7 +318,9 @@ def test_kube_sync_command(api, kube_cluster, make_node):
     out = StringIO()
     call_command("kube_sync", str(kube_cluster.pk), "--json", stdout=out)
     result = json.loads(out.getvalue())
-    assert result["nodes"] == 5 and result["created"] == 1 and result["gone"] == 0
+    # The session cluster's hollow nodes are in the API beside the cluster's 4 nodes and "extra".
+    assert result["nodes"] == 5 + len(SESSION_NODES) and result["created"] == 1 + len(SESSION_NODES)
+    assert result["gone"] == 0
     assert kube_cluster.nodes.get(name="extra").arch == "arm64"
 
 

@@ -1,6 +1,6 @@
 """The gateway retries idempotent calls on transient failures (issue 12, "Robust on a busy machine").
 
-Real parts: a real kube-apiserver behind a loopback TCP proxy that resets the first connections, and, for
+Real parts: the session cluster's kube-apiserver behind a loopback TCP proxy that resets the first connections, and, for
 HTTP answers a real server only gives under load (503, 429), a tiny plain-HTTP API on loopback
 (``CONTINUUM_KUBE_ALLOW_HTTP_LOOPBACK``) driven through the real client and gateway.
 """

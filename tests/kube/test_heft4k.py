@@ -1,5 +1,8 @@
-"""HEFT4K against a real kube-apiserver: niceness in the pods, the node watcher and remaps that recreate
-only the pods that change (no kubelet: nodes are plain objects, pods stay Pending once bound)."""
+"""HEFT4K against the session's real multi-node cluster: niceness in the pods, the node watcher and remaps that
+recreate only the pods that change. The cluster's nodes are synthetic Node objects (``make_node``: their Leases
+are renewed, so the real node lifecycle controller keeps the Ready condition a test writes and taints the node
+as it would a real one; no kubelet: pods stay Pending once bound); a hollow node killed for real is in
+test_multinode.py."""
 
 import json
 from io import StringIO

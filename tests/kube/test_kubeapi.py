@@ -1,4 +1,6 @@
-"""The test API server fixture itself: a server that cannot start is an error, never a skip."""
+"""The test API servers themselves: tests/kubeapi.py's bare-apiserver runner (no test runs on it any more; kept
+for benchmarks/rt_monitoring_load.py) reports a server that cannot start as an error, never a skip; and the
+session's multi-node cluster answers and reports its start-up time."""
 
 import pytest
 

@@ -1,4 +1,6 @@
-"""RT-Kube against a real kube-apiserver + etcd (no kubelet: pods stay Pending once bound).
+"""RT-Kube against the session's real multi-node cluster. The cluster's nodes are synthetic Node objects
+(``make_node``, kept alive for the node lifecycle controller by their Leases; no kubelet: pods stay Pending once
+bound); the session's hollow nodes are in the API too, and the RT scheduler weighs them.
 
 The done criterion of the RT-Kube issue: RealTime objects created on both sides, pods bound by the RT
 scheduler process (running in a thread), a missed-deadline report, the eviction, the node taint, the
@@ -17,6 +19,7 @@ from kubernetes import client, config
 from apps.jobs.models import Job
 from apps.realtime.models import Monitoring, NodeTaint, RealTime, RTDecision, RTEvent, RTPolicy
 from apps.realtime.scheduler import RTScheduler
+from tests.kube.conftest import SESSION_NODES
 from tests.kubeapi import free_port, kubeconfig_text
 from tests.realtime.conftest import RT_NODES
 
@@ -26,7 +29,7 @@ MON = ("rt.monitoring", "v1alpha1", "monitorings")
 RT_TOLERATION = {"key": "RealTime", "operator": "Equal", "value": "RT", "effect": "NoSchedule"}
 
 
-def wait_for(predicate, what: str, timeout: float = 20.0):
+def wait_for(predicate, what: str, timeout: float = 120.0):  # generous: a busy 2-core machine
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         value = predicate()
@@ -145,7 +148,8 @@ def test_realtime_objects_pods_binding_eviction_taint_and_rebinding(api, kube, c
     kube.create_namespaced_pod(ns, pod("dashboard", tolerate=False))
     kube.create_namespaced_pod(ns, pod("vision", "vision"))
     # A packs onto the busiest admissible node (node0, next to slam); C only on the C node; the standard pod
-    # only where no RealTime taint is (node3).
+    # only where no RealTime taint is, and by LeastAllocated on node3 (4 CPUs) rather than a hollow node (1 CPU,
+    # not a node of the cluster's rows, so not real-time).
     assert wait_for(lambda: node_of(kube, ns, "lidar"), "lidar bound") == "node0"
     assert wait_for(lambda: node_of(kube, ns, "arm"), "arm bound") == "node2"
     assert wait_for(lambda: node_of(kube, ns, "dashboard"), "dashboard bound") == "node3"
@@ -168,9 +172,13 @@ def test_realtime_objects_pods_binding_eviction_taint_and_rebinding(api, kube, c
     )
     assert condition.status == "False" and "node3: node has no real-time kernel" in condition.message
     events = kube.list_namespaced_event(ns, field_selector="involvedObject.name=vision").items
-    assert any(e.reason == "FailedScheduling" and "0/4 nodes are available" in e.message for e in events)
+    # The RT scheduler weighs every node of the API: the cluster's 4 and the session cluster's hollow nodes.
+    every = {f"node{i}" for i in range(4)} | SESSION_NODES
+    assert {n.metadata.name for n in kube.list_node().items} == every
+    message = f"0/{len(every)} nodes are available"
+    assert any(e.reason == "FailedScheduling" and message in e.message for e in events)
     bound = RTDecision.objects.get(cluster=cluster, pod="lidar", outcome="bound")
-    assert bound.node == "node0" and {v["node"] for v in bound.decision["verdicts"]} == {f"node{i}" for i in range(4)}
+    assert bound.node == "node0" and {v["node"] for v in bound.decision["verdicts"]} == every
 
     # A robot reports that slam misses deadlines on node0: lidar (A, stateless) is evicted, node0 tainted.
     sent = datetime.now(UTC)

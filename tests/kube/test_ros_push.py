@@ -1,9 +1,14 @@
-"""ROS graph -> containers -> nodes -> Deployments, end to end through the API into a real kube-apiserver.
+"""ROS graph -> containers -> nodes -> Deployments, end to end through the API into the session's real
+multi-node cluster.
 
-There is no controller-manager, so Deployments create no pods here: the test reads the Deployment objects the
-push created (host network, requests, architecture and hostname node selector) and checks that a second push
-changes nothing.
+The cluster's nodes are synthetic Node objects (``make_node``: 4 CPUs each, their Leases renewed so the node
+lifecycle controller treats them as alive; no kubelet). The real Deployment and ReplicaSet controllers create
+each Deployment's pod and the real kube-scheduler lands it on the node the placement chose (by its hostname
+node selector); the test reads the Deployment objects the push created (host network, requests, architecture and
+hostname node selector) and checks that a second push changes nothing.
 """
+
+import time
 
 import pytest
 import yaml
@@ -37,6 +42,33 @@ def deployments(apps_api, namespace: str) -> dict:
     return {d.metadata.name: d for d in apps_api.list_namespaced_deployment(namespace).items}
 
 
+def wait_for(what: str, check, timeout: float = 120):
+    """Poll ``check()`` until it is truthy (returned); fail naming ``what`` after ``timeout`` s (generous: the
+    suite runs on a busy 2-core machine)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if value := check():
+            return value
+        time.sleep(0.25)
+    pytest.fail(f"timed out after {timeout} s waiting for {what}")
+
+
+def scheduled(kube, namespace: str) -> dict:
+    """Deployment name -> the node its (live) pod is bound to."""
+    out = {}
+    for pod in kube.list_namespaced_pod(namespace).items:
+        if pod.metadata.deletion_timestamp is None and pod.spec.node_name:
+            out[pod.metadata.labels["continuum.io/deployment"]] = pod.spec.node_name
+    return out
+
+
+def settled(apps_api, namespace: str) -> dict | None:
+    """The Deployments once the controller has observed each one's generation and counted its pod."""
+    found = deployments(apps_api, namespace)
+    done = all(d.status.observed_generation == d.metadata.generation and d.status.replicas == 1 for d in found.values())
+    return found if found and done else None
+
+
 def autoware_placement(api, cluster, cpu: float = 1.5, extra: dict | None = None) -> Placement:
     """Import the Autoware graph, cluster it into 4 containers and place them with super-clustering, all
     through the API. ``cpu`` cores per container: at 1.5 two fit on a 4-core node, so the placement must
@@ -59,7 +91,7 @@ def autoware_placement(api, cluster, cpu: float = 1.5, extra: dict | None = None
     return Placement.objects.get(pk=job["result"]["placement"])
 
 
-def test_autoware_clusters_places_and_pushes_end_to_end(api, kube_cluster, kube_namespace, apps_api):
+def test_autoware_clusters_places_and_pushes_end_to_end(api, kube, kube_cluster, kube_namespace, apps_api):
     placement = autoware_placement(api, kube_cluster)
     placed = placement.placed()
     assert len(placed) == 4 and placement.pending_count == 0
@@ -103,7 +135,13 @@ def test_autoware_clusters_places_and_pushes_end_to_end(api, kube_cluster, kube_
         assert dep.metadata.labels["app.kubernetes.io/managed-by"] == "continuum"
         assert dep.spec.selector.match_labels == {"continuum.io/deployment": row.deployment}
 
-    # A second push changes nothing: same objects, same resourceVersions, same records.
+    # The controllers create one pod per Deployment and kube-scheduler binds it to the placed node.
+    wait_for("the Deployments' pods scheduled on the placed nodes", lambda: scheduled(kube, kube_namespace) == {
+        rows[c].deployment: n for c, n in placed.items()
+    })  # fmt: skip
+    # Once the Deployment controller has written its status, a second push changes nothing: same objects,
+    # same resourceVersions, same records.
+    found = wait_for("the Deployment controller to observe every Deployment", lambda: settled(apps_api, kube_namespace))
     versions = {name: d.metadata.resource_version for name, d in found.items()}
     again = run(api, f"/api/v1/placements/{placement.pk}/push/")
     assert again["state"] == "succeeded", again["error"]
