@@ -12,7 +12,7 @@ from django.urls import reverse
 
 from apps.clusters.models import Cluster
 from apps.containers.kinds import ContainersJob
-from apps.jobs.registry import id_argument, job_kind
+from apps.jobs.registry import job_kind, owned_row
 from continuum.engine.containers.ros_clustering import cluster_ros as engine_cluster_ros
 from continuum.engine.containers.ros_clustering import max_containers
 from continuum.engine.containers.superclustering import place as engine_place
@@ -22,13 +22,6 @@ from . import services
 from .models import Clustering, Placement, RosGraph
 
 BASELINES = {"superclustering": "default-kubernetes", "default-kubernetes": "superclustering"}
-
-
-def _own(model, pk: int, job, what: str):
-    row = model.objects.filter(pk=pk, fleet=job.fleet).first()
-    if row is None:
-        raise ValueError(f"{what} {pk} does not exist")
-    return row
 
 
 def container_count(arguments: dict) -> int:
@@ -47,7 +40,7 @@ def cluster_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``rosgraph`` (id); ``containers`` (N) or ``memory_mib`` + ``overhead_mib``; ``mode``,
     ``max_cluster_share``, ``max_cluster_memory_mib``; ``images`` (plan options)."""
     args = job.arguments or {}
-    rosgraph = _own(RosGraph, id_argument(job, "rosgraph"), job, "ROS graph")
+    rosgraph = owned_row(job, RosGraph.objects, "rosgraph", what="ROS graph")
     progress(2, f"reading {rosgraph.name}")
     graph = rosgraph.graph
     n = container_count(args)
@@ -120,11 +113,11 @@ def place_job(job, progress) -> tuple[dict, str]:
     ``archs``) or ``containers`` (a continuum.containers/v1 document, with an optional ``rosgraph`` id for
     Definition 3.2.1 bandwidth); ``weights``, ``seed``, ``overhead_mib``; ``compare`` (default true)."""
     args = job.arguments or {}
-    cluster = _own(Cluster, id_argument(job, "cluster"), job, "cluster")
+    cluster = owned_row(job, Cluster.objects, "cluster")
     clustering = rosgraph = None
     progress(2, "reading the containers")
     if args.get("clustering") is not None:
-        clustering = _own(Clustering, id_argument(job, "clustering"), job, "clustering")
+        clustering = owned_row(job, Clustering.objects, "clustering")
         rosgraph = clustering.rosgraph
         workload, resolved = services.clustering_workload(
             clustering, archs=args.get("archs"), overrides=args.get("overrides")
@@ -132,8 +125,7 @@ def place_job(job, progress) -> tuple[dict, str]:
     else:
         if not isinstance(args.get("containers"), dict):
             raise ValueError("give a clustering id or a continuum.containers/v1 document")
-        pk = id_argument(job, "rosgraph", required=False)
-        rosgraph = _own(RosGraph, pk, job, "ROS graph") if pk is not None else None
+        rosgraph = owned_row(job, RosGraph.objects, "rosgraph", what="ROS graph", required=False)
         workload, resolved = services.resolve_workload(args["containers"], rosgraph.graph if rosgraph else None)
     engine = services.engine_cluster(cluster)
     policy = args.get("policy") or "superclustering"
@@ -190,7 +182,7 @@ def push_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``placement`` (id). One Deployment per container, pinned to its node (see ``kube.py``)."""
     from .kube import push_placement
 
-    placement = _own(Placement, id_argument(job, "placement"), job, "placement")
+    placement = owned_row(job, Placement.objects, "placement")
     progress(1, f"pushing placement {placement.pk} to {placement.cluster or 'no cluster'}")
     summary = push_placement(placement, progress)
     summary["page"] = reverse("containers:placement", args=[placement.pk])

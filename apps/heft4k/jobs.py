@@ -1,7 +1,7 @@
 """Job handlers of HEFT4K remapping: ``remap`` (compute, and apply unless a what-if) and ``remap_apply``."""
 
 from apps.heft4k.kinds import Heft4kJob
-from apps.jobs.registry import id_argument, job_kind
+from apps.jobs.registry import job_kind, owned_row
 from apps.scheduling.models import Schedule
 from continuum.engine.core.errors import InputError
 
@@ -20,10 +20,7 @@ def remap(job, progress) -> tuple[dict, str]:
     args = job.arguments or {}
     event = RemapEvent.objects.filter(job=job).select_related("schedule", "new_schedule").first()
     if event is None:
-        pk = id_argument(job, "schedule")
-        schedule = Schedule.objects.select_related("application", "cluster").filter(pk=pk, fleet=job.fleet).first()
-        if schedule is None:
-            raise ValueError(f"schedule {pk} does not exist")
+        schedule = owned_row(job, Schedule.objects.select_related("application", "cluster"), "schedule")
         fail = args.get("fail")
         if not isinstance(fail, list):
             raise InputError(f"argument 'fail' must be a list of node names, got {fail!r}", "fail")
@@ -47,10 +44,7 @@ def remap(job, progress) -> tuple[dict, str]:
 @job_kind(Heft4kJob.REMAP_APPLY)
 def remap_apply(job, progress) -> tuple[dict, str]:
     """Arguments: ``remap`` (id of a what-if remap event). Pushes the pods its new schedule changes."""
-    pk = id_argument(job, "remap")
-    event = RemapEvent.objects.select_related("schedule", "new_schedule").filter(pk=pk, fleet=job.fleet).first()
-    if event is None:
-        raise ValueError(f"remap {pk} does not exist")
+    event = owned_row(job, RemapEvent.objects.select_related("schedule", "new_schedule"), "remap")
     progress(5, f"applying remap {event.pk}")
     remapping.apply(event, progress)
     return remapping.summary(event), f"/api/v1/remaps/{event.pk}/"
@@ -60,13 +54,10 @@ def remap_apply(job, progress) -> tuple[dict, str]:
 def simulate(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id of a HEFT4K schedule). Runs its CFS simulation and the baselines and stores
     them for the schedule page (schedules stored before the jobs did it themselves)."""
-    pk = id_argument(job, "schedule")
-    schedule = Schedule.objects.select_related("application").filter(pk=pk, fleet=job.fleet).first()
-    if schedule is None:
-        raise ValueError(f"schedule {pk} does not exist")
+    schedule = owned_row(job, Schedule.objects.select_related("application"), "schedule")
     progress(5, f"simulating schedule {schedule.pk} on Kubernetes (Linux CFS)")
     row = simulation.store(schedule)
     if row is None:
-        raise InputError(f"schedule {pk} is not a HEFT4K schedule (its tasks have no niceness)", "schedule")
+        raise InputError(f"schedule {schedule.pk} is not a HEFT4K schedule (its tasks have no niceness)", "schedule")
     result = {"schedule": schedule.pk, "simulated": not row.note, "note": row.note}
     return result, f"/api/v1/schedules/{schedule.pk}/"

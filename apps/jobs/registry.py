@@ -74,5 +74,18 @@ def id_argument(job: Any, name: str, *, required: bool = True, what: str | None 
     return value
 
 
+def owned_row(job: Any, rows: Any, name: str, *, what: str | None = None, required: bool = True) -> Any:
+    """The row of ``rows`` (a manager or queryset) whose id is ``job.arguments[name]``, among the job's fleet's:
+    a job only ever touches its own fleet's rows. ``ValueError`` "<what> <id> does not exist" when there is
+    none; ``None`` when the argument is absent and not ``required``."""
+    pk = id_argument(job, name, required=required)
+    if pk is None:
+        return None
+    row = rows.filter(pk=pk, fleet=job.fleet).first()
+    if row is None:
+        raise ValueError(f"{what or name} {pk} does not exist")
+    return row
+
+
 def _name(fn: Callable) -> str:
     return f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', repr(fn))}"

@@ -6,7 +6,7 @@ from datetime import datetime
 from django.db import transaction
 
 from apps.clusters.models import Cluster
-from apps.jobs.registry import id_argument, job_kind
+from apps.jobs.registry import id_argument, job_kind, owned_row
 from apps.realtime.kinds import RealtimeJob
 from continuum.engine.rtkube import rt_kube
 
@@ -15,11 +15,7 @@ from .models import RealTime, RTPlan, RTPolicy
 
 
 def _cluster(job) -> Cluster:
-    pk = id_argument(job, "cluster")
-    cluster = Cluster.objects.filter(pk=pk, fleet=job.fleet).first()
-    if cluster is None:
-        raise ValueError(f"cluster {pk} does not exist")
-    return cluster
+    return owned_row(job, Cluster.objects, "cluster")
 
 
 @job_kind(RealtimeJob.RT_WHATIF)

@@ -12,7 +12,7 @@ from django.conf import settings
 from django.db import transaction
 
 from apps.clusters.kube import api_client_for
-from apps.jobs.registry import id_argument, job_kind
+from apps.jobs.registry import job_kind, owned_row
 from apps.kube import gateway
 from apps.kube.gateway import KubeError, Outcome, PodSet, Progress
 from apps.scheduling.kinds import SchedulingJob
@@ -103,10 +103,7 @@ def _failure_summary(schedule, cluster, failed: list[Assignment], total: int, fa
 @job_kind(SchedulingJob.PUSH_SCHEDULE)
 def push_schedule_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``schedule`` (id). Creates one pod per assignment and binds it to the assigned node."""
-    pk = id_argument(job, "schedule")
-    schedule = Schedule.objects.select_related("cluster", "application").filter(pk=pk, fleet=job.fleet).first()
-    if schedule is None:
-        raise ValueError(f"schedule {pk} does not exist")
+    schedule = owned_row(job, Schedule.objects.select_related("cluster", "application"), "schedule")
     progress(1, f"pushing schedule {schedule.pk} to {schedule.cluster or 'no cluster'}")
     summary = push_schedule(schedule, progress)
     return summary, f"/api/v1/schedules/{schedule.pk}/"

@@ -14,6 +14,7 @@ from django.conf import settings
 from django.db import transaction
 
 from apps.clusters.models import Cluster, ComputeNode
+from apps.jobs.registry import owned_row
 from continuum.engine.core.errors import InputError
 from continuum.engine.verification.abv_simulation import SimulationResult
 from continuum.engine.verification.monitor_milp import Allocation, MonitorStats, allocate
@@ -367,11 +368,7 @@ def store_allocation(
 def run_allocation(job, progress: Callable[[float, str], None]) -> AllocationRun:
     """The ``allocate_monitors`` job: solve, store, and (``apply``) move the monitors."""
     args = job.arguments or {}
-    cluster = None
-    if args.get("cluster") is not None:
-        cluster = Cluster.objects.filter(pk=args["cluster"], fleet=job.fleet).first()
-        if cluster is None:
-            raise ValueError(f"cluster {args['cluster']} does not exist")
+    cluster = owned_row(job, Cluster.objects, "cluster", required=False)
     run = AllocationRun.objects.filter(job=job).first()
     if run is not None:  # re-delivered: the solve is stored already
         return run
