@@ -57,7 +57,8 @@ def contract_error(errors, path: str = "") -> InputError:
         name = field if field != "non_field_errors" else ""
         return contract_error(inner, f"{path}.{name}" if path and name else path or name)
     if isinstance(errors, list) and errors and not isinstance(errors[0], str):
-        return contract_error(errors[0], path)
+        # A list field's errors hold one entry per item, empty for the valid ones: report the first bad item.
+        return contract_error(next((e for e in errors if e), errors[0]), path)
     message = str(errors[0]) if isinstance(errors, list) and errors else str(errors)
     field = path.split(".")[-1] if path else None
     return InputError(message if not path or message.startswith(field or "") else f"{path}: {message}", field)

@@ -59,3 +59,16 @@ def test_the_cluster_ros_command_refuses_like_the_api(argv, request_data, field)
     expected = _contract_message(ClusterRequestSerializer, request_data, field)
     message = _refusal("cluster_ros", str(DATA / "irobot_sierra_nevada.json"), *argv)
     assert expected in message
+
+
+def test_a_list_fields_error_names_the_first_bad_item_not_a_valid_one():
+    """DRF reports a list field's errors with an empty entry per valid item; the command's one line names the
+    first item that is wrong (an empty first entry used to end in StopIteration)."""
+    from apps.tenancy.api import contract_error
+
+    error = contract_error({"nodes": [{}, {"cpu": ["Ensure this value is greater than or equal to 0."]}]})
+    assert str(error) == "nodes.cpu: Ensure this value is greater than or equal to 0." and error.field == "cpu"
+    assert (
+        str(contract_error({"nodes": ["'nodes' must be a non-empty list"]}))
+        == "nodes: 'nodes' must be a non-empty list"
+    )

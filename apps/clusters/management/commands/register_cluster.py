@@ -28,6 +28,7 @@ from apps.clusters.models import Cluster, ComputeNode, Link
 from apps.clusters.serializers import ClusterImportSerializer
 from apps.kube.gateway import KubeError, server_policy
 from apps.kube.kubeconfig import KubeconfigError, validate
+from apps.tenancy.api import contract_error
 from apps.tenancy.models import Fleet
 from continuum.commands import EngineCommand
 from continuum.engine.core.errors import InputError
@@ -48,18 +49,6 @@ def _read(path: str, what: str) -> str:
         return p.read_text(encoding="utf-8")
     except UnicodeDecodeError as exc:
         raise InputError(f"{what} {path}: not UTF-8 text (byte {exc.start})", what) from exc
-
-
-def _first_error(errors: Any) -> str:
-    """The first message of a DRF error structure, with the path of fields that leads to it."""
-    path = []
-    while isinstance(errors, dict | list):
-        if isinstance(errors, dict):
-            key, errors = next(iter(errors.items()))
-            path.append(str(key))
-        else:
-            errors = next((e for e in errors if e), errors[0] if errors else "invalid")
-    return f"{'.'.join(path)}: {errors}" if path else str(errors)
 
 
 class _Document(ClusterImportSerializer):
@@ -160,7 +149,7 @@ class Command(EngineCommand):
         data = {k: v for k, v in doc.items() if k in ("format", "nodes", "links")}
         serializer = _Document(data={**data, "name": f"register-{uuid.uuid4().hex}"}, context={"fleet": fleet})
         if not serializer.is_valid():
-            raise InputError(f"{path}: {_first_error(serializer.errors)}", "cluster file")
+            raise InputError(f"{path}: {contract_error(serializer.errors)}", "cluster file")
         return serializer.validated_data["nodes"], serializer.validated_data["links"]
 
     def summary(self, result: dict) -> str:
