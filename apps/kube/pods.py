@@ -20,7 +20,6 @@ import logging
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from datetime import UTC, datetime
 
 from django.conf import settings
 from kubernetes import client
@@ -31,6 +30,7 @@ from continuum.engine.heft4k.heft4k import nice_container
 
 from . import nodes
 from .connect import API_ERRORS, REQUEST_TIMEOUT, call, describe
+from .resources import pod_event
 
 log = logging.getLogger(__name__)
 
@@ -258,22 +258,8 @@ class Pusher:
     def scheduled_event(self, name: str, node: str) -> None:
         """Record the binding as kube-scheduler does, a ``Scheduled`` Event on the pod (the pod's live state
         shows it: a hollow node's kubelet reports no events of its own). Best effort: the pod is bound anyway."""
-        stamp = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
-        component = settings.CONTINUUM_SCHEDULER_NAME
-        body = {
-            "apiVersion": "v1",
-            "kind": "Event",
-            "metadata": {"name": f"{name}.{hashlib.sha256(f'{name}/{node}/{stamp}'.encode()).hexdigest()[:10]}"},
-            "involvedObject": {"apiVersion": "v1", "kind": "Pod", "name": name, "namespace": self.namespace},
-            "reason": "Scheduled",
-            "message": f"Successfully assigned {self.namespace}/{name} to {node}",
-            "type": "Normal",
-            "source": {"component": component},
-            "reportingComponent": component,
-            "firstTimestamp": stamp,
-            "lastTimestamp": stamp,
-            "count": 1,
-        }
+        message = f"Successfully assigned {self.namespace}/{name} to {node}"
+        body = pod_event(self.namespace, name, "Scheduled", message, settings.CONTINUUM_SCHEDULER_NAME)
         try:
             self.api.create_namespaced_event(self.namespace, body, _request_timeout=REQUEST_TIMEOUT)
         except API_ERRORS as exc:

@@ -34,6 +34,36 @@ def now_rfc3339() -> str:
     return datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
+def pod_event(
+    namespace: str,
+    name: str,
+    reason: str,
+    message: str,
+    component: str,
+    *,
+    kind: str = "Normal",
+    uid: str | None = None,
+) -> dict[str, Any]:
+    """A core/v1 Event about pod ``namespace/name``, as kube-scheduler writes them (``Scheduled``,
+    ``FailedScheduling``): what ``kubectl describe pod`` and the live state show."""
+    stamp = now_rfc3339()
+    digest = hashlib.sha1(f"{namespace}/{name}/{uid}/{reason}/{message}/{time.time()}".encode()).hexdigest()[:10]
+    return {
+        "apiVersion": "v1",
+        "kind": "Event",
+        "metadata": {"name": f"{name[:200]}.{digest}", "namespace": namespace},
+        "involvedObject": {"apiVersion": "v1", "kind": "Pod", "name": name, "namespace": namespace, "uid": uid},
+        "reason": reason,
+        "message": message[:1024],
+        "type": kind,
+        "source": {"component": component},
+        "reportingComponent": component,
+        "firstTimestamp": stamp,
+        "lastTimestamp": stamp,
+        "count": 1,
+    }
+
+
 class Kube:
     """JSON access to one cluster's API server (``component``: who writes the Events, e.g. the RT scheduler)."""
 
@@ -242,28 +272,9 @@ class Kube:
 
     def event(self, pod: dict, reason: str, message: str, kind: str = "Normal") -> None:
         meta = pod["metadata"]
-        stamp = now_rfc3339()
-        digest = hashlib.sha1(f"{meta.get('uid')}{reason}{message}{time.time()}".encode()).hexdigest()[:10]
-        body = {
-            "apiVersion": "v1",
-            "kind": "Event",
-            "metadata": {"name": f"{meta['name'][:200]}.{digest}", "namespace": meta["namespace"]},
-            "involvedObject": {
-                "apiVersion": "v1",
-                "kind": "Pod",
-                "name": meta["name"],
-                "namespace": meta["namespace"],
-                "uid": meta.get("uid"),
-            },
-            "reason": reason,
-            "message": message[:1024],
-            "type": kind,
-            "source": {"component": self.component},
-            "reportingComponent": self.component,
-            "firstTimestamp": stamp,
-            "lastTimestamp": stamp,
-            "count": 1,
-        }
+        body = pod_event(
+            meta["namespace"], meta["name"], reason, message, self.component, kind=kind, uid=meta.get("uid")
+        )
         try:
             read_json(self.core.create_namespaced_event, meta["namespace"], body)
         except ApiException as exc:
