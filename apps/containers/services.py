@@ -355,11 +355,11 @@ def node_traffic(placement: Placement) -> list[dict[str, Any]]:
 
 
 def placement_warnings(placement: Placement) -> list[dict[str, Any]]:
-    """Driver-level ROS nodes the placement put off the robot (``off_robot_drivers`` of the plan's metrics,
+    """Driver-level ROS nodes the placement put off the robot (the plan's ``off_robot_drivers`` metric,
     :func:`continuum.engine.containers.robot_pinning.off_robot`), with a message each."""
-    warnings = (placement.plan or {}).get("metrics", {}).get("off_robot_drivers") or []
-    out = [dict(w) for w in warnings if isinstance(w, Mapping)]
-    if out and not (placement.plan or {}).get("metrics", {}).get("robot_nodes"):
+    plan = placement.plan or {}  # PlacementPlan.to_dict() writes the metrics at the top level
+    out = [dict(w) for w in plan.get("off_robot_drivers") or [] if isinstance(w, Mapping)]
+    if out and not plan.get("robot_nodes"):
         label = (placement.params or {}).get("robot_label", "zone=robot")
         for w in out:
             w["message"] += f"; the cluster has no node labelled {label}"
