@@ -46,7 +46,7 @@ def _bounded(name: str, unit: str, maximum: float, **kwargs) -> serializers.Floa
     )
 
 
-class _StrictSerializer(serializers.Serializer):
+class _StrictSerializer(ScopedSerializer):
     """Refuses keys it does not know (a plain Serializer drops them silently: a typo would be a no-op)."""
 
     def to_internal_value(self, data):
@@ -99,7 +99,7 @@ class TopicEditSerializer(_StrictSerializer):
     msg_type = serializers.CharField(required=False, allow_blank=True, max_length=200)
 
 
-class RosGraphEditSerializer(serializers.Serializer):
+class RosGraphEditSerializer(ScopedSerializer):
     """One edit of a ROS graph (context ``rosgraph``): the request contract of PATCH and of the page's forms."""
 
     levels = serializers.DictField(
