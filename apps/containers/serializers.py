@@ -88,7 +88,10 @@ class TopicEditSerializer(_StrictSerializer):
 
     rate_hz = _bounded("rate_hz", "Hz", limits.get().rate_hz)
     period_ms = serializers.FloatField(
-        min_value=1e-3, max_value=86_400_000, required=False, help_text="ms between messages (instead of rate_hz)"
+        min_value=1000 / limits.get().rate_hz,  # the rate limit, as a period
+        max_value=86_400_000,
+        required=False,
+        help_text="ms between messages (instead of rate_hz)",
     )
     publisher_rates_hz = serializers.DictField(
         child=serializers.FloatField(min_value=0, max_value=limits.get().rate_hz, error_messages=at_most("rate_hz")),
