@@ -163,19 +163,21 @@ def rosgraph_levels(request: HttpRequest, pk: int) -> HttpResponse:
 def _edit(request: HttpRequest, pk: int, form_class, key: str, what: str) -> HttpResponse:
     """Save one row's edit (a ROS node or a topic) through the PATCH contract; a refused one re-renders the
     page (400) with the row's errors next to its fields and summarised at the top of its table."""
-    row = get_object_or_404(scoped(request, RosGraph.objects.select_related("fleet")), pk=pk)
     item = request.POST.get(key, "")
-    graph = row.graph
-    table = graph.nodes if key == "node" else graph.topics
-    if item not in table:
-        raise Http404(f"no {what} {item!r} in this graph")
-    extra = {"proposed": propose_levels(graph)[item]} if key == "node" else {}
-    form = form_class(request.POST, rosgraph=row, item=item, **extra)
+    # Read, check and write under the row's lock: two rows saved at once must not undo each other.
+    with transaction.atomic():
+        row = get_object_or_404(scoped(request, RosGraph.objects.select_for_update(of=("self",))), pk=pk)
+        graph = row.graph
+        table = graph.nodes if key == "node" else graph.topics
+        if item not in table:
+            raise Http404(f"no {what} {item!r} in this graph")
+        extra = {"proposed": propose_levels(graph)[item]} if key == "node" else {}
+        form = form_class(request.POST, rosgraph=row, item=item, **extra)
+        if form.is_valid():
+            row.set_graph(form.graph())
+            row.save()
     if not form.is_valid():
         return _graph_page(request, row, edit_form=form, status=400)
-    with transaction.atomic():
-        row.set_graph(form.graph())
-        row.save()
     messages.success(request, f"Saved {what} {item}.")
     return redirect(f"{reverse('containers:rosgraph', args=[row.pk])}#{key}s")
 
