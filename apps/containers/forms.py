@@ -88,6 +88,9 @@ class _GraphEditForm(SerializerForm):
         self.form_id = f"{self.kind}-form-{slug}"
         for field in self.fields.values():
             field.widget.attrs["form"] = self.form_id
+            # Table cells are narrow: keep each value and each choice readable.
+            width = "min-width: 9em" if isinstance(field, forms.ChoiceField) else "width: 8em"
+            field.widget.attrs.setdefault("style", width)
 
     def serializer_context(self) -> dict:
         return {"rosgraph": self.rosgraph}

@@ -8,7 +8,7 @@ import pytest
 
 from tests.conftest import DATA
 from tests.containers.test_pages import make_graph
-from tests.dashboard.test_browser import browser, log_in, page  # noqa: F401  (fixtures)
+from tests.dashboard.test_browser import SCREENSHOT, browser, log_in, page  # noqa: F401  (fixtures)
 
 pytestmark = [pytest.mark.browser, pytest.mark.django_db(transaction=True)]
 
@@ -60,6 +60,7 @@ def test_edit_a_rate_unpin_drivers_and_see_the_off_robot_warning(page, live_serv
         node.locator("button:has-text('Save')").click()
         page.wait_for_selector(f"text=Saved ROS node {name}.")
         assert "on robot" not in page.locator(f'tr[data-node="{name}"] td').first.inner_text()
+    page.locator("#nodes").screenshot(path=str(SCREENSHOT.with_name("continuum-ros-nodes.png")))
 
     # Cluster into 4 containers, then place them with super-clustering.
     page.fill("#cluster input[name=containers]", "4")
@@ -79,4 +80,5 @@ def test_edit_a_rate_unpin_drivers_and_see_the_off_robot_warning(page, live_serv
     assert "FrontLidarDriver" in text and "RearLidarDriver" in text and "cloud-vm" in text and "off the robot" in text
     lidar_row = page.locator("tr", has=page.locator("strong", has_text="FrontLidarDriver"))
     assert "off robot" in lidar_row.inner_text()
+    page.screenshot(path=str(SCREENSHOT.with_name("continuum-ros-placement.png")), full_page=True)
     assert not page.errors
