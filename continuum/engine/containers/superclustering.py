@@ -6,7 +6,9 @@ The four phases of Fig. 3.27, as a Kubernetes scheduler plugin chain:
    bandwidth, descending, then natural name order).
 2. **Filter** the nodes: image architecture (spec 02 section 4: a container never lands on a node whose arch
    its image lacks), taints and tolerations, required node affinity / node selector, then CPU cores, memory
-   and storage still free. No node left: the container stays pending, each node's rejection reason kept.
+   and storage still free, then RobotBoard: a container holding a driver-level (or robot-pinned) ROS node only
+   on the robot's boards (Table 4.26's required "MCB; drivers" affinity, :mod:`.robot_pinning`). No node
+   left: the container stays pending, each node's rejection reason kept.
 3. **Score** the remaining nodes. The bandwidth rank (Eq. 3.14) of node ``n`` for container ``L`` is the
    traffic that would stay local, ``sum over containers c already bound to n of bandwidth(L, c)``;
    Eq. (3.15) normalises it to 0-100 by the best node (all 0 when every rank is 0). Other weighted policies
@@ -36,6 +38,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeGuard
 
+from continuum.engine.containers import robot_pinning
+from continuum.engine.containers.resource_model import profiles as resource_profiles
 from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
 from continuum.engine.core.cluster import Cluster, ClusterNode, normalize_arch
 from continuum.engine.core.errors import InputError
@@ -122,6 +126,10 @@ class ContainerSpec:
     tolerations: tuple[Toleration, ...] = ()
     #: ROS nodes inside (informational here; bandwidth comes from the workload).
     nodes: tuple[str, ...] = ()
+    #: Driver-level ROS nodes inside: reported when the container lands off the robot (robot_pinning).
+    drivers: tuple[str, ...] = ()
+    #: ROS nodes inside pinned to the robot's boards: the container may only go to a robot node.
+    on_robot: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """This container as a ``continuum.containers/v1`` entry with every value resolved (CPU and memory
@@ -138,6 +146,9 @@ class ContainerSpec:
         }
         if self.node_selector:
             doc["node_selector"] = dict(self.node_selector)
+        for key in ("drivers", "on_robot"):
+            if getattr(self, key):
+                doc[key] = list(getattr(self, key))
         affinity: dict[str, Any] = {}
         if self.required:
             affinity["required"] = [_expression_dict(r) for r in self.required]
@@ -243,7 +254,8 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
         isinstance(v, (int, float)) and not isinstance(v, bool) for v in classes.values()
     ):
         raise InputError("'priority_classes' must map class names to numbers", "priority_classes")
-    containers = [_parse_container(i, c, default_archs, graph, classes) for i, c in enumerate(raw)]
+    derived = _derived(graph) if graph is not None else None
+    containers = [_parse_container(i, c, default_archs, graph, classes, derived) for i, c in enumerate(raw)]
     bandwidth: dict[tuple[str, str], float] = {}
     if graph is not None:
         groups = {c.name: c.nodes for c in containers if c.nodes}
@@ -265,6 +277,33 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
             raise InputError(f"bandwidth[{i}] joins container {item['a']!r} to itself", "bandwidth")
         bandwidth[pair(str(item["a"]), str(item["b"]))] = float(value)
     return Workload(containers, bandwidth)
+
+
+@dataclass(frozen=True)
+class _Derived:
+    """What a container takes from the ROS graph: its ROS nodes' requests, drivers and pins."""
+
+    cpu: Mapping[str, float]
+    memory_mib: Mapping[str, float]
+    drivers: set[str]
+    on_robot: set[str]
+
+
+def _derived(graph: RosGraph) -> _Derived:
+    profiles = resource_profiles(graph)
+    levels = graph.levels()
+    return _Derived(
+        cpu={n: p.cpu for n, p in profiles.items()},
+        memory_mib={n: p.memory_mib for n, p in profiles.items()},
+        drivers=robot_pinning.drivers(levels),
+        on_robot=robot_pinning.pinned(levels, {n: node.pin for n, node in graph.nodes.items()}),
+    )
+
+
+def _names_list(raw: Any, where: str, key: str) -> tuple[str, ...]:
+    if not isinstance(raw, list) or not all(isinstance(n, str) for n in raw):
+        raise InputError(f"{where}: '{key}' must be a list of ROS node names", "containers")
+    return tuple(raw)
 
 
 def _number(x: Any) -> TypeGuard[int | float]:
@@ -308,6 +347,7 @@ def _parse_container(
     default_archs: tuple[str, ...],
     graph: RosGraph | None,
     classes: Mapping[str, float],
+    derived: _Derived | None = None,
 ) -> ContainerSpec:
     if not isinstance(raw, Mapping):
         raise InputError(f"containers[{index}] must be an object", "containers")
@@ -328,8 +368,8 @@ def _parse_container(
             if not _number(raw[key]):
                 raise InputError(f"{where} has invalid {key} {raw[key]!r}", "containers")
             values[key] = float(raw[key])
-        elif graph is not None and attr is not None:
-            values[key] = sum(getattr(graph.nodes[n], attr) for n in nodes)
+        elif derived is not None and attr is not None:  # the ROS nodes' requests (resource_model)
+            values[key] = sum(getattr(derived, attr)[n] for n in nodes)
         else:
             values[key] = 0.0
     priority = raw.get("priority", 0)
@@ -358,6 +398,14 @@ def _parse_container(
     tolerations = []
     for i, t in enumerate(raw.get("tolerations", []) or []):
         tolerations.append(Toleration.parse(t, f"{where} tolerations[{i}]"))
+    pins: dict[str, tuple[str, ...]] = {}
+    for key in ("drivers", "on_robot"):
+        if key in raw:
+            pins[key] = _names_list(raw[key], where, key)
+        elif derived is not None:
+            pins[key] = tuple(n for n in nodes if n in getattr(derived, key))
+        else:
+            pins[key] = ()
     return ContainerSpec(
         name=name,
         cpu=values["cpu"],
@@ -370,6 +418,8 @@ def _parse_container(
         preferred=tuple(preferred),
         tolerations=tuple(tolerations),
         nodes=tuple(nodes),
+        drivers=pins["drivers"],
+        on_robot=pins["on_robot"],
     )
 
 
@@ -515,8 +565,14 @@ def _schedule(
     tie_break: Callable[[list[_NodeState]], _NodeState],
     overhead_mib: float,
     params: dict[str, Any],
+    robot: tuple[str, str] | None = robot_pinning.ROBOT_LABEL,
 ) -> PlacementPlan:
+    """``robot``: the label of the robot's boards, to which containers holding pinned ROS nodes are held (the
+    RobotBoard filter, :mod:`.robot_pinning`); ``None`` turns the constraint off. A cluster without a robot
+    node cannot honour it: it is then not applied (and the off-robot drivers are reported)."""
     states = {name: _NodeState(node) for name, node in cluster.nodes.items()}
+    label = robot or robot_pinning.ROBOT_LABEL
+    hold = robot is not None and bool(robot_pinning.robot_nodes(cluster, label))
     decisions: list[Decision] = []
     for c in order:
         rejected: dict[str, NodeVerdict] = {}
@@ -528,7 +584,11 @@ def _schedule(
                     rejected[name] = NodeVerdict(name, rejected_by=fname, reason=reason)
                     break
             else:
-                feasible.append(s)
+                reason = robot_pinning.reject_reason(c.on_robot, s.node, label) if hold else None
+                if reason is not None:
+                    rejected[name] = NodeVerdict(name, rejected_by="RobotBoard", reason=reason)
+                else:
+                    feasible.append(s)
         if not feasible:
             decisions.append(Decision(c.name, None, None, tuple(rejected[n] for n in states)))
             continue
@@ -554,6 +614,10 @@ def _schedule(
         decisions.append(Decision(c.name, chosen.node.name, round(totals[chosen.node.name], 6), tuple(verdicts)))
     plan = PlacementPlan(policy_name, decisions, params=params)
     plan.metrics.update(plan_metrics(plan, workload, cluster, states))
+    plan.metrics["robot_nodes"] = robot_pinning.robot_nodes(cluster, label)
+    plan.metrics["off_robot_drivers"] = robot_pinning.off_robot(
+        plan.placed(), {c.name: c.drivers for c in workload.containers}, cluster, label
+    )
     return plan
 
 
@@ -563,11 +627,14 @@ def superclustering(
     *,
     weights: Mapping[str, float] | None = None,
     overhead_mib: float = 0.0,
+    drivers_on_robot: bool = True,
+    robot_label: str | tuple[str, str] | None = None,
 ) -> PlacementPlan:
     """Place containers by super-clustering (Fig. 3.27, Eqs. 3.14-3.15) with the free-resource tie-break.
 
     ``overhead_mib`` is the runtime's memory cost per container (e.g. 39 MiB for K3s, Table 4.17), reserved
-    on top of each container's request.
+    on top of each container's request. ``drivers_on_robot`` holds containers with pinned (driver-level)
+    ROS nodes on the nodes labelled ``robot_label`` (default ``zone=robot``; Table 4.26, :mod:`.robot_pinning`).
     """
     w = _check_weights(SUPERCLUSTERING_WEIGHTS if weights is None else weights)
     _check_overhead(overhead_mib)
@@ -578,8 +645,11 @@ def superclustering(
     def freest(best: list[_NodeState]) -> _NodeState:
         return min(best, key=lambda s: (-s.free("cpu"), -s.free("memory_mib"), natural_key(s.node.name)))
 
-    params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib}
-    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params)
+    label = robot_pinning.parse_label(robot_label)
+    params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib,
+              "drivers_on_robot": bool(drivers_on_robot), "robot_label": "=".join(label)}  # fmt: skip
+    robot = label if drivers_on_robot else None
+    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params, robot)
 
 
 def default_kubernetes(
@@ -589,8 +659,11 @@ def default_kubernetes(
     seed: int = 0,
     weights: Mapping[str, float] | None = None,
     overhead_mib: float = 0.0,
+    drivers_on_robot: bool = True,
+    robot_label: str | tuple[str, str] | None = None,
 ) -> PlacementPlan:
-    """The default-Kubernetes-like baseline: least allocated + balanced allocation, random ties (seeded)."""
+    """The default-Kubernetes-like baseline: least allocated + balanced allocation, random ties (seeded).
+    The robot constraint is an operator's constraint (like a required affinity), so it applies here too."""
     w = _check_weights(KUBERNETES_WEIGHTS if weights is None else weights)
     _check_overhead(overhead_mib)
     order = sorted(workload.containers, key=lambda c: -c.priority)  # stable: FIFO within a priority
@@ -599,8 +672,11 @@ def default_kubernetes(
     def pick(best: list[_NodeState]) -> _NodeState:
         return best[rng.randrange(len(best))]
 
-    params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib}
-    return _schedule("default-kubernetes", workload, cluster, order, w, pick, overhead_mib, params)
+    label = robot_pinning.parse_label(robot_label)
+    params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib,
+              "drivers_on_robot": bool(drivers_on_robot), "robot_label": "=".join(label)}  # fmt: skip
+    robot = label if drivers_on_robot else None
+    return _schedule("default-kubernetes", workload, cluster, order, w, pick, overhead_mib, params, robot)
 
 
 def _check_overhead(overhead: float) -> None:
