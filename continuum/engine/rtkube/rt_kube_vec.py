@@ -39,7 +39,17 @@ from continuum.engine.rtkube import rt_kube
 from continuum.engine.rtkube.rt_kube import ADMISSION_EPS, Ledger, RTKubeParams
 from continuum.engine.rtkube.rt_model import RTContainer, RTNode
 
-__all__ = ["EXAMPLES", "FILTERS", "TOP_K", "NodeMatrix", "bound_decision", "place_one", "schedule", "why_not"]
+__all__ = [
+    "EXAMPLES",
+    "FILTERS",
+    "FULL_UP_TO",
+    "TOP_K",
+    "NodeMatrix",
+    "bound_decision",
+    "place_one",
+    "schedule",
+    "why_not",
+]
 
 #: The filters in the reference's order (``rt_kube.rt_filter``); index 0 means "passed".
 FILTERS = (
@@ -53,7 +63,9 @@ FILTERS = (
 )
 #: Candidates a decision keeps by default, and example nodes per rejecting filter.
 TOP_K = 5
-EXAMPLES = 3
+EXAMPLES = 1
+#: With ``full="auto"``, a cluster of at most this many nodes keeps every node's verdict (bounded anyway).
+FULL_UP_TO = 32
 _TIE = 1e-12  # the reference's tie margin
 
 
@@ -68,6 +80,7 @@ class NodeMatrix:
         self.rt = np.array([n.rt for n in self.nodes], dtype=bool)
         self.c_node = np.array([n.is_c_node for n in self.nodes], dtype=bool)
         self.cpu = np.array([n.cpu for n in self.nodes], dtype=float)
+        self.cpu_cap = self.cpu + ADMISSION_EPS  # the reference's ``n.cpu + ADMISSION_EPS``
         self.mem = np.array([n.memory_mib for n in self.nodes], dtype=float)
         self.threshold = np.array([n.rt_threshold for n in self.nodes], dtype=float)
         self.admit = self.threshold * (1 + ADMISSION_EPS)  # Algorithm 3, line 6, as the reference computes it
@@ -82,7 +95,8 @@ class NodeMatrix:
         groups: dict[tuple, int] = {}
         self.taint_group = np.array([groups.setdefault(n.taints, len(groups)) for n in self.nodes], dtype=np.intp)
         self.taint_sets = list(groups)
-        self._tolerated: dict[tuple, np.ndarray] = {}
+        self._tolerated: dict[tuple, tuple[np.ndarray, int]] = {}
+        self._wcet_index: dict[tuple, np.ndarray] = {}
 
     def __len__(self) -> int:
         return len(self.names)
@@ -94,10 +108,11 @@ class NodeMatrix:
         self.cpu_used[i] = self.ledger.cpu_used(node)
         self.mem_used[i] = self.ledger.memory_used(node)
 
-    def taint_ok(self, container: RTContainer, now: float | None) -> np.ndarray:
+    def taint_ok(self, container: RTContainer, now: float | None) -> tuple[np.ndarray, int]:
+        """(nodes whose taints the container tolerates, how many), cached per toleration set for the pass."""
         key = container.tolerations
-        ok = self._tolerated.get(key)
-        if ok is None:
+        hit = self._tolerated.get(key)
+        if hit is None:
             per_set = np.empty(len(self.taint_sets), dtype=bool)
             for g, taints in enumerate(self.taint_sets):
                 if not taints:
@@ -106,21 +121,24 @@ class NodeMatrix:
                 timed = any(t.until is not None for t in taints)
                 per_set[g] = rt_kube._first_untolerated(taints, key, now if timed else None) is None
             ok = per_set[self.taint_group]
-            self._tolerated[key] = ok
-        return ok
+            hit = self._tolerated[key] = (ok, int(np.count_nonzero(ok)))
+        return hit
 
     def utilization(self, container: RTContainer) -> np.ndarray:
         """``WCET(n) / P`` per node (Eq. 2.4's term), NaN where the container has no WCET for the node."""
         util = np.full(len(self.names), np.nan)
-        if container.period is None or not container.wcet:
+        wcet = container.wcet
+        if container.period is None or not wcet:
             return util
-        try:
-            idx = np.fromiter(map(self.pos.__getitem__, container.wcet), np.intp, len(container.wcet))
-            vals = np.fromiter(container.wcet.values(), float, len(container.wcet))
-        except KeyError:  # a WCET for a node outside the pass: ignored, as the reference never asks for it
-            known = [(self.pos[k], v) for k, v in container.wcet.items() if k in self.pos]
-            idx = np.array([i for i, _ in known], dtype=np.intp)
-            vals = np.array([v for _, v in known], dtype=float)
+        # Containers of one application list the same nodes: their positions are looked up once.
+        keys = tuple(wcet)
+        idx = self._wcet_index.get(keys)
+        if idx is None:
+            idx = np.array([self.pos.get(k, -1) for k in keys], dtype=np.intp)
+            self._wcet_index[keys] = idx
+        vals = np.fromiter(wcet.values(), float, len(keys))
+        if idx.size and idx.min() < 0:  # a WCET for a node outside the pass: ignored, as by the reference
+            vals, idx = vals[idx >= 0], idx[idx >= 0]
         util[idx] = vals / container.period
         return util
 
@@ -134,62 +152,89 @@ def _horner(curve: Any, z: np.ndarray) -> np.ndarray:
     return value
 
 
-def _evaluate(c: RTContainer, m: NodeMatrix, p: RTKubeParams, now: float | None) -> tuple[np.ndarray, np.ndarray]:
-    """(filter code per node, score per node with -inf where a filter rejects the node)."""
-    n = len(m)
-    code = np.zeros(n, dtype=np.int8)
-    score = np.full(n, -np.inf)
-    if c.is_rt:
-        util = m.utilization(c)
-        new_ut = m.ut + util
-        with np.errstate(invalid="ignore"):
-            code[(c.criticality == "C") != m.c_node] = 6  # Algorithm 3, line 8 (XOR)
-            code[new_ut > m.admit] = 5  # Algorithm 3, line 6 (Eq. 2.4)
-        code[np.isnan(util)] = 4
-        code[~m.rt] = 3
-    if p.check_resources:
-        if c.memory_mib:
-            code[m.mem_used + c.memory_mib > m.mem] = 2
-        if c.cpu:
-            code[m.cpu_used + c.cpu > m.cpu + ADMISSION_EPS] = 2
-    code[~m.taint_ok(c, now)] = 1
-    ok = code == 0
-    if not ok.any():
-        return code, score
-    if c.is_rt:
-        thr = m.threshold[ok]
-        rank = (thr - new_ut[ok]) / thr  # Alg. 4, line 2
-        if c.criticality == "A":
-            s = 1 - rank
-        elif c.criticality == "C":
-            s = rank
-        else:  # B: Eq. 3.18
-            z = rank if p.b_score_argument == "free" else 1 - rank
-            low = z <= 1 / p.k
-            s = np.empty_like(z)
-            if low.any():
-                s[low] = _horner(p.h, z[low])
-            if (~low).any():
-                s[~low] = _horner(p.g, z[~low])
-    else:  # LeastAllocated (rt_kube.least_allocated)
-        cpu, mem = m.cpu[ok], m.mem[ok]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            part_cpu = (cpu - m.cpu_used[ok] - c.cpu) / cpu
-            part_mem = (mem - m.mem_used[ok] - c.memory_mib) / mem
-        total = np.where(m.has_cpu[ok], part_cpu, 0.0) + np.where(m.has_mem[ok], part_mem, 0.0)
-        parts = m.n_parts[ok]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            s = np.where(parts > 0, np.maximum(0.0, total / parts), 1.0)
-    score[ok] = s
-    return code, score
+class _Eval:
+    """One container against every node: the nodes left after each filter, in the reference's order, and
+    the score of the nodes left after all of them (-inf elsewhere)."""
+
+    __slots__ = ("left", "new_ut", "score")
+
+    def __init__(self, c: RTContainer, m: NodeMatrix, p: RTKubeParams, now: float | None) -> None:
+        taint_ok, _ = m.taint_ok(c, now)
+        #: (filter index, nodes still in after it), for the filters that ran; the last one is "passed all".
+        left: list[tuple[int, np.ndarray]] = [(1, taint_ok)]
+        ok = taint_ok
+        if p.check_resources and (c.cpu or c.memory_mib):
+            fit = ok
+            if c.cpu:
+                fit = fit & (m.cpu_used + c.cpu <= m.cpu_cap)
+            if c.memory_mib:
+                fit = fit & (m.mem_used + c.memory_mib <= m.mem)
+            ok = fit
+            left.append((2, ok))
+        self.new_ut = None
+        if c.is_rt:
+            ok = ok & m.rt
+            left.append((3, ok))
+            new_ut = m.ut + m.utilization(c)
+            ok = ok & (new_ut == new_ut)  # NaN: no WCET for the node
+            left.append((4, ok))
+            ok = ok & (new_ut <= m.admit)  # Algorithm 3, line 6 (Eq. 2.4): only a strict excess fails
+            left.append((5, ok))
+            ok = ok & (m.c_node if c.criticality == "C" else ~m.c_node)  # Algorithm 3, line 8 (XOR)
+            left.append((6, ok))
+            self.new_ut = new_ut
+        self.left = left
+        self.score = score = np.full(len(m), -np.inf)
+        if not ok.any():
+            return
+        if c.is_rt:
+            thr = m.threshold[ok]
+            rank = (thr - new_ut[ok]) / thr  # Alg. 4, line 2
+            if c.criticality == "A":
+                s = 1 - rank
+            elif c.criticality == "C":
+                s = rank
+            else:  # B: Eq. 3.18
+                z = rank if p.b_score_argument == "free" else 1 - rank
+                low = z <= 1 / p.k
+                s = np.empty_like(z)
+                if low.any():
+                    s[low] = _horner(p.h, z[low])
+                if not low.all():
+                    s[~low] = _horner(p.g, z[~low])
+        else:  # LeastAllocated (rt_kube.least_allocated)
+            cpu, mem = m.cpu[ok], m.mem[ok]
+            with np.errstate(invalid="ignore", divide="ignore"):
+                part_cpu = (cpu - m.cpu_used[ok] - c.cpu) / cpu
+                part_mem = (mem - m.mem_used[ok] - c.memory_mib) / mem
+                total = np.where(m.has_cpu[ok], part_cpu, 0.0) + np.where(m.has_mem[ok], part_mem, 0.0)
+                parts = m.n_parts[ok]
+                s = np.where(parts > 0, np.maximum(0.0, total / parts), 1.0)
+        score[ok] = s
+
+    def rejected(self, n: int) -> list[tuple[int, int, np.ndarray, np.ndarray]]:
+        """(filter index, nodes it rejected, mask before it, mask after it) for each filter that rejected some."""
+        out = []
+        before, before_count = None, n
+        for f, mask in self.left:
+            count = int(np.count_nonzero(mask))
+            if count < before_count:
+                out.append((f, before_count - count, before, mask))
+            before, before_count = mask, count
+        return out
 
 
 def _choose(score: np.ndarray) -> int | None:
     """The reference's scan, exactly: visiting in order, a node becomes the best when it beats the best
-    so far by more than 1e-12. Only a node above the running maximum can; one above it by more than 1e-12
-    surely does (the best is at most the maximum), so the scan starts at the last such node."""
-    if not np.isfinite(score).any():
+    so far by more than 1e-12. Usually the first maximum is the answer (nothing before it is within 1e-12
+    of it); otherwise only a node above the running maximum can become the best, one above it by more
+    than 1e-12 surely does (the best is at most the maximum), so the scan starts at the last such node."""
+    first = int(np.argmax(score))
+    top = score[first]
+    if top == -np.inf:
         return None
+    if first == 0 or score[:first].max() + _TIE < top:
+        return first
     prev = np.empty_like(score)
     prev[0] = -np.inf
     np.maximum.accumulate(score[:-1], out=prev[1:])
@@ -203,19 +248,29 @@ def _choose(score: np.ndarray) -> int | None:
 
 
 def _top(score: np.ndarray, k: int) -> list[int]:
-    """The ``k`` best nodes by score, ties by name (index)."""
-    feasible = int(np.isfinite(score).sum())
-    if feasible == 0 or k <= 0:
-        return []
-    if feasible <= k:
-        idx = np.flatnonzero(np.isfinite(score))
-    else:
-        kth = np.partition(score, -k)[-k]
-        above = np.flatnonzero(score > kth)
-        ties = np.flatnonzero(score == kth)[: k - len(above)]
-        idx = np.concatenate([above, ties])
-    order = np.lexsort((idx, -score[idx]))
-    return idx[order][:k].tolist()
+    """The ``k`` best nodes by score, ties by name (index): ``argmax`` returns the first maximum."""
+    out: list[int] = []
+    work = None
+    for _ in range(k):
+        i = int(np.argmax(score if work is None else work))
+        if (score if work is None else work)[i] == -np.inf:
+            break
+        out.append(i)
+        if work is None:
+            work = score.copy()
+        work[i] = -np.inf
+    return out
+
+
+def _scored_verdict(c: RTContainer, m: NodeMatrix, e: _Eval, i: int) -> NodeVerdict:
+    """``rt_kube.node_verdict`` of a node that passed the filters, from the arrays (same values, same text)."""
+    s = float(e.score[i])
+    if not c.is_rt:
+        return NodeVerdict(m.names[i], None, "standard container: default Kubernetes score", {"least_allocated": s}, s)
+    assert e.new_ut is not None
+    cur, new, thr = float(m.ut[i]), float(e.new_ut[i]), float(m.threshold[i])
+    why = f"currentUT {cur:.4f}, newUT {new:.4f} of {thr:.4f}, nRank {rt_kube.n_rank(thr, new):.4f}"
+    return NodeVerdict(m.names[i], None, why, {f"realtime_{c.criticality}": s}, s)
 
 
 def place_one(
@@ -229,27 +284,27 @@ def place_one(
 ) -> Decision:
     """Filter, score and choose a node for one container (the ledger is not changed; bind does that)."""
     p = params or RTKubeParams()
-    code, score = _evaluate(c, m, p, now)
-    best = _choose(score)
-
-    def verdict(i: int) -> NodeVerdict:
-        return rt_kube.node_verdict(c, m.nodes[i], m.ledger, p, now)
-
+    e = _Eval(c, m, p, now)
+    best = _choose(e.score)
     if full:
-        verdicts = tuple(verdict(i) for i in range(len(m)))
+        verdicts = tuple(rt_kube.node_verdict(c, node, m.ledger, p, now) for node in m.nodes)
         rejections: dict[str, int] = {}
     else:
-        shown = _top(score, top_k)
+        shown = _top(e.score, top_k)
         if best is not None and best not in shown:
             shown = [best, *shown[: top_k - 1]]
-        counts = np.bincount(code, minlength=len(FILTERS))
-        rejections = {FILTERS[f]: int(counts[f]) for f in range(1, len(FILTERS)) if counts[f]}
-        for f in rejections:
-            shown += np.flatnonzero(code == FILTERS.index(f))[:examples].tolist()
-        verdicts = tuple(verdict(i) for i in shown)
+        out = [_scored_verdict(c, m, e, i) for i in shown]
+        rejections = {}
+        for f, count, before, after in e.rejected(len(m)):
+            rejections[FILTERS[f]] = count
+            if examples > 0:
+                gone = ~after if before is None else before > after
+                out += [rt_kube.node_verdict(c, m.nodes[i], m.ledger, p, now)
+                        for i in np.flatnonzero(gone)[:examples].tolist()]  # fmt: skip
+        verdicts = tuple(out)
     if best is None:
         return Decision(c.name, None, None, verdicts, rejections)
-    return Decision(c.name, m.names[best], float(score[best]), verdicts, rejections)
+    return Decision(c.name, m.names[best], float(e.score[best]), verdicts, rejections)
 
 
 def schedule(
@@ -264,9 +319,12 @@ def schedule(
 ) -> PlacementPlan:
     """One scheduler pass (``rt_kube.schedule``'s contract and choices): sort, then filter/score/bind each
     container in queue order. ``full``: ``"none"`` (bounded explanations), ``"pending"`` (every node's
-    verdict for the containers left pending) or ``"all"`` (every node's verdict, as the reference)."""
-    if full not in ("none", "pending", "all"):
-        raise ValueError(f"full must be none, pending or all, got {full!r}")
+    verdict for the containers left pending), ``"all"`` (every node's verdict, as the reference) or
+    ``"auto"`` (``"all"`` on at most :data:`FULL_UP_TO` nodes, else ``"none"``)."""
+    if full not in ("none", "pending", "all", "auto"):
+        raise ValueError(f"full must be none, pending, all or auto, got {full!r}")
+    if full == "auto":
+        full = "all" if len(nodes) <= FULL_UP_TO else "none"
     p = params or RTKubeParams()
     rt_kube._check_nodes(nodes)
     book = ledger if ledger is not None else Ledger.for_nodes(nodes)
