@@ -212,10 +212,12 @@ class _Eval:
                 s = np.where(parts > 0, np.maximum(0.0, total / parts), 1.0)
         score[ok] = s
 
-    def rejected(self, n: int) -> list[tuple[int, int, np.ndarray, np.ndarray]]:
-        """(filter index, nodes it rejected, mask before it, mask after it) for each filter that rejected some."""
-        out = []
-        before, before_count = None, n
+    def rejected(self, n: int) -> list[tuple[int, int, np.ndarray | None, np.ndarray]]:
+        """(filter index, nodes it rejected, mask before it (None: every node), mask after it) for each filter
+        that rejected some."""
+        out: list[tuple[int, int, np.ndarray | None, np.ndarray]] = []
+        before: np.ndarray | None = None
+        before_count = n
         for f, mask in self.left:
             count = int(np.count_nonzero(mask))
             if count < before_count:
