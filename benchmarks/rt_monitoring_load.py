@@ -137,6 +137,7 @@ def seed(args, kubeconfig: str) -> list[dict]:
     """Fleets, tokens, clusters with RT nodes (API and database), RealTime objects and bound pods."""
     import yaml
     from django.contrib.auth.models import User
+    from kubernetes import client as kclient
     from kubernetes import config
 
     from apps.clusters.models import Cluster, ComputeNode
@@ -145,8 +146,6 @@ def seed(args, kubeconfig: str) -> list[dict]:
     from apps.realtime.models import RealTime, RealTimeWcet, RTPod, RTPolicy
     from apps.realtime.scheduler import RTScheduler
     from apps.tenancy.models import Fleet, FleetToken
-
-    from kubernetes import client as kclient
 
     api_client = config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False)
     kube = Kube(api_client)
@@ -379,14 +378,14 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
           f"max {lat[-1]:.1f}")  # fmt: skip
     print(f"  evictions {len(ok)} (+{len(events) - len(ok)} failed), alerts {alerts}")
     if server:
-        print(f"  report received -> eviction sent (ms, server):   p50 {pct(server, 50):.1f}  p95 {pct(server, 95):.1f}  p99 "
-              f"{pct(server, 99):.1f}  max {server[-1]:.1f}")  # fmt: skip
-        print(f"  report received -> eviction answered (ms):       p50 {pct(server_done, 50):.1f}  p95 {pct(server_done, 95):.1f}  p99 "
-              f"{pct(server_done, 99):.1f}  max {server_done[-1]:.1f}")  # fmt: skip
-        print(f"  report sent -> eviction sent (ms, Eq. 3.19 without the update wait): p50 {pct(e2e, 50):.1f}  p95 {pct(e2e, 95):.1f}  p99 "
-              f"{pct(e2e, 99):.1f}  max {e2e[-1]:.1f}")  # fmt: skip
-        print(f"  report sent -> eviction answered (ms, client):   p50 {pct(client, 50):.1f}  p95 {pct(client, 95):.1f}  p99 "
-              f"{pct(client, 99):.1f}  max {client[-1]:.1f}")  # fmt: skip
+        print(f"  report received -> eviction sent (ms, server):   p50 {pct(server, 50):.1f}  "
+              f"p95 {pct(server, 95):.1f}  p99 {pct(server, 99):.1f}  max {server[-1]:.1f}")  # fmt: skip
+        print(f"  report received -> eviction answered (ms):       p50 {pct(server_done, 50):.1f}  "
+              f"p95 {pct(server_done, 95):.1f}  p99 {pct(server_done, 99):.1f}  max {server_done[-1]:.1f}")  # fmt: skip
+        print(f"  report sent -> eviction sent (ms, Eq. 3.19 without the update wait): p50 {pct(e2e, 50):.1f}  "
+              f"p95 {pct(e2e, 95):.1f}  p99 {pct(e2e, 99):.1f}  max {e2e[-1]:.1f}")  # fmt: skip
+        print(f"  report sent -> eviction answered (ms, client):   p50 {pct(client, 50):.1f}  "
+              f"p95 {pct(client, 95):.1f}  p99 {pct(client, 99):.1f}  max {client[-1]:.1f}")  # fmt: skip
         if trans_json:
             print(f"  HTTP_trans(JSON) incl. queueing (ms): mean {statistics.fmean(trans_json):.1f}  "
                   f"max {max(trans_json):.1f}")  # fmt: skip
