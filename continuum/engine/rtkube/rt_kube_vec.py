@@ -152,6 +152,19 @@ def _horner(curve: Any, z: np.ndarray) -> np.ndarray:
     return value
 
 
+def _b_scores(p: RTKubeParams, z: np.ndarray, ok: np.ndarray) -> np.ndarray:
+    """Eq. 3.18 (``h(z)`` when ``z <= 1/K``, else ``g(z)``): polynomials over every node, callables only on
+    the nodes that passed the filters (a callable is the caller's code: it sees only real arguments)."""
+    low = z <= 1 / p.k
+    if not callable(p.h) and not callable(p.g):
+        return np.where(low, _horner(p.h, z), _horner(p.g, z))
+    s = np.full_like(z, -np.inf)
+    for mask, curve in ((ok & low, p.h), (ok & ~low, p.g)):
+        if mask.any():
+            s[mask] = _horner(curve, z[mask])
+    return s
+
+
 class _Eval:
     """One container against every node: the nodes left after each filter, in the reference's order, and
     the score of the nodes left after all of them (-inf elsewhere)."""
@@ -184,33 +197,26 @@ class _Eval:
             left.append((6, ok))
             self.new_ut = new_ut
         self.left = left
-        self.score = score = np.full(len(m), -np.inf)
         if not ok.any():
+            self.score = np.full(len(m), -np.inf)
             return
-        if c.is_rt:
-            thr = m.threshold[ok]
-            rank = (thr - new_ut[ok]) / thr  # Alg. 4, line 2
-            if c.criticality == "A":
-                s = 1 - rank
-            elif c.criticality == "C":
-                s = rank
-            else:  # B: Eq. 3.18
-                z = rank if p.b_score_argument == "free" else 1 - rank
-                low = z <= 1 / p.k
-                s = np.empty_like(z)
-                if low.any():
-                    s[low] = _horner(p.h, z[low])
-                if not low.all():
-                    s[~low] = _horner(p.g, z[~low])
-        else:  # LeastAllocated (rt_kube.least_allocated)
-            cpu, mem = m.cpu[ok], m.mem[ok]
-            with np.errstate(invalid="ignore", divide="ignore"):
-                part_cpu = (cpu - m.cpu_used[ok] - c.cpu) / cpu
-                part_mem = (mem - m.mem_used[ok] - c.memory_mib) / mem
-                total = np.where(m.has_cpu[ok], part_cpu, 0.0) + np.where(m.has_mem[ok], part_mem, 0.0)
-                parts = m.n_parts[ok]
-                s = np.where(parts > 0, np.maximum(0.0, total / parts), 1.0)
-        score[ok] = s
+        # Scores over every node (no boolean indexing, the costly part), kept where the filters passed.
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            if c.is_rt:
+                rank = (m.threshold - new_ut) / m.threshold  # Alg. 4, line 2
+                if c.criticality == "A":
+                    s = 1 - rank
+                elif c.criticality == "C":
+                    s = rank
+                else:  # B: Eq. 3.18
+                    z = rank if p.b_score_argument == "free" else 1 - rank
+                    s = _b_scores(p, z, ok)
+            else:  # LeastAllocated (rt_kube.least_allocated)
+                part_cpu = (m.cpu - m.cpu_used - c.cpu) / m.cpu
+                part_mem = (m.mem - m.mem_used - c.memory_mib) / m.mem
+                total = np.where(m.has_cpu, part_cpu, 0.0) + np.where(m.has_mem, part_mem, 0.0)
+                s = np.where(m.n_parts > 0, np.maximum(0.0, total / m.n_parts), 1.0)
+        self.score = np.where(ok, s, -np.inf)
 
     def rejected(self, n: int) -> list[tuple[int, int, np.ndarray | None, np.ndarray]]:
         """(filter index, nodes it rejected, mask before it (None: every node), mask after it) for each filter

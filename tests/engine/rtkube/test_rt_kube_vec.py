@@ -180,3 +180,20 @@ def test_bound_decision_of_a_stored_reference_decision():
     assert doc["rejections"] == {"RealTimeNode": 7, "RealTimeWcet": 7}
     assert len(doc["verdicts"]) == 3 + 2 + 2
     assert rt_kube_vec.bound_decision(doc) == doc  # idempotent
+
+
+def _h(z):
+    return 0.3 * z + 0.6
+
+
+def _g(z):
+    return 1.2 - z * z
+
+
+@settings(max_examples=100, deadline=None)
+@given(instances())
+def test_callable_curves_give_the_reference_choices(inst):
+    containers, nodes, bindings, params, now = inst
+    params = RTKubeParams(k=params.k, h=_h, g=_g, b_score_argument=params.b_score_argument)
+    ref, vec = both(containers, nodes, bindings, params, now, full="all")
+    assert vec.decisions == ref.decisions
