@@ -5,8 +5,8 @@ Reports arrive over REST (a robot fleet's batch) or as updates of Monitoring cus
 and 2100, text the columns can hold): a bad report is a 400 naming ``reports[i].<field>`` before anything is
 done. Every report carries an idempotency key (the client's ``report_id``/``id``, else a digest of its content),
 unique per cluster: a retried batch's reports are acknowledged as duplicates and never evicted for twice. Storing
-is two bulk statements (every new report, then the latest counters per container); the request is acknowledged
-only after them. Only a report over a threshold (the engine's ``is_violation``) costs
+is one statement on PostgreSQL (every new report, then the latest counters per container, in one INSERT with
+data-modifying CTEs), two bulk statements elsewhere; the request is acknowledged only after them. Only a report over a threshold (the engine's ``is_violation``) costs
 more, and it is handled before the batch is stored, since the eviction is on the clock: :func:`reconcile` locks the
 node row (one reconcile per node at a time), reads the pods on the node from the RT scheduler's ledger
 (:class:`~apps.realtime.models.RTPod`), and lets the engine's ``ClusterMonitor`` pick the victim by the
