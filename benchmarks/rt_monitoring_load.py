@@ -434,7 +434,11 @@ def main() -> None:
     finally:
         if gunicorn is not None:
             gunicorn.terminate()
-            gunicorn.wait(timeout=20)
+            try:
+                gunicorn.wait(timeout=20)
+            except subprocess.TimeoutExpired:  # a loaded machine: its workers may not finish in time
+                os.killpg(gunicorn.pid, 9)  # its own session (start_new_session): the master and its workers
+                gunicorn.wait(timeout=20)
         server.stop()
         from django.db import connections
 
