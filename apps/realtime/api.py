@@ -301,7 +301,11 @@ class RTDecisionViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
     filterset_fields = ["cluster", "outcome", "namespace", "pod", "node"]
 
     @extend_schema(
-        parameters=[WhyNotQuerySerializer],
+        parameters=[
+            OpenApiParameter(
+                "node", str, required=False, description="the node to explain (default: every node of the cluster)"
+            )
+        ],
         responses={200: WhyNotSerializer},
     )
     @action(detail=True, methods=["get"], url_path="why-not")

@@ -1,16 +1,16 @@
 """The cluster-level monitor: store missed-deadline reports and reconcile each one (thesis 3.4, Fig. 3.36).
 
 Reports arrive over REST (a robot fleet's batch) or as updates of Monitoring custom objects; both go through
-:func:`ingest`. A batch is validated whole first (counters within the columns' range, time stamps between 2000
-and 2100, text the columns can hold): a bad report is a 400 naming ``reports[i].<field>`` before anything is
-done. Every report carries an idempotency key (the client's ``report_id``/``id``, else a digest of its content),
-unique per cluster: a retried batch's reports are acknowledged as duplicates and never evicted for twice. Storing
-is one statement on PostgreSQL (every new report, then the latest counters per container, in one INSERT with
-data-modifying CTEs), two bulk statements elsewhere; the request is acknowledged only after them. Only a report over a threshold (the engine's ``is_violation``) costs
-more, and it is handled before the batch is stored, since the eviction is on the clock: :func:`reconcile` locks the
-node row (one reconcile per node at a time), reads the pods on the node from the RT scheduler's ledger
-(:class:`~apps.realtime.models.RTPod`), and lets the engine's ``ClusterMonitor`` pick the victim by the
-cluster's policy. Then, outside the transaction, the node is tainted and the victim deleted with grace
+:func:`ingest`. A batch is validated whole first (counters within the columns' range, time stamps between 2000 and
+2100, text the columns can hold): a bad report is a 400 naming ``reports[i].<field>`` before anything is done. Every
+report carries an idempotency key (the client's ``report_id``/``id``, else a digest of its content), unique per
+cluster: a retried batch's reports are acknowledged as duplicates and never evicted for twice. Storing is one
+statement on PostgreSQL (every new report, then the latest counters per container, in one INSERT with data-modifying
+CTEs), two bulk statements elsewhere; the request is acknowledged only after them. Only a report over a threshold
+(the engine's ``is_violation``) costs more, and it is handled before the batch is stored, since the eviction is on
+the clock: :func:`reconcile` locks the node row (one reconcile per node at a time), reads the pods on the node from
+the RT scheduler's ledger (:class:`~apps.realtime.models.RTPod`), and lets the engine's ``ClusterMonitor`` pick the
+victim by the cluster's policy. Then, outside the transaction, the node is tainted and the victim deleted with grace
 period 0 (taint first, as Fig. 3.36 does, so that the victim's replacement cannot land on the node again).
 A pod that no controller owns is recreated by us, as its ReplicaSet would, when the policy says so.
 

@@ -293,7 +293,7 @@ class WhyNotQuerySerializer(ScopedSerializer):
     )
 
 
-class NodeVerdictSerializer(serializers.Serializer):
+class NodeVerdictSerializer(ScopedSerializer):
     node = serializers.CharField()
     rejected_by = serializers.CharField(allow_null=True, help_text="the filter that rejected the node, or null")
     reason = serializers.CharField(allow_blank=True)
@@ -301,7 +301,7 @@ class NodeVerdictSerializer(serializers.Serializer):
     total = serializers.FloatField(allow_null=True)
 
 
-class WhyNotSerializer(serializers.Serializer):
+class WhyNotSerializer(ScopedSerializer):
     """A decision's full explanation on demand, computed against the cluster as it is now."""
 
     decision = serializers.IntegerField()

@@ -15,7 +15,8 @@ T = TypeVar("T", bound="NodeVerdict")
 
 @_attrs_define
 class NodeVerdict:
-    """
+    """The base of every plain serializer of the API.
+
     Attributes:
         node (str):
         rejected_by (None | str): the filter that rejected the node, or null
