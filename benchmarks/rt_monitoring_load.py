@@ -12,7 +12,7 @@ percentiles, and report-to-eviction percentiles (server stamps: report received 
 report sent -> eviction answered, i.e. the violating request's round trip). Goal of the issue: >= 1000
 reports/s sustained on this 2-core machine, no report lost, p99 report-to-eviction < 100 ms.
 
-    python benchmarks/rt_monitoring_load.py [--fleets 16 --rate 1500 --batch 25 --duration 20 --workers 8]
+    python benchmarks/rt_monitoring_load.py [--fleets 16 --rate 2000 --batch 25 --duration 20 --workers 8]
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--fleets", type=int, default=16)
     p.add_argument("--nodes", type=int, default=4, help="RT nodes per fleet's cluster")
     p.add_argument("--victims", type=int, default=5, help="stateless A pods per node")
-    p.add_argument("--rate", type=float, default=1500, help="reports per second, all fleets together")
+    p.add_argument("--rate", type=float, default=2000, help="reports per second, all fleets together")
     p.add_argument("--batch", type=int, default=25, help="reports per request")
     p.add_argument("--duration", type=float, default=20, help="seconds of load")
     p.add_argument("--violation-every", type=float, default=2.0, help="seconds between violations, per fleet")
@@ -137,6 +137,7 @@ def seed(args, kubeconfig: str) -> list[dict]:
     """Fleets, tokens, clusters with RT nodes (API and database), RealTime objects and bound pods."""
     import yaml
     from django.contrib.auth.models import User
+    from kubernetes import client as kclient
     from kubernetes import config
 
     from apps.clusters.models import Cluster, ComputeNode
@@ -146,8 +147,10 @@ def seed(args, kubeconfig: str) -> list[dict]:
     from apps.realtime.scheduler import RTScheduler
     from apps.tenancy.models import Fleet, FleetToken
 
-    kube = Kube(config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False))
-    kube.install_crds()
+    api_client = config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False)
+    kube = Kube(api_client)
+    core = kclient.CoreV1Api(api_client)
+    kube.install_crds(sync.crd_manifests())
     now = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     fleets = []
     for f in range(args.fleets):
@@ -163,14 +166,13 @@ def seed(args, kubeconfig: str) -> list[dict]:
             node = ComputeNode.objects.create(
                 cluster=cluster, name=name, cpu=8, memory_mib=16384, rt=True, criticality="A"
             )
-            kube.request("POST", "/api/v1/nodes", {"apiVersion": "v1", "kind": "Node", "metadata": {"name": name}})
+            core.create_node({"apiVersion": "v1", "kind": "Node", "metadata": {"name": name}})
             capacity = {"cpu": "8", "memory": "16Gi", "pods": "110"}
             ready = {"type": "Ready", "status": "True", "lastHeartbeatTime": now, "lastTransitionTime": now}
-            kube.request("PATCH", f"/api/v1/nodes/{name}/status",
-                         {"status": {"capacity": capacity, "allocatable": capacity, "conditions": [ready]}},
-                         content_type="application/merge-patch+json")  # fmt: skip
-            kube.request("PATCH", f"/api/v1/nodes/{name}", {"spec": {"taints": None}},
-                         content_type="application/merge-patch+json")  # fmt: skip
+            core.patch_node_status(
+                name, {"status": {"capacity": capacity, "allocatable": capacity, "conditions": [ready]}}
+            )
+            core.patch_node(name, {"spec": {"taints": None}})
             pods = [(f"ctl-{name}", "B", False, 0.1)] + [
                 (f"aux-{name}-{k}", "A", True, 0.02 + 0.01 * k) for k in range(args.victims)
             ]
@@ -376,14 +378,14 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
           f"max {lat[-1]:.1f}")  # fmt: skip
     print(f"  evictions {len(ok)} (+{len(events) - len(ok)} failed), alerts {alerts}")
     if server:
-        print(f"  report received -> eviction sent (ms, server):   p50 {pct(server, 50):.1f}  p99 "
-              f"{pct(server, 99):.1f}  max {server[-1]:.1f}")  # fmt: skip
-        print(f"  report received -> eviction answered (ms):       p50 {pct(server_done, 50):.1f}  p99 "
-              f"{pct(server_done, 99):.1f}  max {server_done[-1]:.1f}")  # fmt: skip
-        print(f"  report sent -> eviction sent (ms, Eq. 3.19 without the update wait): p50 {pct(e2e, 50):.1f}  p99 "
-              f"{pct(e2e, 99):.1f}  max {e2e[-1]:.1f}")  # fmt: skip
-        print(f"  report sent -> eviction answered (ms, client):   p50 {pct(client, 50):.1f}  p99 "
-              f"{pct(client, 99):.1f}  max {client[-1]:.1f}")  # fmt: skip
+        print(f"  report received -> eviction sent (ms, server):   p50 {pct(server, 50):.1f}  "
+              f"p95 {pct(server, 95):.1f}  p99 {pct(server, 99):.1f}  max {server[-1]:.1f}")  # fmt: skip
+        print(f"  report received -> eviction answered (ms):       p50 {pct(server_done, 50):.1f}  "
+              f"p95 {pct(server_done, 95):.1f}  p99 {pct(server_done, 99):.1f}  max {server_done[-1]:.1f}")  # fmt: skip
+        print(f"  report sent -> eviction sent (ms, Eq. 3.19 without the update wait): p50 {pct(e2e, 50):.1f}  "
+              f"p95 {pct(e2e, 95):.1f}  p99 {pct(e2e, 99):.1f}  max {e2e[-1]:.1f}")  # fmt: skip
+        print(f"  report sent -> eviction answered (ms, client):   p50 {pct(client, 50):.1f}  "
+              f"p95 {pct(client, 95):.1f}  p99 {pct(client, 99):.1f}  max {client[-1]:.1f}")  # fmt: skip
         if trans_json:
             print(f"  HTTP_trans(JSON) incl. queueing (ms): mean {statistics.fmean(trans_json):.1f}  "
                   f"max {max(trans_json):.1f}")  # fmt: skip
@@ -393,6 +395,12 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
     )
     goal = acked / span >= 1000 and sent == stored and e2e and pct(e2e, 99) < 100
     print(f"  goal (>= 1000 reports/s, none lost, p99 report->eviction < 100 ms): {'met' if goal else 'NOT met'}")
+    # Issue 15: 2,000 reports/s, none lost, p99 report -> eviction under 50 ms.
+    rate = acked / span
+    p99 = pct(e2e, 99) if e2e else float("nan")
+    goal15 = rate >= 0.98 * args.rate >= 2000 * 0.98 and sent == stored and e2e and p99 < 50
+    print(f"  issue 15 goal (2,000 reports/s offered, {rate:.0f}/s acknowledged, lost {sent - stored}, "
+          f"p99 report sent -> eviction sent {p99:.1f} ms < 50 ms): {'met' if goal15 else 'NOT met'}")  # fmt: skip
 
 
 def main() -> None:
@@ -426,7 +434,11 @@ def main() -> None:
     finally:
         if gunicorn is not None:
             gunicorn.terminate()
-            gunicorn.wait(timeout=20)
+            try:
+                gunicorn.wait(timeout=20)
+            except subprocess.TimeoutExpired:  # a loaded machine: its workers may not finish in time
+                os.killpg(gunicorn.pid, 9)  # its own session (start_new_session): the master and its workers
+                gunicorn.wait(timeout=20)
         server.stop()
         from django.db import connections
 

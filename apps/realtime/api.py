@@ -11,6 +11,7 @@ from drf_spectacular.utils import OpenApiParameter, extend_schema
 from rest_framework import mixins, status, viewsets
 from rest_framework.decorators import action
 from rest_framework.exceptions import ValidationError
+from rest_framework.generics import get_object_or_404
 from rest_framework.response import Response
 
 from apps.clusters.models import Cluster
@@ -51,6 +52,8 @@ from .serializers import (
     RTPodSerializer,
     RTPolicySerializer,
     WhatIfSerializer,
+    WhyNotQuerySerializer,
+    WhyNotSerializer,
 )
 
 
@@ -289,11 +292,32 @@ class RTPodViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
 
 
 class RTDecisionViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
-    """The scheduler process's decisions, each with every node's filter or score."""
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each (``decision.rejections``);
+    any node's verdict on demand (``why-not``)."""
 
     queryset = RTDecision.objects.all()
     serializer_class = RTDecisionSerializer
     filterset_fields = ["cluster", "outcome", "namespace", "pod", "node"]
+
+    @extend_schema(
+        parameters=[
+            OpenApiParameter(
+                "node", str, required=False, description="the node to explain (default: every node of the cluster)"
+            )
+        ],
+        responses={200: WhyNotSerializer},
+    )
+    @action(detail=True, methods=["get"], url_path="why-not")
+    def why_not(self, request, pk=None):
+        """Why not this node? The pod's verdict on one node (``?node=``) or on every node of the cluster, by
+        the scheduler's filters and scores, against the cluster as it is now (400: no such node)."""
+        # Not get_object(): its filters would read ``?node=`` as the list filter on the chosen node.
+        decision = get_object_or_404(self.get_queryset().select_related("cluster", "realtime"), pk=pk)
+        self.check_object_permissions(request, decision)
+        query = WhyNotQuerySerializer(data=request.query_params, context=self.get_serializer_context())
+        query.is_valid(raise_exception=True)
+        return Response(planning.why_not(decision, query.validated_data.get("node")))
 
 
 class RTPlanViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):

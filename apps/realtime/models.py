@@ -298,7 +298,10 @@ class RTPlan(models.Model):
     cluster = models.ForeignKey(Cluster, on_delete=models.CASCADE, related_name="rt_plans")
     kind = models.CharField(max_length=10, choices=Kind.choices)
     job = models.OneToOneField("jobs.Job", null=True, blank=True, on_delete=models.SET_NULL, related_name="rt_plan")
-    plan = models.JSONField(help_text="the engine's PlacementPlan.to_dict(), with the per-node explanation")
+    plan = models.JSONField(
+        help_text="the engine's PlacementPlan.to_dict() with its decisions' (bounded) explanation and the "
+        "explain table of their verdicts"
+    )
     placed = models.PositiveIntegerField(default=0)
     pending = models.PositiveIntegerField(default=0)
     created = models.DateTimeField(auto_now_add=True, db_index=True)
@@ -334,7 +337,10 @@ class RTDecision(models.Model):
     node = models.CharField(max_length=253, blank=True)
     score = models.FloatField(null=True, blank=True)
     message = models.CharField(max_length=1000, blank=True)
-    decision = models.JSONField(help_text="Decision.to_dict(): the filter or score of every node")
+    decision = models.JSONField(
+        help_text="Decision.to_dict(): every node's filter or score on a small cluster, else the top candidates, "
+        "an example per filter and the count of nodes per filter (rejections)"
+    )
     created = models.DateTimeField(auto_now_add=True, db_index=True)
 
     class Meta:

@@ -18,10 +18,19 @@ from apps.clusters.models import Cluster
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import PlacementPlan
 from continuum.engine.core.taints import STATUS_TAINTS
-from continuum.engine.rtkube import rt_kube
-from continuum.engine.rtkube.rt_model import RT_TAINT, RTContainer, RTNode, Taint, rt_nodes, rtset_from_dict
+from continuum.engine.rtkube import rt_kube, rt_kube_vec
+from continuum.engine.rtkube.rt_model import (
+    NONE,
+    RT_TAINT,
+    RTContainer,
+    RTNode,
+    Taint,
+    default_tolerations,
+    rt_nodes,
+    rtset_from_dict,
+)
 
-from .models import NodeTaint, RealTime, RTPod, RTPolicy
+from .models import NodeTaint, RealTime, RTDecision, RTPod, RTPolicy
 
 PARAM_KEYS = ("k", "b_score_argument", "sort_tiebreak")
 
@@ -104,6 +113,7 @@ def whatif(
     rtset: Mapping | None = None,
     params: Mapping[str, Any] | None = None,
     with_bound: bool = True,
+    full: str = "auto",
 ) -> PlacementPlan:
     nodes = db_rt_nodes(cluster)
     if not nodes:
@@ -111,4 +121,54 @@ def whatif(
     names = [n.name for n in nodes]
     containers = containers_for(cluster, realtime_ids, rtset, names)
     ledger = bound_ledger(cluster, nodes, [c.name for c in containers]) if with_bound else None
-    return rt_kube.schedule(containers, nodes, params_for(cluster, params), ledger, now=time.time())
+    return rt_kube_vec.schedule(containers, nodes, params_for(cluster, params), ledger, now=time.time(), full=full)
+
+
+def decision_container(decision: RTDecision, node_names: list[str]) -> RTContainer:
+    """The engine's container of a stored decision's pod, from its ledger row and its RealTime object.
+
+    The pod's own tolerations are not stored: the container carries its class's default (RT pods tolerate
+    the RealTime taint, standard pods nothing), as the pods Continuum creates do."""
+    pod = RTPod.objects.filter(cluster_id=decision.cluster_id, namespace=decision.namespace, name=decision.pod).first()
+    key = f"{decision.namespace}/{decision.pod}"
+    cpu, mem = (pod.cpu, pod.memory_mib) if pod else (0.0, 0.0)
+    realtime = decision.realtime or (pod.realtime if pod else None)
+    if realtime is None:
+        return RTContainer(key, NONE, stateless=bool(pod and pod.stateless), cpu=cpu, memory_mib=mem)
+    base = realtime.to_engine(node_names)
+    return RTContainer(
+        key,
+        base.criticality,
+        base.period,
+        base.deadline,
+        base.wcet,
+        base.stateless or bool(pod and pod.stateless),
+        cpu or base.cpu,
+        mem or base.memory_mib,
+        default_tolerations(base.criticality),
+        0.0,
+    )
+
+
+def why_not(decision: RTDecision, node: str | None = None) -> dict[str, Any]:
+    """The full explanation of one stored decision, on demand: every node's verdict (or ``node``'s) for the
+    decision's pod, by the scheduler's filters and scores (``rt_kube_vec.why_not``), against the cluster as
+    it is now (its nodes, taints and the reservations of the other pods bound). InputError for a node the
+    cluster does not have or a pod whose RealTime object is no longer valid."""
+    cluster = decision.cluster
+    nodes = db_rt_nodes(cluster)
+    names = [n.name for n in nodes]
+    if node is not None and node not in names:
+        raise InputError(f"cluster {cluster.name!r} has no node {node!r}", "node")
+    container = decision_container(decision, names)
+    ledger = bound_ledger(cluster, nodes)
+    ledger.release(container.name)  # the pod itself, if bound, is judged as if it were not
+    verdicts = rt_kube_vec.why_not(container, nodes, ledger, params_for(cluster, None), time.time(), node)
+    return {
+        "decision": decision.pk,
+        "pod": container.name,
+        "chosen": decision.node or None,
+        "as_of": timezone.now().isoformat(),
+        "nodes": len(names),
+        "verdicts": [v.to_dict() for v in verdicts],
+    }

@@ -11,8 +11,10 @@ every ``period`` seconds, and in each cycle
 4. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
    with the bound pods' reservations in the ledger, and binds each placed pod (Binding API);
 5. explains every pod left pending on the pod itself (``PodScheduled`` condition and a
-   ``FailedScheduling`` Event, only when the reason changes) and stores each decision with the verdict of
-   every node (:class:`~apps.realtime.models.RTDecision`).
+   ``FailedScheduling`` Event, only when the reason changes) and stores each decision
+   (:class:`~apps.realtime.models.RTDecision`) with the verdict of every node on a cluster of at most
+   ``rt_kube_vec.FULL_UP_TO`` nodes, else bounded: the top candidates with their scores, the count of nodes
+   each filter rejected and an example of each (any node's verdict on demand: ``planning.why_not``).
 
 A pending pod is retried every cycle, i.e. as soon as capacity frees up (a pod deleted, a taint lifted, a
 node added). A failing cycle (API unreachable, database hiccup) is logged and retried with an exponential
@@ -41,7 +43,7 @@ from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision
 from continuum.engine.core.taints import NOT_READY, status_taint
-from continuum.engine.rtkube import rt_kube
+from continuum.engine.rtkube import rt_kube, rt_kube_vec
 from continuum.engine.rtkube.rt_model import (
     NONE,
     RT_LABEL,
@@ -177,9 +179,13 @@ def view_pod(pod: dict, realtimes: dict[tuple[str, str], RealTime], known_nodes:
 
 
 def pending_message(decision: Decision, total: int) -> str:
+    """Every node's reason when the decision has them all; on a large cluster, as kube-scheduler says it,
+    how many nodes each filter rejected (the per-node reasons are on demand: the decision's why-not)."""
+    head = f"0/{total} nodes are available to {RT_SCHEDULER_NAME}: "
+    if decision.rejections:
+        return head + ", ".join(f"{count} {name}" for name, count in sorted(decision.rejections.items())) + "."
     reasons = decision.reasons()
-    parts = [f"{node}: {why}" for node, why in sorted(reasons.items())]
-    return f"0/{total} nodes are available to {RT_SCHEDULER_NAME}: " + "; ".join(parts)
+    return head + "; ".join(f"{node}: {why}" for node, why in sorted(reasons.items()))
 
 
 @dataclass
@@ -306,8 +312,9 @@ class RTScheduler:
             if node and node in names and v.container is not None:
                 ledger.reserve(v.container, node)
         schedulable = [v for v in pending if v.container is not None]
-        plan = rt_kube.schedule(
-            [v.container for v in schedulable], nodes, policy.scheduler_params(), ledger, now=time.time()
+        # The vectorised pass (same choices as rt_kube.schedule); explanations bounded past FULL_UP_TO nodes.
+        plan = rt_kube_vec.schedule(
+            [v.container for v in schedulable], nodes, policy.scheduler_params(), ledger, now=time.time(), full="auto"
         )
         by_key = {v.key: v for v in pending}
         outcomes = []

@@ -283,3 +283,30 @@ class RTPlanSerializer(ScopedModelSerializer):
         model = RTPlan
         fields = ["id", "cluster", "kind", "job", "placed", "pending", "plan", "created"]
         read_only_fields = fields
+
+
+class WhyNotQuerySerializer(ScopedSerializer):
+    """``GET /api/v1/rt-decisions/{id}/why-not/``: one node (``?node=``) or every node of the cluster."""
+
+    node = serializers.CharField(
+        required=False, max_length=253, help_text="the node to explain (default: every node of the cluster)"
+    )
+
+
+class NodeVerdictSerializer(ScopedSerializer):
+    node = serializers.CharField()
+    rejected_by = serializers.CharField(allow_null=True, help_text="the filter that rejected the node, or null")
+    reason = serializers.CharField(allow_blank=True)
+    scores = serializers.DictField(child=serializers.FloatField())
+    total = serializers.FloatField(allow_null=True)
+
+
+class WhyNotSerializer(ScopedSerializer):
+    """A decision's full explanation on demand, computed against the cluster as it is now."""
+
+    decision = serializers.IntegerField()
+    pod = serializers.CharField(help_text="namespace/name")
+    chosen = serializers.CharField(allow_null=True, help_text="the node the decision chose, or null (pending)")
+    as_of = serializers.DateTimeField()
+    nodes = serializers.IntegerField(help_text="nodes in the cluster")
+    verdicts = NodeVerdictSerializer(many=True)

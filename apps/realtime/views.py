@@ -18,8 +18,9 @@ from apps.jobs.services import start_job
 from apps.realtime.kinds import RealtimeJob
 from apps.tenancy.scoping import visible_fleets
 from apps.ui.charts import to_html
+from continuum.engine.core.errors import InputError
 
-from . import charts
+from . import charts, planning
 from .models import Monitoring, MonitoringReport, NodeTaint, RealTime, RTDecision, RTEvent, RTPlan, RTPod, RTPolicy
 
 #: The timeline shows at most this many reports (the latest).
@@ -238,10 +239,29 @@ def decision_detail(request: HttpRequest, pk: int) -> HttpResponse:
         pk=pk,
     )
     verdicts = decision.decision.get("verdicts", [])
+    rejections = sorted((decision.decision.get("rejections") or {}).items())
+    # "Why not node X?" (or every node, ``?node=*``): computed on demand by the scheduler's filters.
+    asked = (request.GET.get("node") or "").strip()[:253]
+    why, why_error = None, ""
+    if asked:
+        try:
+            why = planning.why_not(decision, None if asked == "*" else asked)
+        except InputError as exc:
+            why_error = str(exc)
     return render(
         request,
         "realtime/decision.html",
-        {"decision": decision, "verdicts": verdicts, "cluster": decision.cluster, "nav": "realtime"},
+        {
+            "decision": decision,
+            "verdicts": verdicts,
+            "rejections": rejections,
+            "asked": asked,
+            "why": why,
+            "why_error": why_error,
+            "cluster": decision.cluster,
+            "nav": "realtime",
+        },
+        status=400 if why_error else 200,
     )
 
 

@@ -128,3 +128,25 @@ def test_a_report_claimed_meanwhile_is_not_reconciled(rt_cluster, node0_pods):
     assert outcome is monitoring.DUPLICATE
     assert RTEvent.objects.count() == 0 and NodeTaint.objects.count() == 0
     assert RTPod.objects.filter(deleted_at__isnull=False).count() == 0
+
+
+def test_a_batch_is_stored_in_one_statement_and_the_last_new_report_of_a_container_wins(
+    api, rt_cluster, node0_pods, django_assert_max_num_queries
+):
+    """Issue 15: the batch (reports + latest counters) is one statement on PostgreSQL; within it, the last
+    report of a container that is new wins, and a retried report changes nothing."""
+    batch = [spec("cam", "node1", 1, 10, report_id="a"), spec("cam", "node1", 2, 20, report_id="b"),
+             spec("gps", "node2", 0, 5, report_id="c")]  # fmt: skip
+    assert post(api, rt_cluster, spec("warm", "node3", 0, 0)).status_code == 201  # creates the RT policy
+    # the token, the cluster, its nodes and the one INSERT statement
+    with django_assert_max_num_queries(4):
+        first = post(api, rt_cluster, *batch)
+    assert first.status_code == 201 and first.data["stored"] == 3 and first.data["duplicates"] == []
+    rows = Monitoring.objects.exclude(container_name="warm")
+    latest = {m.container_name: (m.missed_period, m.missed_total) for m in rows}
+    assert latest == {"cam": (2, 20), "gps": (0, 5)}
+    # "b" again (a duplicate) after a new "d": "d" is the last new report of cam and wins.
+    again = post(api, rt_cluster, spec("cam", "node1", 3, 30, report_id="d"), batch[1])
+    assert again.status_code == 201 and again.data["stored"] == 1 and again.data["duplicates"] == [1]
+    assert Monitoring.objects.get(container_name="cam").missed_total == 30
+    assert MonitoringReport.objects.count() == 5

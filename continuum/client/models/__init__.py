@@ -79,6 +79,8 @@ from .monitoring_report import MonitoringReport
 from .monitoring_report_source_enum import MonitoringReportSourceEnum
 from .monitors_list_verdict import MonitorsListVerdict
 from .node_taint import NodeTaint
+from .node_verdict import NodeVerdict
+from .node_verdict_scores import NodeVerdictScores
 from .nodes_list_arch import NodesListArch
 from .nodes_list_criticality import NodesListCriticality
 from .nodes_list_status import NodesListStatus
@@ -204,6 +206,7 @@ from .wcet import Wcet
 from .wcet_request import WcetRequest
 from .what_if_request import WhatIfRequest
 from .what_if_request_params import WhatIfRequestParams
+from .why_not import WhyNot
 
 __all__ = (
     "AdviceRequestRequest",
@@ -285,6 +288,8 @@ __all__ = (
     "MonitoringReportSourceEnum",
     "MonitorsListVerdict",
     "NodeTaint",
+    "NodeVerdict",
+    "NodeVerdictScores",
     "NodesListArch",
     "NodesListCriticality",
     "NodesListStatus",
@@ -410,4 +415,5 @@ __all__ = (
     "WcetRequest",
     "WhatIfRequest",
     "WhatIfRequestParams",
+    "WhyNot",
 )

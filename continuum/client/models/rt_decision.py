@@ -31,7 +31,8 @@ class RTDecision:
         node (str):
         score (float | None):
         message (str):
-        decision (Any): Decision.to_dict(): the filter or score of every node
+        decision (Any): Decision.to_dict(): every node's filter or score on a small cluster, else the top candidates, an
+            example per filter and the count of nodes per filter (rejections)
         created (datetime.datetime):
     """
 

@@ -25,7 +25,8 @@ class RTPlan:
         job (None | UUID):
         placed (int):
         pending (int):
-        plan (Any): the engine's PlacementPlan.to_dict(), with the per-node explanation
+        plan (Any): the engine's PlacementPlan.to_dict() with its decisions' (bounded) explanation and the explain table
+            of their verdicts
         created (datetime.datetime):
     """
 

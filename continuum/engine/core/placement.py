@@ -57,6 +57,10 @@ class Decision:
     node: str | None
     score: float | None = None
     verdicts: tuple[NodeVerdict, ...] = ()
+    #: Filter name -> how many nodes it rejected, when ``verdicts`` is a bounded sample of the nodes (the
+    #: vectorised RT-Kube keeps the top candidates and a few examples per filter); empty when every node is in
+    #: ``verdicts``.
+    rejections: Mapping[str, int] = field(default_factory=dict)
 
     @property
     def pending(self) -> bool:
@@ -67,12 +71,15 @@ class Decision:
         return {v.node: v.reason or (v.rejected_by or "") for v in self.verdicts if v.rejected_by}
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        doc: dict[str, Any] = {
             "item": self.item,
             "node": self.node,
             "score": self.score,
             "verdicts": [v.to_dict() for v in self.verdicts],
         }
+        if self.rejections:
+            doc["rejections"] = dict(self.rejections)
+        return doc
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Decision:
@@ -81,6 +88,7 @@ class Decision:
             node=data.get("node"),
             score=data.get("score"),
             verdicts=tuple(NodeVerdict.from_dict(v) for v in data.get("verdicts") or ()),
+            rejections=dict(data.get("rejections") or {}),
         )
 
 

@@ -52,6 +52,7 @@ __all__ = [
     "kube_score",
     "least_allocated",
     "n_rank",
+    "node_verdict",
     "place_one",
     "placements_by_node",
     "rt_filter",
@@ -317,6 +318,28 @@ def sort_queue(containers: Iterable[RTContainer], tiebreak: str = "arrival") -> 
 
 
 # ---- one container -------------------------------------------------------------------------------------------------
+def node_verdict(
+    container: RTContainer, node: RTNode, ledger: Ledger, params: RTKubeParams | None = None, now: float | None = None
+) -> NodeVerdict:
+    """One node's verdict for one container: the filter that rejects it, or its score and why ("why not X?")."""
+    p = params or RTKubeParams()
+    f = rt_filter(container, node, ledger, now, p.check_resources)
+    if f.rejected_by:
+        return NodeVerdict(node.name, f.rejected_by, f.reason)
+    if container.is_rt:
+        assert f.new_ut is not None
+        s = rt_score(container.criticality, node.rt_threshold, f.new_ut, p)
+        policy = f"realtime_{container.criticality}"
+        why = (
+            f"currentUT {f.current_ut:.4f}, newUT {f.new_ut:.4f} of {node.rt_threshold:.4f}, "
+            f"nRank {n_rank(node.rt_threshold, f.new_ut):.4f}"
+        )
+    else:
+        s = least_allocated(container, node, ledger)
+        policy, why = "least_allocated", "standard container: default Kubernetes score"
+    return NodeVerdict(node.name, None, why, {policy: s}, s)
+
+
 def place_one(
     container: RTContainer,
     nodes: Sequence[RTNode],
@@ -329,22 +352,11 @@ def place_one(
     verdicts = []
     best: tuple[float, str] | None = None
     for node in sorted(nodes, key=lambda n: n.name):
-        f = rt_filter(container, node, ledger, now, p.check_resources)
-        if f.rejected_by:
-            verdicts.append(NodeVerdict(node.name, f.rejected_by, f.reason))
+        v = node_verdict(container, node, ledger, p, now)
+        verdicts.append(v)
+        if v.rejected_by or v.total is None:
             continue
-        if container.is_rt:
-            assert f.new_ut is not None
-            s = rt_score(container.criticality, node.rt_threshold, f.new_ut, p)
-            policy = f"realtime_{container.criticality}"
-            why = (
-                f"currentUT {f.current_ut:.4f}, newUT {f.new_ut:.4f} of {node.rt_threshold:.4f}, "
-                f"nRank {n_rank(node.rt_threshold, f.new_ut):.4f}"
-            )
-        else:
-            s = least_allocated(container, node, ledger)
-            policy, why = "least_allocated", "standard container: default Kubernetes score"
-        verdicts.append(NodeVerdict(node.name, None, why, {policy: s}, s))
+        s = v.total
         # Highest score wins; nodes are visited by name, so a tie keeps the lowest name.
         if best is None or s > best[0] + 1e-12:
             best = (s, node.name)

@@ -11,7 +11,7 @@ from typing import Any
 
 from continuum.commands import EngineCommand
 from continuum.engine.core.errors import InputError
-from continuum.engine.rtkube import rt_kube
+from continuum.engine.rtkube import rt_kube, rt_kube_vec
 from continuum.engine.rtkube.rt_model import cluster_from_dict, realtime_from_yaml, rtset_from_dict, rtset_to_dict
 
 
@@ -65,7 +65,9 @@ class Command(EngineCommand):
         for opt, key in (("k", "k"), ("b_score_argument", "b_score_argument"), ("sort_tiebreak", "sort_tiebreak")):
             if options.get(opt) is not None:
                 kwargs[key] = options[opt]
-        plan = rt_kube.schedule(containers, nodes, rt_kube.RTKubeParams(**kwargs))
+        # Every node's reason for the pending containers (the contract), for every container with --explain.
+        full = "all" if options.get("explain") else "pending"
+        plan = rt_kube_vec.schedule(containers, nodes, rt_kube.RTKubeParams(**kwargs), full=full)
         result = plan.to_dict()
         if options.get("explain"):
             result["explain"] = rt_kube.explain(plan)
@@ -86,7 +88,8 @@ class Command(EngineCommand):
         elif path:
             rtset = self.read_json(path)
         params = {k: options[k] for k in ("k", "b_score_argument", "sort_tiebreak") if options.get(k) is not None}
-        plan = planning.whatif(cluster, rtset=rtset, params=params, with_bound=not options.get("fresh"))
+        full = "all" if options.get("explain") else "pending"
+        plan = planning.whatif(cluster, rtset=rtset, params=params, with_bound=not options.get("fresh"), full=full)
         result = plan.to_dict()
         if options.get("explain"):
             result["explain"] = rt_kube.explain(plan)

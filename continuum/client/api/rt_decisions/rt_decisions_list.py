@@ -96,7 +96,10 @@ def sync_detailed(
     pod: str | Unset = UNSET,
     search: str | Unset = UNSET,
 ) -> Response[PaginatedRTDecisionList]:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         cluster (int | Unset):
@@ -149,7 +152,10 @@ def sync(
     pod: str | Unset = UNSET,
     search: str | Unset = UNSET,
 ) -> PaginatedRTDecisionList | None:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         cluster (int | Unset):
@@ -197,7 +203,10 @@ async def asyncio_detailed(
     pod: str | Unset = UNSET,
     search: str | Unset = UNSET,
 ) -> Response[PaginatedRTDecisionList]:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         cluster (int | Unset):
@@ -248,7 +257,10 @@ async def asyncio(
     pod: str | Unset = UNSET,
     search: str | Unset = UNSET,
 ) -> PaginatedRTDecisionList | None:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         cluster (int | Unset):

@@ -50,7 +50,10 @@ def sync_detailed(
     *,
     client: AuthenticatedClient,
 ) -> Response[RTDecision]:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         id (int):
@@ -79,7 +82,10 @@ def sync(
     *,
     client: AuthenticatedClient,
 ) -> RTDecision | None:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         id (int):
@@ -103,7 +109,10 @@ async def asyncio_detailed(
     *,
     client: AuthenticatedClient,
 ) -> Response[RTDecision]:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         id (int):
@@ -130,7 +139,10 @@ async def asyncio(
     *,
     client: AuthenticatedClient,
 ) -> RTDecision | None:
-    """The scheduler process's decisions, each with every node's filter or score.
+    """The scheduler process's decisions: every node's filter or score on a small cluster, else the top
+    candidates, the count of nodes per rejecting filter and an example of each
+    (``decision.rejections``);
+    any node's verdict on demand (``why-not``).
 
     Args:
         id (int):
