@@ -1,0 +1,164 @@
+"""A product that explains itself: the home page's paths and clusters' health, forms with sensible defaults
+and their errors at the top, actions shown disabled with their reason, and units on the numbers."""
+
+import re
+
+import pytest
+from django.urls import reverse
+
+from apps.jobs.models import Job
+from apps.scheduling.models import Schedule
+from continuum.engine.core.platform import Platform
+from tests.conftest import make_application
+
+pytestmark = pytest.mark.django_db
+
+
+# ---- home --------------------------------------------------------------------------------------------
+def test_home_says_what_it_does_and_disables_steps_without_prerequisites(member):
+    body = member.get(reverse("dashboard:home")).content.decode()
+    for path in ("Schedule a DAG on boards or a cluster", "Place a ROS graph", "Real-time and verification"):
+        assert path in body
+    assert "HEFT4K" in body and "RT-Kube" in body and "STL" in body
+    # No application and no cluster yet: those steps are disabled, saying why and linking to the fix.
+    assert "no application yet" in body and f'href="{reverse("workloads:applications")}#upload"' in body
+    assert "no cluster yet" in body and f'href="{reverse("clusters:clusters")}#import"' in body
+    assert body.count("disabled") >= 3
+
+
+def test_home_leads_to_the_latest_application_and_shows_cluster_health(member, fleet, cluster):
+    app = make_application(fleet)
+    cluster.nodes.filter(pk=cluster.nodes.order_by("pk").first().pk).update(status="NotReady")
+    body = member.get(reverse("dashboard:home")).content.decode()
+    assert f'href="{reverse("workloads:application", args=[app.pk])}#schedule"' in body
+    assert "no application yet" not in body and "no cluster yet" not in body
+    ready, total = cluster.nodes.filter(status="Ready").count(), cluster.nodes.count()
+    assert f"{ready} / {total} nodes Ready" in body
+    assert '<span class="badge node-NotReady">1</span>' in body
+
+
+def test_api_nav_item_goes_to_the_api_docs(member):
+    body = member.get(reverse("dashboard:home")).content.decode()
+    assert f'href="{reverse("api-docs")}"' in body and 'href="/api/v1/"' not in body
+    docs = member.get(reverse("api-docs"))
+    assert docs.status_code == 200 and b"swagger" in docs.content.lower()
+
+
+# ---- forms: defaults and errors at the top ------------------------------------------------------------
+def test_schedule_form_preselects_the_only_cluster_and_heft(member, fleet, cluster):
+    app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
+    body = member.get(reverse("workloads:application", args=[app.pk])).content.decode()
+    assert f'<option value="{cluster.pk}" selected>' in body
+    assert re.search(r'<input type="radio" name="target" value="cluster"[^>]*checked', body)
+    assert '<option value="heft" selected>HEFT</option>' in body
+
+
+def test_errors_are_summarised_at_the_top_of_the_form_with_links(member, fleet):
+    app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
+    response = member.post(
+        reverse("scheduling:application-schedule", args=[app.pk]),
+        {"algorithm": "heft", "target": "platform", "cpus": -1, "gpus": 0, "params": "{oops"},
+    )
+    body = response.content.decode()
+    assert response.status_code == 400
+    summary = body[body.index("data-error-summary") : body.index("</div>", body.index("data-error-summary"))]
+    assert 'href="#id_cpus"' in summary and "greater than or equal to 0" in summary
+    assert 'href="#id_params"' in summary and "not JSON" in summary
+    # ...before the form's fields, and by the field as well.
+    assert body.index("data-error-summary") < body.index('name="params"')
+    assert body.count("greater than or equal to 0") == 2
+
+
+# ---- topcuoglu-2002 from the dashboard ------------------------------------------------------------------
+def test_topcuoglu_named_processors_are_offered_and_scheduled_by_default(member, fleet, cluster):
+    app = make_application(fleet)  # topcuoglu-2002: costs per processor p0, p1, p2
+    named = Platform.named_by(app.graph)
+    assert [p.id for p in named.processors] == ["p0", "p1", "p2"]
+    body = member.get(reverse("workloads:application", args=[app.pk])).content.decode()
+    assert "the processors its costs name (p0, p1, p2)" in body
+    # The page's defaults, as the browser would send them, schedule it (the paper's makespan: 80).
+    response = member.post(
+        reverse("scheduling:application-schedule", args=[app.pk]),
+        {"algorithm": "heft", "target": "named", "cluster": cluster.pk, "cpus": 4, "gpus": 0},
+    )
+    assert response.status_code == 302, response.content.decode()[:2000]
+    job = Job.objects.get(kind="schedule")
+    assert job.state == "succeeded", job.error
+    assert Schedule.objects.get(job=job).makespan == 80.0
+    compare = member.post(
+        reverse("scheduling:application-compare", args=[app.pk]),
+        {"compare-algorithms": ["heft", "xeft"], "compare-rank_mode": "mean", "compare-target": "named"},
+    )
+    assert compare.status_code == 302, compare.content.decode()[:2000]
+    assert Job.objects.get(kind="compare").state == "succeeded"
+
+
+def test_class_cost_dag_has_no_named_target(member, fleet):
+    app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
+    assert Platform.named_by(app.graph) is None
+    body = member.get(reverse("workloads:application", args=[app.pk])).content.decode()
+    assert "the processors its costs name" not in body
+
+
+# ---- disabled actions ---------------------------------------------------------------------------------
+def test_push_is_shown_disabled_with_its_reason_and_fix(member, schedule, cluster):
+    body = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
+    assert "Push to Kubernetes</button>" in body and "disabled" in body
+    assert "scheduled on a model platform, not a cluster" in body
+    Schedule.objects.filter(pk=schedule.pk).update(cluster=cluster)
+    body = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
+    assert f"cluster {cluster.name} has no Kubernetes API configured" in body
+    fix = reverse("clusters:cluster", args=[cluster.pk]) + "#kubernetes"
+    assert f'href="{fix}"' in body
+    assert 'id="kubernetes"' in member.get(fix.split("#")[0]).content.decode()
+
+
+def test_makespan_has_its_unit(member, schedule):
+    body = member.get(reverse("scheduling:schedule", args=[schedule.pk])).content.decode()
+    assert '<dd class="big">80 ms</dd>' in body
+
+
+# ---- re-upload of the same file ------------------------------------------------------------------------
+def _upload(client, content: bytes, **fields):
+    from django.core.files.uploadedfile import SimpleUploadedFile
+
+    data = {"file": SimpleUploadedFile("topcuoglu.dag.json", content, content_type="application/json"), **fields}
+    return client.post(reverse("workloads:applications"), data)
+
+
+def test_dashboard_reupload_is_refused_with_a_link_unless_asked(member, fleet):
+    from apps.workloads.models import Application
+    from tests.conftest import DATA
+
+    content = (DATA / "topcuoglu.dag.json").read_bytes()
+    assert _upload(member, content).status_code == 302
+    first = Application.objects.get()
+    again = _upload(member, content)
+    body = again.content.decode()
+    assert again.status_code == 400 and "this file was uploaded already" in body
+    assert f'href="{reverse("workloads:application", args=[first.pk])}"' in body
+    assert Application.objects.count() == 1
+    assert _upload(member, content, duplicate="on", name="topcuoglu-copy").status_code == 302
+    assert sorted(Application.objects.values_list("name", flat=True)) == ["topcuoglu-2002", "topcuoglu-copy"]
+
+
+def test_api_reupload_answers_400_on_file_unless_duplicate_allow(api, other_api):
+    from tests.conftest import DATA
+
+    content = (DATA / "topcuoglu.dag.json").read_bytes()
+
+    def post(client, query="", **fields):
+        from django.core.files.uploadedfile import SimpleUploadedFile
+
+        upload = SimpleUploadedFile("t.json", content, content_type="application/json")
+        return client.post("/api/v1/applications/import/" + query, {"file": upload, **fields}, format="multipart")
+
+    first = post(api)
+    assert first.status_code == 201, first.data
+    refused = post(api)
+    assert refused.status_code == 400 and f"(id {first.data['id']}," in refused.data["file"][0]
+    # Another fleet holding the same bytes is no duplicate of ours (and is not told about ours).
+    assert post(other_api).status_code == 201
+    assert post(api, "?duplicate=allow").status_code == 201
+    assert post(api, duplicate="allow", name="second").status_code == 201
+    assert post(api, duplicate="maybe").status_code == 400
