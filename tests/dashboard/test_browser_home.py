@@ -1,0 +1,114 @@
+"""The product explaining itself, in a real browser (system Chromium, fixtures of ``test_browser``): the home
+page's paths, a push shown disabled with its reason, a refused form's errors brought to the top, and the
+layout at 390 px (a phone) without horizontal overflow."""
+
+import os
+
+import pytest
+from django.urls import reverse
+
+from tests.conftest import make_application
+from tests.dashboard.test_browser import browser, log_in, page  # noqa: F401  (fixtures)
+
+os.environ["DJANGO_ALLOW_ASYNC_UNSAFE"] = "true"
+
+pytestmark = [pytest.mark.browser, pytest.mark.django_db(transaction=True)]
+
+PHONE = {"width": 390, "height": 844}
+#: The elements that reach past the screen's right edge (tag, id, class, right edge in px).
+WIDEST = """[...document.querySelectorAll('body *')]
+  .map(e => [e, e.getBoundingClientRect().right])
+  .filter(([e, r]) => r > 391)
+  .slice(0, 6)
+  .map(([e, r]) => `${e.tagName}#${e.id}.${e.className} ${Math.round(r)}`)"""
+
+
+def test_home_page_leads_to_the_three_paths(page, live_server, operator):  # noqa: F811
+    log_in(page, live_server)
+    for heading in ("Schedule a DAG on boards or a cluster", "Place a ROS graph", "Real-time and verification"):
+        assert page.locator(f"h2:has-text('{heading}')").is_visible()
+    # Nothing uploaded yet: scheduling is disabled, saying why, with the way to fix it.
+    blocked = page.locator("#path-dag button:has-text('Schedule an application')")
+    assert blocked.is_disabled()
+    assert "no application yet" in page.locator("#path-dag").inner_text()
+    page.click("#path-dag a:has-text('upload a DAG')")
+    page.wait_for_url("**/applications/#upload")
+    assert page.locator("#upload input[name=file]").is_visible()
+    # The API item opens the API's reference, not DRF's browsable root.
+    page.click("nav.mainnav >> text=API")
+    page.wait_for_url("**/api/docs/")
+
+
+def test_push_is_disabled_with_its_reason(page, live_server, operator, schedule, cluster):  # noqa: F811
+    from apps.scheduling.models import Schedule
+
+    Schedule.objects.filter(pk=schedule.pk).update(cluster=cluster)
+    log_in(page, live_server)
+    page.goto(live_server.url + reverse("scheduling:schedule", args=[schedule.pk]))
+    button = page.locator("button:has-text('Push to Kubernetes')")
+    assert button.is_visible() and button.is_disabled()
+    reason = page.locator("#why-push-to-kubernetes")
+    assert f"cluster {cluster.name} has no Kubernetes API configured" in reason.inner_text()
+    reason.locator("a").click()
+    page.wait_for_selector("#kubernetes:has-text('Model only')")
+
+
+def test_refused_form_shows_its_errors_at_the_top_in_view(page, live_server, operator, fleet):  # noqa: F811
+    app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
+    log_in(page, live_server)
+    page.goto(live_server.url + reverse("workloads:application", args=[app.pk]))
+    page.check("#schedule input[name=target][value=platform]")
+    page.fill("#schedule input[name=cpus]", "2")
+    page.locator("#schedule details summary:has-text('Parameters')").click()
+    page.fill("#schedule textarea[name=params]", "{oops")
+    page.click("#schedule button[type=submit]")
+    summary = page.locator("#schedule [data-error-summary]")
+    summary.wait_for()
+    assert "not JSON" in summary.inner_text()
+    # Brought into view although the form sits below the task graph.
+    box = summary.bounding_box()
+    assert 0 <= box["y"] < page.viewport_size["height"]
+    assert page.evaluate("document.activeElement.hasAttribute('data-error-summary')")
+    summary.locator("a[href='#id_params']").click()
+    assert page.evaluate("location.hash") == "#id_params"
+
+
+def test_phone_layout_has_no_horizontal_overflow(browser, live_server, operator, schedule, cluster):  # noqa: F811
+    context = browser.new_context(viewport=PHONE, device_scale_factor=2, is_mobile=True, has_touch=True)
+    context.set_default_timeout(20_000)
+    phone = context.new_page()
+    try:
+        log_in(phone, live_server)
+        # The menu collapses behind a button and opens into a usable column.
+        nav = phone.locator("nav.mainnav")
+        assert not nav.is_visible()
+        phone.click("[data-nav-toggle]")
+        assert nav.is_visible() and nav.locator("a:has-text('Applications')").bounding_box()["width"] > 200
+        urls = [
+            reverse("dashboard:home"),
+            reverse("clusters:clusters"),
+            reverse("clusters:cluster", args=[cluster.pk]),
+            reverse("workloads:applications"),
+            reverse("workloads:application", args=[schedule.application_id]),
+            reverse("scheduling:schedules"),
+            reverse("scheduling:schedule", args=[schedule.pk]),
+            reverse("scheduling:comparisons"),
+            reverse("jobs:jobs"),
+        ]
+        widths = {}
+        for url in urls:
+            phone.goto(live_server.url + url)
+            phone.wait_for_load_state("load")
+            width = phone.evaluate("document.scrollingElement.scrollWidth")
+            if width > PHONE["width"]:  # name what sticks out, for the failure message
+                width = (width, phone.evaluate(WIDEST))
+            widths[url] = width
+        too_wide = {u: w for u, w in widths.items() if not isinstance(w, int)}
+        assert not too_wide, too_wide
+        # Charts follow the screen's width.
+        phone.goto(live_server.url + reverse("scheduling:schedule", args=[schedule.pk]))
+        chart = phone.locator(".js-plotly-plot").first
+        chart.wait_for()
+        assert chart.bounding_box()["width"] <= PHONE["width"]
+    finally:
+        context.close()
