@@ -43,3 +43,30 @@
     });
   });
 })();
+
+/* Phones: a horizontal legend above a chart wraps onto several lines there and covers the titles, so it moves
+   under the chart (the bottom margin grows to hold it). Desktop layouts are left as the server drew them. */
+(function () {
+  "use strict";
+  var NARROW = 760;
+  function legendsBelow() {
+    if (!window.Plotly || window.innerWidth > NARROW) return;
+    document.querySelectorAll(".js-plotly-plot").forEach(function (gd) {
+      var legend = gd.layout && gd.layout.legend;
+      if (!legend || legend.orientation !== "h" || gd.dataset.phoneLegend) return;
+      gd.dataset.phoneLegend = "moving";
+      var rows = Math.ceil((gd.data || []).filter(function (t) { return t.showlegend !== false; }).length / 2);
+      var margin = (gd.layout.margin && gd.layout.margin.b) || 10;
+      window.Plotly.relayout(gd, {
+        "legend.yref": "container",
+        "legend.y": 0,
+        "legend.yanchor": "bottom",
+        "legend.x": 0,
+        "legend.xanchor": "left",
+        "margin.t": Math.min((gd.layout.margin && gd.layout.margin.t) || 40, 50),
+        "margin.b": margin + 30 + 22 * Math.max(1, rows),
+      }).then(function () { gd.dataset.phoneLegend = "below"; });
+    });
+  }
+  window.addEventListener("load", legendsBelow);
+})();

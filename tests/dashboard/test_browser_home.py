@@ -112,3 +112,44 @@ def test_phone_layout_has_no_horizontal_overflow(browser, live_server, operator,
         assert chart.bounding_box()["width"] <= PHONE["width"]
     finally:
         context.close()
+
+
+#: The boxes of a figure's legend and of its titles (figure title, subplot titles) that the legend overlaps.
+LEGEND_OVERLAPS = """(sel) => {
+  const gd = document.querySelector(sel);
+  const legend = gd.querySelector('.legend');
+  if (!legend) return ['no legend'];
+  const l = legend.getBoundingClientRect();
+  const titles = [...gd.querySelectorAll('.gtitle, .annotation-text, .xtitle, .xtick text')];
+  return titles.map(t => [t.textContent, t.getBoundingClientRect()])
+    .filter(([_, r]) => r.width && !(r.right <= l.left || r.left >= l.right || r.bottom <= l.top || r.top >= l.bottom))
+    .map(([text, r]) => text);
+}"""
+
+
+def test_phone_legends_do_not_overlap_titles(browser, live_server, operator, fleet):  # noqa: F811
+    from apps.jobs.services import start_job
+    from apps.scheduling.kinds import SchedulingJob
+    from apps.scheduling.models import Comparison
+
+    app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
+    platform = {"format": "continuum.platform/v1", "processors": [{"id": f"cpu{i}"} for i in range(3)]}
+    args = {"application": app.pk, "algorithms": ["heft", "gfl"], "platform": platform, "frames": 3}
+    assert start_job(SchedulingJob.COMPARE, fleet, args, operator).state == "succeeded"
+    comparison = Comparison.objects.get()
+    schedule = comparison.ordered_schedules()[0]
+    context = browser.new_context(viewport=PHONE, is_mobile=True, has_touch=True)
+    context.set_default_timeout(20_000)
+    phone = context.new_page()
+    try:
+        log_in(phone, live_server)
+        for url, chart in (
+            (reverse("scheduling:comparison", args=[comparison.pk]), "#comparison-gantt"),
+            (reverse("scheduling:schedule", args=[schedule.pk]), "#gantt-chart"),
+        ):
+            phone.goto(live_server.url + url)
+            phone.wait_for_selector(f"{chart} .legend")
+            phone.wait_for_function(f"document.querySelector('{chart}').dataset.phoneLegend === 'below'")
+            assert phone.evaluate(LEGEND_OVERLAPS, chart) == [], url
+    finally:
+        context.close()
