@@ -162,3 +162,79 @@ def test_api_reupload_answers_400_on_file_unless_duplicate_allow(api, other_api)
     assert post(api, "?duplicate=allow").status_code == 201
     assert post(api, duplicate="allow", name="second").status_code == 201
     assert post(api, duplicate="maybe").status_code == 400
+
+
+# ---- units and the normalise toggle on comparisons ---------------------------------------------------------
+def _compare(fleet, user, algorithms, platform, **extra):
+    from apps.jobs.services import start_job
+    from apps.scheduling.kinds import SchedulingJob
+    from apps.scheduling.models import Comparison
+
+    app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
+    args = {"application": app.pk, "algorithms": algorithms, "platform": platform, **extra}
+    job = start_job(SchedulingJob.COMPARE, fleet, args, user)
+    assert job.state == "succeeded", job.error
+    return Comparison.objects.get(job=job)
+
+
+CPU_GPU = {
+    "format": "continuum.platform/v1",
+    "processors": [{"id": "cpu0"}, {"id": "cpu1"}, {"id": "gpu0", "class": "gpu"}],
+}
+
+
+def test_comparison_figures_have_units_and_no_exponents(member, fleet, operator):
+    from apps.scheduling import charts as scheduling_charts
+
+    comparison = _compare(fleet, operator, ["heft", "xeft"], CPU_GPU, frames=3)
+    body = member.get(reverse("scheduling:comparison", args=[comparison.pk])).content.decode()
+    assert "Makespan (ms)" in body and "Throughput (frames/s)" in body and "frames per" not in body
+    results = comparison.result["results"]
+    fig = scheduling_charts.comparison_bars_figure(results, ["heft", "xeft"], "ms")
+    bars = {t.name: t for t in fig.data}
+    assert "makespan (ms)" in bars and "throughput (frames/s)" in bars
+    assert list(bars["throughput (frames/s)"].y) == pytest.approx(
+        [results[a]["throughput"] * 1000 for a in ("heft", "xeft")]
+    )
+    assert all("e+" not in text for t in fig.data for text in t.text)
+    assert fig.layout.yaxis.tickformat == "~s"
+    assert scheduling_charts.short_number(55890.0) == "55,890" and scheduling_charts.short_number(0.01234) == "0.01234"
+
+
+def test_normalise_toggle_divides_by_heft(member, fleet, operator):
+    from apps.scheduling import charts as scheduling_charts
+
+    comparison = _compare(fleet, operator, ["heft", "gfl"], CPU_GPU)
+    url = reverse("scheduling:comparison", args=[comparison.pk])
+    plain, normalised = member.get(url).content.decode(), member.get(url + "?normalise=1").content.decode()
+    assert 'href="?normalise=1#figures"' in plain and "Figures relative to HEFT" in normalised
+    results = comparison.result["results"]
+    fig = scheduling_charts.comparison_bars_figure(results, ["heft", "gfl"], "ms", normalise=True)
+    makespan = next(t for t in fig.data if t.name.startswith("makespan"))
+    assert makespan.name == "makespan (x HEFT)"
+    assert list(makespan.y) == pytest.approx([1.0, results["gfl"]["makespan"] / results["heft"]["makespan"]])
+    # Without HEFT, the best algorithm is the reference.
+    assert (
+        scheduling_charts.normalisation_reference({"a": {"makespan": 5.0}, "b": {"makespan": 3.0}}, ["a", "b"]) == "b"
+    )
+
+
+def test_xeft_on_a_cpu_only_dag_says_it_equals_heft(member, fleet, operator):
+    comparison = _compare(fleet, operator, ["heft", "xeft"], CPU_GPU)  # Montage: CPU costs only
+    results = comparison.result["results"]
+    assert results["xeft"]["makespan"] == results["heft"]["makespan"]
+    body = member.get(reverse("scheduling:comparison", args=[comparison.pk])).content.decode()
+    assert "XEFT equals HEFT here: the DAG has no GPU-only task" in body
+    # ...and its Gantt chart keeps the GPU's row, idle as it is.
+    assert body.count("gpu0") >= 2
+
+
+def test_schedule_throughput_in_frames_per_second_only(member, fleet, operator):
+    from apps.scheduling.views import schedule_metrics
+
+    rows = schedule_metrics({"frames": 4, "throughput": 0.015, "throughput_per_s": 15.0, "mean_latency": 3}, "ms")
+    assert [(label, value, unit) for label, value, unit in rows if label == "Throughput"] == [
+        ("Throughput", 15.0, " frames/s")
+    ]
+    rows = schedule_metrics({"frames": 4, "throughput": 0.5}, "steps")
+    assert ("Throughput", 0.5, " frames per steps") in rows
