@@ -8,7 +8,7 @@ from __future__ import annotations
 from django import forms
 
 from apps.clusters.models import Cluster
-from apps.ui.forms import FleetSerializerForm, SerializerForm, contract_field, json_object
+from apps.ui.forms import FleetSerializerForm, SerializerForm, contract_field, json_object, preselect_only
 from continuum.engine.containers.rosgraph import LEVELS, MODES, READERS, RosGraph
 
 from . import services
@@ -117,6 +117,7 @@ class PlaceForm(SerializerForm):
         self.clustering = clustering
         self.request = request
         self.fields["cluster"].queryset = Cluster.objects.filter(fleet_id=clustering.fleet_id).order_by("name")
+        preselect_only(self.fields["cluster"])
 
     def clean_overrides(self) -> dict:
         return json_object(self.cleaned_data.get("overrides"), "a JSON object: container name -> changes")

@@ -8,7 +8,7 @@ from __future__ import annotations
 from django import forms
 
 from apps.clusters.models import Cluster
-from apps.ui.forms import SerializerForm, contract_field, json_object
+from apps.ui.forms import SerializerForm, contract_field, json_object, preselect_only
 from apps.workloads.models import Application
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
@@ -53,20 +53,20 @@ class TargetForm(SerializerForm):
         self.fields["cluster"].queryset = clusters
         # A DAG that gives its costs per named processor (Topcuoglu's p0, p1, p2) runs only on those: offer
         # them as a target, and choose it, since no cluster node or model CPU/GPU bears those names.
-        self.named_platform = Platform.named_by(application.graph)
+        costs = [task.get("cost") or {} for task in (application.dag or {}).get("tasks", [])]
+        self.named_platform = Platform.named_by(costs)
         if self.named_platform is not None:
             names = ", ".join(p.id for p in self.named_platform.processors)
             self.fields["target"].choices = [(self.NAMED, f"the processors its costs name ({names})"), *self.TARGETS]
         # Defaults that make a first attempt work: the DAG's own processors, else the only cluster (or the
         # first one with a Ready node), else a model platform.
         ready = clusters.filter(nodes__status="Ready").distinct().order_by("name")
-        if self.named_platform is not None and not _class_costs_everywhere(application.graph):
+        if self.named_platform is not None and not _class_costs_everywhere(costs):
             self.fields["target"].initial = self.NAMED
         elif clusters.exists():
             self.fields["target"].initial = "cluster"
-            only = clusters.first() if clusters.count() == 1 else ready.first()
-            if only is not None:
-                self.fields["cluster"].initial = only.pk
+        if clusters.exists():
+            preselect_only(self.fields["cluster"], fallback=ready.first())
 
     def serializer_context(self) -> dict:
         return {"application": self.application, "request": self.request}
@@ -109,9 +109,9 @@ class TargetForm(SerializerForm):
         return self.serializer.target_args()
 
 
-def _class_costs_everywhere(dag) -> bool:
-    """Whether every task of ``dag`` has a cost for a processor class (so a model platform can run it)."""
-    return all(any(key in CLASSES for key in task.cost) for task in dag.tasks.values())
+def _class_costs_everywhere(costs: list[dict]) -> bool:
+    """Whether every task has a cost for a processor class (so a model platform can run it)."""
+    return all(any(key in CLASSES for key in cost) for cost in costs)
 
 
 class ScheduleForm(TargetForm):

@@ -1,4 +1,5 @@
 import hashlib
+import json
 
 from rest_framework import serializers
 
@@ -114,15 +115,15 @@ class ApplicationImportSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSer
         attrs = super().validate(attrs)
         upload = attrs["file"]
         content = upload.read()
-        attrs["content_sha256"] = hashlib.sha256(content).hexdigest()
-        if not self._duplicates_allowed(attrs):
-            self._refuse_duplicate(attrs["fleet"], attrs["content_sha256"])
         try:
             attrs["graph"], attrs["source_format"] = read_dag_file(
                 content, upload.name, attrs.get("format"), attrs.get("options"), attrs.get("name")
             )
         except InputError as exc:
             raise serializers.ValidationError({exc.field: [str(exc)]}) from exc
+        attrs["content_sha256"] = upload_digest(content, attrs["source_format"], attrs.get("options"))
+        if not self._duplicates_allowed(attrs):
+            self._refuse_duplicate(attrs["fleet"], attrs["content_sha256"])
         # what the reader accepted but flagged (e.g. an STG count that includes the dummies): reported in
         # the response, not stored with the DAG
         attrs["warnings"] = attrs["graph"].meta.pop("warnings", [])
@@ -217,6 +218,14 @@ class ApplicationGenerateSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedS
     def create(self, validated):
         source = f"generator:{validated['generator']}"
         return _store(self._user(), validated["fleet"], validated["graph"], source, validated["description"])
+
+
+def upload_digest(content: bytes, source_format: str, options: dict | None) -> str:
+    """What makes two uploads the same application: the file's bytes read the same way (its format and the
+    reader's options; an STG file read with another CCR is another DAG). SHA-256, hex."""
+    digest = hashlib.sha256(content)
+    digest.update(json.dumps([source_format, options or {}], sort_keys=True).encode())
+    return digest.hexdigest()
 
 
 def _store(

@@ -72,7 +72,7 @@ def test_errors_are_summarised_at_the_top_of_the_form_with_links(member, fleet):
 # ---- topcuoglu-2002 from the dashboard ------------------------------------------------------------------
 def test_topcuoglu_named_processors_are_offered_and_scheduled_by_default(member, fleet, cluster):
     app = make_application(fleet)  # topcuoglu-2002: costs per processor p0, p1, p2
-    named = Platform.named_by(app.graph)
+    named = Platform.named_by(t.cost for t in app.graph.tasks.values())
     assert [p.id for p in named.processors] == ["p0", "p1", "p2"]
     body = member.get(reverse("workloads:application", args=[app.pk])).content.decode()
     assert "the processors its costs name (p0, p1, p2)" in body
@@ -95,7 +95,7 @@ def test_topcuoglu_named_processors_are_offered_and_scheduled_by_default(member,
 
 def test_class_cost_dag_has_no_named_target(member, fleet):
     app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
-    assert Platform.named_by(app.graph) is None
+    assert Platform.named_by(t.cost for t in app.graph.tasks.values()) is None
     body = member.get(reverse("workloads:application", args=[app.pk])).content.decode()
     assert "the processors its costs name" not in body
 
@@ -238,3 +238,36 @@ def test_schedule_throughput_in_frames_per_second_only(member, fleet, operator):
     ]
     rows = schedule_metrics({"frames": 4, "throughput": 0.5}, "steps")
     assert ("Throughput", 0.5, " frames per steps") in rows
+
+
+def test_preselect_only_chooses_the_only_choice_else_the_fallback(fleet, cluster):
+    from django import forms
+
+    from apps.clusters.models import Cluster
+    from apps.ui.forms import preselect_only
+
+    field = forms.ModelChoiceField(queryset=Cluster.objects.filter(fleet=fleet))
+    preselect_only(field)
+    assert field.initial == cluster.pk
+    other = Cluster.objects.create(fleet=fleet, name="second")
+    field = forms.ModelChoiceField(queryset=Cluster.objects.filter(fleet=fleet))
+    preselect_only(field)
+    assert field.initial is None
+    preselect_only(field, fallback=other)
+    assert field.initial == other.pk
+
+
+def test_same_bytes_read_another_way_are_another_application(api):
+    from django.core.files.uploadedfile import SimpleUploadedFile
+
+    from tests.conftest import DATA
+
+    stg = next(DATA.glob("*.stg")).read_bytes()
+
+    def post(**fields):
+        upload = SimpleUploadedFile("g.stg", stg, content_type="text/plain")
+        return api.post("/api/v1/applications/import/", {"file": upload, **fields}, format="multipart")
+
+    assert post().status_code == 201
+    assert post(options='{"ccr": 1, "processors": 2}').status_code == 201  # another DAG from the same file
+    assert post(options='{"ccr": 1, "processors": 2}').status_code == 400

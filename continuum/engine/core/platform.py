@@ -139,17 +139,19 @@ class Platform:
         return cls(procs, **kwargs)
 
     @classmethod
-    def named_by(cls, dag: TaskGraph) -> Platform | None:
-        """The processors ``dag``'s cost table names, or ``None`` when its costs are per class only.
+    def named_by(cls, costs: Iterable[Mapping[str, Any]]) -> Platform | None:
+        """The processors a DAG's cost table names, or ``None`` when its costs are per class only.
 
-        A DAG may give its costs as the matrix W of Topcuoglu et al. (2002): one column per processor
-        (``{"p0": 14, "p1": 16, "p2": 9}``), not per class (``cpu``, ``gpu``). Such a DAG runs only on those
-        processors, so its own platform is them, joined by the paper's network: unit bandwidth and no latency
-        (a transfer costs its data, the edge weights of the paper's Fig. 2).
+        ``costs`` is each task's cost map: ``task.cost`` of a :class:`TaskGraph`, or the ``cost`` of the stored
+        ``continuum.dag/v1`` tasks (a page need not parse a large DAG to ask). A DAG may give its costs as the
+        matrix W of Topcuoglu et al. (2002): one column per processor (``{"p0": 14, "p1": 16, "p2": 9}``), not
+        per class (``cpu``, ``gpu``). Such a DAG runs only on those processors, so its own platform is them,
+        joined by the paper's network: unit bandwidth and no latency (a transfer costs its data, the edge
+        weights of the paper's Fig. 2).
         """
         names: set[str] = set()
-        for task in dag.tasks.values():
-            names.update(key for key in task.cost if key not in CLASSES)
+        for cost in costs:
+            names.update(key for key in cost if key not in CLASSES)
         if not names:
             return None
         limits.check("processors", len(names))
