@@ -8,7 +8,7 @@ from collections.abc import Mapping
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from apps.ui.charts import GanttPanel, base_layout, esc, stacked_gantt_figure
+from apps.ui.charts import GanttPanel, base_layout, esc, escs, gantt_rows, stacked_gantt_figure
 from continuum.engine.core.dag import TaskGraph
 from continuum.engine.core.platform import Platform
 from continuum.engine.core.schedule import Schedule
@@ -33,7 +33,29 @@ def comparison_figure(
         for name, schedule in schedules
     ]
     unit = time_unit or (dag.time_unit if dag is not None else "")
-    return stacked_gantt_figure(panels, unit, title_sep=": ")
+    fig = stacked_gantt_figure(panels, unit, title_sep=": ")
+    keep_idle_rows(fig, panels)
+    return fig
+
+
+def keep_idle_rows(fig: go.Figure, panels: list[GanttPanel], lanes: bool = True, stacked: bool = True) -> None:
+    """Every processor's row in every panel, idle ones too (a GPU that XEFT or HEFT leaves unused): a category
+    axis shows only the categories some trace uses, so each panel gets an invisible marker per row.
+    ``stacked``: ``fig`` has one subplot per panel (:func:`stacked_gantt_figure`), else it is one chart."""
+    for i, panel in enumerate(panels, start=1):
+        rows, _ = gantt_rows(panel.schedule, panel.platform, lanes)
+        fig.add_trace(
+            go.Scatter(
+                x=[0.0] * len(rows),
+                y=escs(rows),
+                mode="markers",
+                marker={"opacity": 0},
+                hoverinfo="skip",
+                showlegend=False,
+                name="rows",
+            ),
+            **({"row": i, "col": 1} if stacked else {}),
+        )
 
 
 #: The figures drawn by :func:`comparison_bars_figure`: (result key, title, scale, unit); unit "time" is the
@@ -100,8 +122,8 @@ def comparison_bars_figure(
             continue
         factor = per_s if unit == "rate" else scale
         shown = {"time": time_unit, "rate": rate}.get(unit, unit)
-        if ref:
-            factor, shown = 1.0 / (results[ref][key] * (per_s if unit == "rate" else 1.0)) * factor, f"x {ref.upper()}"
+        if ref:  # a ratio has no unit (and no per-cent scale)
+            factor, shown = 1.0 / results[ref][key], f"x {ref.upper()}"
         figures.append((key, f"{title} ({shown})" if shown else title, factor, shown))
     cols = 4 if len(figures) > 6 else 3
     rows = max(1, math.ceil(len(figures) / cols))
@@ -128,15 +150,9 @@ def comparison_bars_figure(
         )
     base_layout(fig, height=170 + 250 * rows)
     fig.update_layout(margin={"l": 10, "r": 10, "t": 50, "b": 10})
-    # "~s": 55.9k rather than 5.589e+04 on the axis; the title carries the unit.
+    # Ticks keep Plotly's default (55k, 0.2); the bar labels are short_number's; the titles carry the units.
     fig.update_yaxes(
-        showgrid=True,
-        gridcolor="#e4e7eb",
-        zeroline=True,
-        zerolinecolor="#9aa5b1",
-        rangemode="tozero",
-        tickformat="~s",
-        automargin=True,
+        showgrid=True, gridcolor="#e4e7eb", zeroline=True, zerolinecolor="#9aa5b1", rangemode="tozero", automargin=True
     )
     fig.update_annotations(font={"size": 13, "color": "#1f2933"})
     return fig

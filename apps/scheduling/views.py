@@ -155,6 +155,7 @@ def _gantt(request: HttpRequest, schedule: Schedule, engine, dag, state: dict) -
                 gantt_title = panel.context.get("gantt_title", "")
         if figure is None:
             fig = charts.gantt_figure(engine, platform=platform, dag=dag, critical=critical)
+            scheduling_charts.keep_idle_rows(fig, [charts.GanttPanel("", engine, platform)], lanes=False, stacked=False)
             figure = charts.to_html(fig, div_id="gantt-chart")
     except (InputError, KeyError) as exc:
         # The application's DAG changed since this schedule was made; draw what was stored.

@@ -133,7 +133,8 @@ def test_phone_legends_do_not_overlap_titles(browser, live_server, operator, fle
     from apps.scheduling.models import Comparison
 
     app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
-    platform = {"format": "continuum.platform/v1", "processors": [{"id": f"cpu{i}"} for i in range(3)]}
+    processors = [{"id": "cpu0"}, {"id": "cpu1"}, {"id": "gpu0", "class": "gpu"}]  # Montage: CPU costs only
+    platform = {"format": "continuum.platform/v1", "processors": processors}
     args = {"application": app.pk, "algorithms": ["heft", "gfl"], "platform": platform, "frames": 3}
     assert start_job(SchedulingJob.COMPARE, fleet, args, operator).state == "succeeded"
     comparison = Comparison.objects.get()
@@ -151,5 +152,8 @@ def test_phone_legends_do_not_overlap_titles(browser, live_server, operator, fle
             phone.wait_for_selector(f"{chart} .legend")
             phone.wait_for_function(f"document.querySelector('{chart}').dataset.phoneLegend === 'below'")
             assert phone.evaluate(LEGEND_OVERLAPS, chart) == [], url
+            # The idle GPU keeps its row in every chart.
+            ticks = phone.locator(f"{chart} .yaxislayer-above .ytick text").all_text_contents()
+            assert "gpu0" in ticks, (url, ticks)
     finally:
         context.close()

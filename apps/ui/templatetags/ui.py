@@ -75,9 +75,10 @@ def disabled_action(label: str, reason: str, fix_url: str = "", fix_label: str =
 
 
 @register.inclusion_tag("ui/includes/form_errors.html")
-def form_errors(form) -> dict:
-    """A refused form's errors at its top: every message, each linking to its field (which shows it too)."""
-    return {"form": form}
+def form_errors(form, heading: str = "") -> dict:
+    """A refused form's errors at its top: every message, each linking to its field (which shows it too),
+    under ``heading`` (default: "This could not be done:" or "These need fixing:")."""
+    return {"form": form, "heading": heading}
 
 
 @register.filter
