@@ -85,16 +85,16 @@ def _paths(counts: dict[str, int], latest: Application | None) -> dict[str, list
     no_app = ("no application yet", reverse("workloads:applications") + "#upload", "upload a DAG")
     no_kube = ("no cluster has a Kubernetes API", clusters_url + "#import", "register a live cluster")
     no_graph = ("no ROS graph yet", reverse("containers:rosgraphs"), "upload one")
-    app_url = reverse("workloads:application", args=[latest.pk]) + "#schedule" if latest else ""
+    app_url = reverse("workloads:application", args=[latest.pk]) if latest else ""
     return {
         "dag": [
             _step("Upload or generate a DAG", reverse("workloads:applications") + "#upload"),
             _step(
                 f"Schedule {latest.name}" if latest else "Schedule an application",
-                app_url,
+                app_url + "#schedule",
                 None if latest else no_app,
             ),
-            _step("Compare algorithms", app_url.replace("#schedule", "#compare"), None if latest else no_app),
+            _step("Compare algorithms", app_url + "#compare", None if latest else no_app),
             _step("Which board? (devices)", reverse("devices:devices")),
         ],
         "ros": [
@@ -105,10 +105,11 @@ def _paths(counts: dict[str, int], latest: Application | None) -> dict[str, list
                 None if counts["rosgraphs"] else no_graph,
             ),
             _step(
-                "Remap with HEFT4K",
+                "Remap with HEFT4K when a node fails",
                 reverse("heft4k:remaps"),
-                None if counts["connected"] else no_kube,
+                None if counts["clusters"] else no_cluster,
             ),
+            _step("Push to Kubernetes", reverse("containers:rosgraphs"), None if counts["connected"] else no_kube),
         ],
         "rt": [
             _step(

@@ -15,6 +15,16 @@ os.environ["DJANGO_ALLOW_ASYNC_UNSAFE"] = "true"
 pytestmark = [pytest.mark.browser, pytest.mark.django_db(transaction=True)]
 
 PHONE = {"width": 390, "height": 844}
+#: Generous: the machine that runs the suite may be busy (a wait, not a speed assertion).
+TIMEOUT_MS = 90_000
+
+
+@pytest.fixture
+def patient(page):  # noqa: F811
+    """``test_browser``'s page with this module's timeout."""
+    page.set_default_timeout(TIMEOUT_MS)
+    page.set_default_navigation_timeout(TIMEOUT_MS)
+    return page
 #: The elements that reach past the screen's right edge (tag, id, class, right edge in px).
 WIDEST = """[...document.querySelectorAll('body *')]
   .map(e => [e, e.getBoundingClientRect().right])
@@ -23,59 +33,59 @@ WIDEST = """[...document.querySelectorAll('body *')]
   .map(([e, r]) => `${e.tagName}#${e.id}.${e.className} ${Math.round(r)}`)"""
 
 
-def test_home_page_leads_to_the_three_paths(page, live_server, operator):  # noqa: F811
-    log_in(page, live_server)
+def test_home_page_leads_to_the_three_paths(patient, live_server, operator):  # noqa: F811
+    log_in(patient, live_server)
     for heading in ("Schedule a DAG on boards or a cluster", "Place a ROS graph", "Real-time and verification"):
-        assert page.locator(f"h2:has-text('{heading}')").is_visible()
+        assert patient.locator(f"h2:has-text('{heading}')").is_visible()
     # Nothing uploaded yet: scheduling is disabled, saying why, with the way to fix it.
-    blocked = page.locator("#path-dag button:has-text('Schedule an application')")
+    blocked = patient.locator("#path-dag button:has-text('Schedule an application')")
     assert blocked.is_disabled()
-    assert "no application yet" in page.locator("#path-dag").inner_text()
-    page.click("#path-dag a:has-text('upload a DAG')")
-    page.wait_for_url("**/applications/#upload")
-    assert page.locator("#upload input[name=file]").is_visible()
+    assert "no application yet" in patient.locator("#path-dag").inner_text()
+    patient.click("#path-dag a:has-text('upload a DAG')")
+    patient.wait_for_url("**/applications/#upload")
+    assert patient.locator("#upload input[name=file]").is_visible()
     # The API item opens the API's reference, not DRF's browsable root.
-    page.click("nav.mainnav >> text=API")
-    page.wait_for_url("**/api/docs/")
+    patient.click("nav.mainnav >> text=API")
+    patient.wait_for_url("**/api/docs/")
 
 
-def test_push_is_disabled_with_its_reason(page, live_server, operator, schedule, cluster):  # noqa: F811
+def test_push_is_disabled_with_its_reason(patient, live_server, operator, schedule, cluster):  # noqa: F811
     from apps.scheduling.models import Schedule
 
     Schedule.objects.filter(pk=schedule.pk).update(cluster=cluster)
-    log_in(page, live_server)
-    page.goto(live_server.url + reverse("scheduling:schedule", args=[schedule.pk]))
-    button = page.locator("button:has-text('Push to Kubernetes')")
+    log_in(patient, live_server)
+    patient.goto(live_server.url + reverse("scheduling:schedule", args=[schedule.pk]))
+    button = patient.locator("button:has-text('Push to Kubernetes')")
     assert button.is_visible() and button.is_disabled()
-    reason = page.locator("#why-push-to-kubernetes")
+    reason = patient.locator("#why-push-to-kubernetes")
     assert f"cluster {cluster.name} has no Kubernetes API configured" in reason.inner_text()
     reason.locator("a").click()
-    page.wait_for_selector("#kubernetes:has-text('Model only')")
+    patient.wait_for_selector("#kubernetes:has-text('Model only')")
 
 
-def test_refused_form_shows_its_errors_at_the_top_in_view(page, live_server, operator, fleet):  # noqa: F811
+def test_refused_form_shows_its_errors_at_the_top_in_view(patient, live_server, operator, fleet):  # noqa: F811
     app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
-    log_in(page, live_server)
-    page.goto(live_server.url + reverse("workloads:application", args=[app.pk]))
-    page.check("#schedule input[name=target][value=platform]")
-    page.fill("#schedule input[name=cpus]", "2")
-    page.locator("#schedule details summary:has-text('Parameters')").click()
-    page.fill("#schedule textarea[name=params]", "{oops")
-    page.click("#schedule button[type=submit]")
-    summary = page.locator("#schedule [data-error-summary]")
+    log_in(patient, live_server)
+    patient.goto(live_server.url + reverse("workloads:application", args=[app.pk]))
+    patient.check("#schedule input[name=target][value=platform]")
+    patient.fill("#schedule input[name=cpus]", "2")
+    patient.locator("#schedule details summary:has-text('Parameters')").click()
+    patient.fill("#schedule textarea[name=params]", "{oops")
+    patient.click("#schedule button[type=submit]")
+    summary = patient.locator("#schedule [data-error-summary]")
     summary.wait_for()
     assert "not JSON" in summary.inner_text()
     # Brought into view although the form sits below the task graph.
     box = summary.bounding_box()
-    assert 0 <= box["y"] < page.viewport_size["height"]
-    assert page.evaluate("document.activeElement.hasAttribute('data-error-summary')")
+    assert 0 <= box["y"] < patient.viewport_size["height"]
+    assert patient.evaluate("document.activeElement.hasAttribute('data-error-summary')")
     summary.locator("a[href='#id_params']").click()
-    assert page.evaluate("location.hash") == "#id_params"
+    assert patient.evaluate("location.hash") == "#id_params"
 
 
 def test_phone_layout_has_no_horizontal_overflow(browser, live_server, operator, schedule, cluster):  # noqa: F811
     context = browser.new_context(viewport=PHONE, device_scale_factor=2, is_mobile=True, has_touch=True)
-    context.set_default_timeout(20_000)
+    context.set_default_timeout(TIMEOUT_MS)
     phone = context.new_page()
     try:
         log_in(phone, live_server)
@@ -94,6 +104,11 @@ def test_phone_layout_has_no_horizontal_overflow(browser, live_server, operator,
             reverse("scheduling:schedule", args=[schedule.pk]),
             reverse("scheduling:comparisons"),
             reverse("jobs:jobs"),
+            reverse("devices:devices"),
+            reverse("containers:rosgraphs"),
+            reverse("heft4k:remaps"),
+            reverse("realtime:overview"),
+            reverse("verification:overview"),
         ]
         widths = {}
         for url in urls:
@@ -140,7 +155,7 @@ def test_phone_legends_do_not_overlap_titles(browser, live_server, operator, fle
     comparison = Comparison.objects.get()
     schedule = comparison.ordered_schedules()[0]
     context = browser.new_context(viewport=PHONE, is_mobile=True, has_touch=True)
-    context.set_default_timeout(20_000)
+    context.set_default_timeout(TIMEOUT_MS)
     phone = context.new_page()
     try:
         log_in(phone, live_server)

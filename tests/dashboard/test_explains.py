@@ -23,6 +23,7 @@ def test_home_says_what_it_does_and_disables_steps_without_prerequisites(member)
     # No application and no cluster yet: those steps are disabled, saying why and linking to the fix.
     assert "no application yet" in body and f'href="{reverse("workloads:applications")}#upload"' in body
     assert "no cluster yet" in body and f'href="{reverse("clusters:clusters")}#import"' in body
+    assert "no cluster has a Kubernetes API" in body  # pushing needs a live cluster
     assert body.count("disabled") >= 3
 
 
