@@ -25,6 +25,8 @@ def patient(page):  # noqa: F811
     page.set_default_timeout(TIMEOUT_MS)
     page.set_default_navigation_timeout(TIMEOUT_MS)
     return page
+
+
 #: The elements that reach past the screen's right edge (tag, id, class, right edge in px).
 WIDEST = """[...document.querySelectorAll('body *')]
   .map(e => [e, e.getBoundingClientRect().right])
@@ -33,7 +35,7 @@ WIDEST = """[...document.querySelectorAll('body *')]
   .map(([e, r]) => `${e.tagName}#${e.id}.${e.className} ${Math.round(r)}`)"""
 
 
-def test_home_page_leads_to_the_three_paths(patient, live_server, operator):  # noqa: F811
+def test_home_page_leads_to_the_three_paths(patient, live_server, operator):
     log_in(patient, live_server)
     for heading in ("Schedule a DAG on boards or a cluster", "Place a ROS graph", "Real-time and verification"):
         assert patient.locator(f"h2:has-text('{heading}')").is_visible()
@@ -49,7 +51,7 @@ def test_home_page_leads_to_the_three_paths(patient, live_server, operator):  # 
     patient.wait_for_url("**/api/docs/")
 
 
-def test_push_is_disabled_with_its_reason(patient, live_server, operator, schedule, cluster):  # noqa: F811
+def test_push_is_disabled_with_its_reason(patient, live_server, operator, schedule, cluster):
     from apps.scheduling.models import Schedule
 
     Schedule.objects.filter(pk=schedule.pk).update(cluster=cluster)
@@ -63,7 +65,7 @@ def test_push_is_disabled_with_its_reason(patient, live_server, operator, schedu
     patient.wait_for_selector("#kubernetes:has-text('Model only')")
 
 
-def test_refused_form_shows_its_errors_at_the_top_in_view(patient, live_server, operator, fleet):  # noqa: F811
+def test_refused_form_shows_its_errors_at_the_top_in_view(patient, live_server, operator, fleet):
     app = make_application(fleet, "montage-chameleon-2mass-005d-001.json")
     log_in(patient, live_server)
     patient.goto(live_server.url + reverse("workloads:application", args=[app.pk]))
