@@ -11,7 +11,7 @@ from django import forms
 from django.conf import settings
 
 from apps.clusters.models import Cluster
-from apps.ui.forms import FleetSerializerForm, SerializerForm, contract_field, json_object
+from apps.ui.forms import FleetSerializerForm, SerializerForm, contract_field, json_object, preselect_only
 from continuum.engine.containers.rosgraph import LEVELS, MODES, READERS, RosGraph
 
 from . import services
@@ -212,6 +212,7 @@ class PlaceForm(SerializerForm):
         self.fields["cluster"].queryset = Cluster.objects.filter(fleet_id=clustering.fleet_id).order_by("name")
         self.fields["drivers_on_robot"].initial = settings.CONTINUUM_DRIVERS_ON_ROBOT
         self.fields["robot_label"].initial = settings.CONTINUUM_ROBOT_LABEL
+        preselect_only(self.fields["cluster"])
 
     def clean_overrides(self) -> dict:
         return json_object(self.cleaned_data.get("overrides"), "a JSON object: container name -> changes")

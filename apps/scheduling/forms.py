@@ -8,11 +8,11 @@ from __future__ import annotations
 from django import forms
 
 from apps.clusters.models import Cluster
-from apps.ui.forms import SerializerForm, contract_field, json_object
+from apps.ui.forms import SerializerForm, contract_field, json_object, preselect_only
 from apps.workloads.models import Application
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
-from continuum.engine.core.platform import Platform
+from continuum.engine.core.platform import CLASSES, Platform
 from continuum.engine.device import algorithms
 from continuum.engine.device.board import board
 
@@ -26,6 +26,7 @@ class TargetForm(SerializerForm):
     """Where to schedule (one of the fleet's clusters, or N CPUs + M GPUs) and for how many frames."""
 
     TARGETS = [("cluster", "a cluster (its Ready nodes)"), ("platform", "a model platform")]
+    NAMED = "named"
     serializer_class: type[TargetSerializer] = TargetSerializer
 
     target = forms.ChoiceField(choices=TARGETS, widget=forms.RadioSelect, initial="platform")
@@ -48,9 +49,24 @@ class TargetForm(SerializerForm):
         super().__init__(*args, **kwargs)
         self.application = application
         self.request = request  # the contract sees only the clusters of the user's fleets
-        self.fields["cluster"].queryset = Cluster.objects.filter(fleet_id=application.fleet_id)
-        if self.fields["cluster"].queryset.exists():
+        clusters = Cluster.objects.filter(fleet_id=application.fleet_id)
+        self.fields["cluster"].queryset = clusters
+        # A DAG that gives its costs per named processor (Topcuoglu's p0, p1, p2) runs only on those: offer
+        # them as a target, and choose it, since no cluster node or model CPU/GPU bears those names.
+        costs = [task.get("cost") or {} for task in (application.dag or {}).get("tasks", [])]
+        self.named_platform = Platform.named_by(costs)
+        if self.named_platform is not None:
+            names = ", ".join(p.id for p in self.named_platform.processors)
+            self.fields["target"].choices = [(self.NAMED, f"the processors its costs name ({names})"), *self.TARGETS]
+        # Defaults that make a first attempt work: the DAG's own processors, else the only cluster (or the
+        # first one with a Ready node), else a model platform.
+        ready = clusters.filter(nodes__status="Ready").distinct().order_by("name")
+        if self.named_platform is not None and not _class_costs_everywhere(costs):
+            self.fields["target"].initial = self.NAMED
+        elif clusters.exists():
             self.fields["target"].initial = "cluster"
+        if clusters.exists():
+            preselect_only(self.fields["cluster"], fallback=ready.first())
 
     def serializer_context(self) -> dict:
         return {"application": self.application, "request": self.request}
@@ -69,6 +85,8 @@ class TargetForm(SerializerForm):
         target = data.get("target")
         if target == "cluster" and data.get("cluster") is None and "cluster" not in self.errors:
             self.add_error("cluster", "choose a cluster")
+        elif target == self.NAMED and self.named_platform is not None:
+            data["platform"] = self.named_platform.to_dict()
         elif target == "platform" and not self.errors:
             cpus, gpus = data.get("cpus") or 0, data.get("gpus") or 0
             try:
@@ -89,6 +107,11 @@ class TargetForm(SerializerForm):
 
     def target_arguments(self) -> dict:
         return self.serializer.target_args()
+
+
+def _class_costs_everywhere(costs: list[dict]) -> bool:
+    """Whether every task has a cost for a processor class (so a model platform can run it)."""
+    return all(any(key in CLASSES for key in cost) for cost in costs)
 
 
 class ScheduleForm(TargetForm):

@@ -16,6 +16,7 @@ from django.contrib import messages
 from django.contrib.auth.decorators import login_required
 from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
+from django.urls import reverse
 from django.views.decorators.http import require_POST
 
 from apps.jobs.registry import HANDLERS
@@ -126,6 +127,7 @@ def schedule_page(request: HttpRequest, schedule: Schedule, status: int = 200, *
         {
             "schedule": schedule,
             **_figures(schedule, dag.time_unit),
+            "time_unit": dag.time_unit,
             **_assignment_context(schedule, rows, gantt["critical"]),
             **gantt,
             "nav": "schedules",
@@ -153,6 +155,7 @@ def _gantt(request: HttpRequest, schedule: Schedule, engine, dag, state: dict) -
                 gantt_title = panel.context.get("gantt_title", "")
         if figure is None:
             fig = charts.gantt_figure(engine, platform=platform, dag=dag, critical=critical)
+            scheduling_charts.keep_idle_rows(fig, [charts.GanttPanel("", engine, platform)], lanes=False, stacked=False)
             figure = charts.to_html(fig, div_id="gantt-chart")
     except (InputError, KeyError) as exc:
         # The application's DAG changed since this schedule was made; draw what was stored.
@@ -184,9 +187,51 @@ def _assignment_context(schedule: Schedule, rows: list, critical: list[tuple[str
         "critical_tasks": [t if len({r.frame for r in rows}) <= 1 else f"{t} [{f}]" for t, f in critical],
         "placement": placement,
         "can_push": bool(schedule.cluster and schedule.cluster.kubeconfig),
+        "push_blocked": push_blocked(schedule),
         "processor_count": len(schedule.platform.get("processors", [])),
         "has_niceness": any(r.niceness is not None for r in rows),
     }
+
+
+def _xeft_note(shown: list[str], results: dict, dag, platform: Platform) -> str:
+    """Why XEFT equals HEFT on this comparison, when it does: XEFT only reorders *exclusive* tasks, balancing
+    CPU-only against GPU-only ones (thesis Algorithm 1), so without both kinds (or without a GPU) it is HEFT."""
+    if not {"heft", "xeft"} <= set(shown):
+        return ""
+    if results["xeft"].get("makespan") != results["heft"].get("makespan"):
+        return ""
+    has_gpu = any(p.cls == "gpu" for p in platform.processors)
+    gpu_only = any(set(t.cost) == {"gpu"} for t in dag.tasks.values())
+    cpu_only = any(set(t.cost) == {"cpu"} for t in dag.tasks.values())
+    if not has_gpu:
+        why = "the target has no GPU"
+    elif not gpu_only:
+        why = "the DAG has no GPU-only task (every task runs on a CPU)"
+    elif not cpu_only:
+        why = "the DAG has no CPU-only task"
+    else:
+        why = "no cluster of exclusive tasks improved the balance here"
+    return (
+        f"XEFT equals HEFT here: {why}. XEFT is HEFT with CPU-only and GPU-only tasks grouped to overlap "
+        "(thesis 3.1.1, Algorithm 1); it differs only when both kinds of exclusive task and a GPU are present."
+    )
+
+
+def push_blocked(schedule: Schedule) -> tuple[str, str, str] | None:
+    """Why this schedule cannot be pushed to Kubernetes (reason, link, link text), or ``None`` when it can."""
+    if schedule.cluster is None:
+        return (
+            "scheduled on a model platform, not a cluster",
+            reverse("workloads:application", args=[schedule.application_id]) + "#schedule",
+            "schedule it on a cluster",
+        )
+    if not schedule.cluster.kubeconfig:
+        return (
+            f"cluster {schedule.cluster.name} has no Kubernetes API configured",
+            reverse("clusters:cluster", args=[schedule.cluster_id]) + "#kubernetes",
+            "connect it",
+        )
+    return None
 
 
 def schedule_metrics(metrics: dict, unit: str) -> list[tuple[str, object, str]]:
@@ -197,10 +242,12 @@ def schedule_metrics(metrics: dict, unit: str) -> list[tuple[str, object, str]]:
     if frames > 1:
         rows.append(("Frames", frames, ""))
         rows.append(("Mean frame latency", metrics.get("mean_latency"), u))
-        if metrics.get("throughput") is not None:
-            rows.append(("Throughput", metrics["throughput"], f" frames per{u or ' time unit'}"))
-        if metrics.get("throughput_per_s") is not None:
+        # One throughput, in frames/s when the time unit converts (not "frames per ms" next to "frames/s").
+        rate, per_s = scheduling_charts.rate_unit(unit)
+        if metrics.get("throughput_per_s") is not None and rate == "frames/s":
             rows.append(("Throughput", metrics["throughput_per_s"], " frames/s"))
+        elif metrics.get("throughput") is not None:
+            rows.append(("Throughput", metrics["throughput"] * per_s, f" {rate}"))
         if metrics.get("pipeline_gain") is not None:
             rows.append(("Pipeline gain", 100 * metrics["pipeline_gain"], " %"))
         rows.append(("Frame buffers used", metrics.get("buffers_used"), ""))
@@ -234,8 +281,9 @@ def idle_rows(
 @require_POST
 def schedule_push(request: HttpRequest, pk: int) -> HttpResponse:
     schedule = get_object_or_404(scoped(request, Schedule.objects.select_related("fleet", "cluster")), pk=pk)
-    if schedule.cluster is None or not schedule.cluster.kubeconfig:
-        messages.error(request, "This schedule's cluster has no Kubernetes API configured: nothing to push to.")
+    blocked = push_blocked(schedule)
+    if blocked is not None:
+        messages.error(request, f"Nothing to push to: {blocked[0]}.")
         return redirect("scheduling:schedule", pk=schedule.pk)
     if SchedulingJob.PUSH_SCHEDULE not in HANDLERS:
         messages.error(request, "Pushing to Kubernetes is not available in this installation.")
@@ -277,6 +325,10 @@ def comparison_detail(request: HttpRequest, pk: int) -> HttpResponse:
         for a in shown
     ]
     frames = comparison.result.get("frames", 1)
+    normalise = request.GET.get("normalise") == "1"
+    rate, per_s = scheduling_charts.rate_unit(dag.time_unit)
+    for row in rows:  # one spelling of throughput on every page: frames/s
+        row["throughput_shown"] = None if row.get("throughput") is None else row["throughput"] * per_s
     return render(
         request,
         "scheduling/comparison_detail.html",
@@ -288,7 +340,14 @@ def comparison_detail(request: HttpRequest, pk: int) -> HttpResponse:
             "unit": dag.time_unit,
             "problem": problem,
             "gantt": charts.to_html(fig, div_id="comparison-gantt"),
-            "bars": charts.to_html(scheduling_charts.comparison_bars_figure(results, shown), div_id="comparison-bars"),
+            "bars": charts.to_html(
+                scheduling_charts.comparison_bars_figure(results, shown, dag.time_unit, normalise),
+                div_id="comparison-bars",
+            ),
+            "normalise": normalise,
+            "reference": scheduling_charts.normalisation_reference(results, shown) if shown else "",
+            "rate_unit": rate,
+            "xeft_note": _xeft_note(shown, results, dag, platform),
             "processor_count": len(platform.processors),
             "relative": [(a, [comparison.result["relative"][a].get(b) for b in shown]) for a in shown],
             "nav": "comparisons",

@@ -63,6 +63,16 @@ class FleetChoiceMixin:
             data["fleet"] = self.fleets.first()
 
 
+def preselect_only(field: forms.ModelChoiceField, fallback=None) -> None:
+    """Preselect the only choice of ``field`` (the fleet's only cluster, its only application), else
+    ``fallback`` when given: a first attempt should not fail on a question with one possible answer."""
+    choices = list(field.queryset.values_list("pk", flat=True)[:2])
+    if len(choices) == 1:
+        field.initial = choices[0]
+    elif fallback is not None:
+        field.initial = getattr(fallback, "pk", fallback)
+
+
 def errors_onto(form: forms.Form, errors, names: dict[str, str] | None = None, prefix: str = "") -> None:
     """Put a serializer's errors onto ``form``: each on the field of the same name (or the one ``names`` maps
     it to), else on the form; nested errors (``{"params": {"frames": [...]}}``) on their innermost field."""

@@ -48,10 +48,26 @@ class UploadForm(FleetSerializerForm):
     )
     heterogeneity = forms.FloatField(min_value=0, max_value=2, required=False, help_text="beta, 0 to 2")
     seed = forms.IntegerField(min_value=0, required=False, help_text="for the drawn data and costs")
+    duplicate = forms.BooleanField(
+        required=False,
+        label="store it again if this file was uploaded before",
+        help_text="otherwise a file the fleet holds already is refused, with a link to its application",
+    )
     fleet = forms.ModelChoiceField(queryset=None, required=True, empty_label=None)
+
+    def serializer_context(self) -> dict:
+        # Kept, so that the page can link to the application a refused duplicate is stored as.
+        self.contract_context = super().serializer_context()
+        return self.contract_context
+
+    @property
+    def duplicate_of(self):
+        return getattr(self, "contract_context", {}).get("duplicate_of")
 
     def serializer_data(self, data: dict) -> dict:
         payload = {k: data[k] for k in ("file", "format", "name") if data.get(k) not in (None, "")}
+        if data.get("duplicate"):
+            payload["duplicate"] = "allow"
         options = {k: data[k] for k in STG_OPTIONS if data.get(k) is not None}
         if options:
             payload["options"] = json.dumps(options)

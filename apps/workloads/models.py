@@ -14,6 +14,10 @@ class Application(FleetOwned):
     source_format = models.CharField(max_length=32, default="continuum")
     task_count = models.PositiveIntegerField(default=0, editable=False)
     edge_count = models.PositiveIntegerField(default=0, editable=False)
+    #: SHA-256 of the uploaded file's bytes, format and reader options (``serializers.upload_digest``): a
+    #: second upload of the same file to the fleet is refused unless asked for (``duplicate=allow``). Empty
+    #: for applications not made from a file.
+    content_sha256 = models.CharField(max_length=64, blank=True, default="", editable=False, db_index=True)
     created_by = models.ForeignKey(settings.AUTH_USER_MODEL, null=True, blank=True, on_delete=models.SET_NULL)
     created = models.DateTimeField(auto_now_add=True)
     updated = models.DateTimeField(auto_now=True)

@@ -1,3 +1,6 @@
+import hashlib
+import json
+
 from rest_framework import serializers
 
 from apps.tenancy.api import ChosenFleetMixin, DefaultFleetMixin, FleetField, FleetOwnedSerializer, ScopedSerializer
@@ -11,6 +14,8 @@ from .importing import FORMATS, GENERATORS, generate_dag, parse_options, read_da
 from .models import Application
 
 LIMITS = limits.get()
+#: What an upload of a file the fleet holds already does (``ApplicationImportSerializer.duplicate``).
+DUPLICATE_CHOICES = ["refuse", "allow"]
 
 
 class ApplicationSerializer(FleetOwnedSerializer):
@@ -93,6 +98,12 @@ class ApplicationImportSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSer
     )
     name = serializers.CharField(max_length=200, required=False)
     description = serializers.CharField(required=False, allow_blank=True, default="")
+    duplicate = serializers.ChoiceField(
+        choices=DUPLICATE_CHOICES,
+        default="refuse",
+        help_text="a file this fleet has uploaded already is refused (400, naming the application); "
+        "allow: store it again as another application (also ?duplicate=allow)",
+    )
 
     def validate_options(self, value) -> dict:
         try:
@@ -103,20 +114,48 @@ class ApplicationImportSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSer
     def validate(self, attrs):
         attrs = super().validate(attrs)
         upload = attrs["file"]
+        content = upload.read()
         try:
             attrs["graph"], attrs["source_format"] = read_dag_file(
-                upload.read(), upload.name, attrs.get("format"), attrs.get("options"), attrs.get("name")
+                content, upload.name, attrs.get("format"), attrs.get("options"), attrs.get("name")
             )
         except InputError as exc:
             raise serializers.ValidationError({exc.field: [str(exc)]}) from exc
+        attrs["content_sha256"] = upload_digest(content, attrs["source_format"], attrs.get("options"))
+        if not self._duplicates_allowed(attrs):
+            self._refuse_duplicate(attrs["fleet"], attrs["content_sha256"])
         # what the reader accepted but flagged (e.g. an STG count that includes the dummies): reported in
         # the response, not stored with the DAG
         attrs["warnings"] = attrs["graph"].meta.pop("warnings", [])
         return attrs
 
+    def _duplicates_allowed(self, attrs) -> bool:
+        request = self.context.get("request")
+        query = getattr(request, "query_params", None) or getattr(request, "GET", None) or {}
+        return attrs.get("duplicate") == "allow" or query.get("duplicate") == "allow"
+
+    def _refuse_duplicate(self, fleet, digest: str) -> None:
+        """The same bytes uploaded to the same fleet before: say which application holds them (the page links
+        to it through ``context["duplicate_of"]``) rather than silently storing a second copy."""
+        existing = Application.objects.filter(fleet=fleet, content_sha256=digest).order_by("pk").first()
+        if existing is None:
+            return
+        self.context["duplicate_of"] = existing
+        raise serializers.ValidationError(
+            {
+                "file": [
+                    f"this file was uploaded already: application {existing.name!r} (id {existing.pk}, "
+                    f"/applications/{existing.pk}/); open it, or upload again with duplicate=allow to store "
+                    "a second copy (give it a new name)"
+                ]
+            },
+            code="duplicate",
+        )
+
     def create(self, validated):
         v = validated
-        return _store(self._user(), v["fleet"], v["graph"], v["source_format"], v["description"])
+        app = _store(self._user(), v["fleet"], v["graph"], v["source_format"], v["description"], v["content_sha256"])
+        return app
 
 
 class ApplicationGenerateSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedSerializer):
@@ -181,9 +220,20 @@ class ApplicationGenerateSerializer(DefaultFleetMixin, ChosenFleetMixin, ScopedS
         return _store(self._user(), validated["fleet"], validated["graph"], source, validated["description"])
 
 
-def _store(user, fleet, graph: TaskGraph, source_format: str, description: str = "") -> Application:
+def upload_digest(content: bytes, source_format: str, options: dict | None) -> str:
+    """What makes two uploads the same application: the file's bytes read the same way (its format and the
+    reader's options; an STG file read with another CCR is another DAG). SHA-256, hex."""
+    digest = hashlib.sha256(content)
+    digest.update(json.dumps([source_format, options or {}], sort_keys=True).encode())
+    return digest.hexdigest()
+
+
+def _store(
+    user, fleet, graph: TaskGraph, source_format: str, description: str = "", content_sha256: str = ""
+) -> Application:
     app = Application(
         fleet=fleet,
+        content_sha256=content_sha256,
         name=graph.name,
         description=description,
         source_format=source_format,

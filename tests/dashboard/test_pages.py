@@ -291,7 +291,7 @@ def test_schedule_page_draws_the_gantt_chart_from_static_plotly(member, schedule
     assert "makespan 80" in body
     # Every assignment is listed with its placement status.
     assert body.count('<td><span class="badge placement-not_pushed">') == 10
-    assert "Push to Kubernetes" not in body
+    assert "Push to Kubernetes</button>" in body and "scheduled on a model platform" in body  # disabled, saying why
 
 
 def test_plotly_js_is_a_static_file():
@@ -304,7 +304,7 @@ def test_plotly_js_is_a_static_file():
 def test_push_button_only_with_a_kubeconfig(member, schedule, cluster):
     url = reverse("scheduling:schedule-push", args=[schedule.pk])
     response = member.post(url, follow=True)
-    assert "no Kubernetes API configured" in response.content.decode()
+    assert "Nothing to push to: scheduled on a model platform" in response.content.decode()
     assert not Job.objects.filter(kind="push_schedule").exists()
     Schedule.objects.filter(pk=schedule.pk).update(cluster=cluster)
     cluster.kubeconfig = "apiVersion: v1\nkind: Config\n"

@@ -72,8 +72,11 @@ def test_format_from_extension_not_content(api):
     # The extension decides: an STG file named .csv is read as the thesis CSV and refused as such.
     wrong = upload(api, "graph.csv", (DATA / "robot.stg").read_bytes())
     assert wrong.status_code == 400 and "thesis CSV line" in str(wrong.data["file"])
-    # The format by name wins over the extension.
+    # The format by name wins over the extension (the same file read the same way as above: a re-upload,
+    # stored only when asked for).
     named = upload(api, "graph.csv", (DATA / "robot.stg").read_bytes(), format="stg")
+    assert named.status_code == 400 and "uploaded already" in str(named.data["file"])
+    named = upload(api, "graph.csv", (DATA / "robot.stg").read_bytes(), format="stg", duplicate="allow")
     assert named.status_code == 201 and named.data["source_format"] == "stg"
 
 

@@ -4,6 +4,7 @@ import json
 import math
 
 from django import template
+from django.utils.text import slugify
 
 register = template.Library()
 
@@ -57,3 +58,31 @@ def speedup_pct(value) -> str:
     if value is None or value == "":
         return "—"
     return change(float(value) - 1.0)
+
+
+@register.inclusion_tag("ui/includes/disabled_action.html")
+def disabled_action(label: str, reason: str, fix_url: str = "", fix_label: str = "", primary: bool = False) -> dict:
+    """An action that cannot run now, shown rather than hidden: a disabled button, why, and a link to what
+    makes it possible (``{% disabled_action "Push to Kubernetes" "no API configured" url "import one" %}``)."""
+    return {
+        "label": label,
+        "reason": reason,
+        "fix_url": fix_url,
+        "fix_label": fix_label,
+        "primary": primary,
+        "reason_id": "why-" + slugify(label),
+    }
+
+
+@register.inclusion_tag("ui/includes/form_errors.html")
+def form_errors(form, heading: str = "") -> dict:
+    """A refused form's errors at its top: every message, each linking to its field (which shows it too),
+    under ``heading`` (default: "This could not be done:" or "These need fixing:")."""
+    return {"form": form, "heading": heading}
+
+
+@register.filter
+def unit(value, name: str) -> str:
+    """A number with its unit: ``80|unit:"ms"`` -> "80 ms" (no unit when the number is missing)."""
+    text = num(value)
+    return text if text == "—" or not name else f"{text} {name}"

@@ -54,6 +54,7 @@ from .device_profile import DeviceProfile
 from .device_profile_request import DeviceProfileRequest
 from .devices_advise_create_response_200 import DevicesAdviseCreateResponse200
 from .devices_thresholds_create_response_200 import DevicesThresholdsCreateResponse200
+from .duplicate_enum import DuplicateEnum
 from .event_batch import EventBatch
 from .event_batch_request import EventBatchRequest
 from .eviction_policy_enum import EvictionPolicyEnum
@@ -263,6 +264,7 @@ __all__ = (
     "DeviceProfileRequest",
     "DevicesAdviseCreateResponse200",
     "DevicesThresholdsCreateResponse200",
+    "DuplicateEnum",
     "EventBatch",
     "EventBatchRequest",
     "EvictionPolicyEnum",

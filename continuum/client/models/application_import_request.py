@@ -9,6 +9,7 @@ from attrs import field as _attrs_field
 
 from .. import types
 from ..models.application_import_format_enum import ApplicationImportFormatEnum, check_application_import_format_enum
+from ..models.duplicate_enum import DuplicateEnum, check_duplicate_enum
 from ..types import UNSET, File, Unset
 
 T = TypeVar("T", bound="ApplicationImportRequest")
@@ -34,6 +35,8 @@ class ApplicationImportRequest:
                 0.5}
             name (str | Unset):
             description (str | Unset):  Default: ''.
+            duplicate (DuplicateEnum | Unset): * `refuse` - refuse
+                * `allow` - allow Default: 'refuse'.
     """
 
     file: File
@@ -42,6 +45,7 @@ class ApplicationImportRequest:
     options: str | Unset = UNSET
     name: str | Unset = UNSET
     description: str | Unset = ""
+    duplicate: DuplicateEnum | Unset = "refuse"
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
@@ -58,6 +62,10 @@ class ApplicationImportRequest:
         name = self.name
 
         description = self.description
+
+        duplicate: str | Unset = UNSET
+        if not isinstance(self.duplicate, Unset):
+            duplicate = self.duplicate
 
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
@@ -76,6 +84,8 @@ class ApplicationImportRequest:
             field_dict["name"] = name
         if description is not UNSET:
             field_dict["description"] = description
+        if duplicate is not UNSET:
+            field_dict["duplicate"] = duplicate
 
         return field_dict
 
@@ -99,6 +109,9 @@ class ApplicationImportRequest:
         if not isinstance(self.description, Unset):
             files.append(("description", (None, str(self.description).encode(), "text/plain")))
 
+        if not isinstance(self.duplicate, Unset):
+            files.append(("duplicate", (None, str(self.duplicate).encode(), "text/plain")))
+
         for prop_name, prop in self.additional_properties.items():
             files.append((prop_name, (None, str(prop).encode(), "text/plain")))
 
@@ -121,6 +134,10 @@ class ApplicationImportRequest:
 
         description = d.pop("description", UNSET)
 
+        _duplicate = d.pop("duplicate", UNSET)
+        duplicate: DuplicateEnum | Unset
+        duplicate = UNSET if isinstance(_duplicate, Unset) else check_duplicate_enum(_duplicate)
+
         application_import_request = cls(
             file=file,
             fleet=fleet,
@@ -128,6 +145,7 @@ class ApplicationImportRequest:
             options=options,
             name=name,
             description=description,
+            duplicate=duplicate,
         )
 
         application_import_request.additional_properties = d

@@ -29,10 +29,13 @@ from continuum.engine.core import limits
 from continuum.engine.core.dag import Task, TaskGraph
 from continuum.engine.core.errors import InputError
 
-__all__ = ["FORMAT", "ROUTINGS", "Link", "Platform", "Processor"]
+__all__ = ["CLASSES", "FORMAT", "ROUTINGS", "Link", "Platform", "Processor"]
 
 FORMAT = "continuum.platform/v1"
 ROUTINGS = ("latency", "ospf")
+#: The processor classes the product's platforms use (model platforms, boards, cluster nodes); any other key
+#: of a task's cost names one processor.
+CLASSES = ("cpu", "gpu")
 
 
 @dataclass(frozen=True)
@@ -134,6 +137,26 @@ class Platform:
         procs = [Processor(f"cpu{i}", "cpu") for i in range(cpus)]
         procs += [Processor(f"gpu{i}", "gpu") for i in range(gpus)]
         return cls(procs, **kwargs)
+
+    @classmethod
+    def named_by(cls, costs: Iterable[Mapping[str, Any]]) -> Platform | None:
+        """The processors a DAG's cost table names, or ``None`` when its costs are per class only.
+
+        ``costs`` is each task's cost map: ``task.cost`` of a :class:`TaskGraph`, or the ``cost`` of the stored
+        ``continuum.dag/v1`` tasks (a page need not parse a large DAG to ask). A DAG may give its costs as the
+        matrix W of Topcuoglu et al. (2002): one column per processor (``{"p0": 14, "p1": 16, "p2": 9}``), not
+        per class (``cpu``, ``gpu``). Such a DAG runs only on those processors, so its own platform is them,
+        joined by the paper's network: unit bandwidth and no latency (a transfer costs its data, the edge
+        weights of the paper's Fig. 2).
+        """
+        names: set[str] = set()
+        for cost in costs:
+            names.update(key for key in cost if key not in CLASSES)
+        if not names:
+            return None
+        limits.check("processors", len(names))
+        ordered = sorted(names, key=lambda n: (len(n), n))  # p2 before p10
+        return cls([Processor(name, "cpu") for name in ordered], bandwidth=1.0, latency=0.0)
 
     def to_dict(self) -> dict[str, Any]:
         doc = {
