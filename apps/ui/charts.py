@@ -27,12 +27,14 @@ uses. Plotly turns the entities back into the characters it shows.
 from __future__ import annotations
 
 import html
+import json
 import math
 from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from statistics import fmean
 
 import plotly.graph_objects as go
+from plotly.colors import sample_colorscale
 from plotly.subplots import make_subplots
 
 from continuum.engine.core.dag import TaskGraph
@@ -54,11 +56,20 @@ FONT = {"family": "system-ui, -apple-system, Segoe UI, Roboto, sans-serif", "siz
 #: Above these sizes labels and arrow heads would only clutter the picture; hover still tells everything.
 MAX_LABELLED_TASKS = 40
 MAX_ARROWS = 150
+#: Past this many bars a Gantt chart is drawn with WebGL (:func:`_gantt_gl_trace`): SVG bars, one DOM
+#: element each, took the browser 72 s on a 1000-task x 10-frame schedule (issue 13).
+WEBGL_BARS = 2000
+#: Past this many bars in one SVG trace the white outline that separates neighbours is dropped: on bars a
+#: few pixels wide it covered the colour (bleached bars).
+OUTLINED_BARS = 300
 
 
 def to_html(fig: go.Figure, div_id: str | None = None) -> str:
-    """The figure as a ``<div>`` plus the script that draws it; plotly.js itself comes from static files."""
+    """The figure as a ``<div>`` plus the script that draws it; plotly.js itself comes from static files.
+    A figure with WebGL Gantt bars gets the script that expands their facts (:data:`GL_GANTT_SCRIPT`)."""
+    gl = any(isinstance(t.meta, dict) and "gantt" in t.meta for t in fig.data if hasattr(t, "meta"))
     return fig.to_html(
+        post_script=GL_GANTT_SCRIPT if gl else None,
         full_html=False,
         include_plotlyjs=False,
         div_id=div_id,
@@ -140,8 +151,13 @@ def gantt_traces(
     row_of: Mapping[tuple[str, int], str] | None = None,
     nice: tuple[int, int] | None = None,
     frame_range: tuple[int, int] | None = None,
-) -> list[go.Bar]:
+    thickness: float = 30,
+) -> list[go.Bar | go.Scattergl]:
     """The bars of one schedule, the only place that decides how a Gantt bar looks.
+
+    Past :data:`WEBGL_BARS` bars (and unless coloured by niceness) they are WebGL line segments
+    ``thickness`` pixels thick (:func:`_gantt_gl_trace`), frames binned into at most
+    :data:`MAX_FRAME_TRACES` colours; below, ``go.Bar`` as follows.
 
     Colour: by niceness when ``nice`` (the colour axis's range) is given; else by frame when the schedule has
     several (one trace per frame, or one trace on a colour scale over ``frame_range`` beyond
@@ -156,10 +172,15 @@ def gantt_traces(
     normal = [a for a in schedule.assignments if (a.task, a.frame) not in marked]
     highlighted = [a for a in schedule.assignments if (a.task, a.frame) in marked]
 
-    def bar(items: list[Assignment], name: str, colour: str | list, **style) -> go.Bar:
+    # WebGL past WEBGL_BARS (niceness colours need a colour per bar, which WebGL lines do not have: SVG).
+    webgl = nice is None and len(schedule.assignments) > WEBGL_BARS
+
+    def bar(items: list[Assignment], name: str, colour: str | list, **style) -> go.Bar | go.Scattergl:
+        if webgl:
+            return _gantt_gl_trace(items, name, colour, unit, thickness, row_of=row_of, notes=panel.notes)
         return _gantt_trace(items, name, colour, several, unit, row_of=row_of, notes=panel.notes, **style)
 
-    traces: list[go.Bar] = []
+    traces: list[go.Bar | go.Scattergl] = []
     if nice is not None:
         traces.append(bar(normal, "task", TASK_COLOUR, nice=nice))
     elif not several:
@@ -169,6 +190,13 @@ def gantt_traces(
             colour = frame_colour(f)
             text = "#1f2933" if colour in LIGHT_COLOURS else "white"
             traces.append(bar([a for a in normal if a.frame == f], f"frame {f}", colour, text_colour=text))
+    elif webgl:  # a WebGL trace has one colour: frames binned into MAX_FRAME_TRACES colours of the scale
+        lo, hi = frame_range or (frames[0], frames[-1])
+        for group in _frame_bins(frames, lo, hi):
+            colour = sample_colorscale(FRAME_SCALE, (group[0] - lo) / (hi - lo) if hi > lo else 0.0)[0]
+            name = f"frame {group[0]}" if len(group) == 1 else f"frames {group[0]}-{group[-1]}"
+            in_group = set(group)
+            traces.append(bar([a for a in normal if a.frame in in_group], name, colour))
     else:
         lo, hi = frame_range or (frames[0], frames[-1])
         marker = {"colorscale": FRAME_SCALE, "cmin": lo, "cmax": hi, "showscale": True}
@@ -180,6 +208,15 @@ def gantt_traces(
     if highlighted:
         traces.append(bar(highlighted, panel.highlight_name, panel.highlight_colour, nice=nice, outline=True))
     return traces
+
+
+def _frame_bins(frames: list[int], lo: int, hi: int) -> list[list[int]]:
+    """``frames`` (sorted) in at most :data:`MAX_FRAME_TRACES` consecutive groups of equal span."""
+    span = max(1, math.ceil((hi - lo + 1) / MAX_FRAME_TRACES))
+    groups: dict[int, list[int]] = {}
+    for f in frames:
+        groups.setdefault((f - lo) // span, []).append(f)
+    return list(groups.values())
 
 
 def gantt_figure(
@@ -206,12 +243,13 @@ def gantt_figure(
     rows, row_of = gantt_rows(schedule, platform, lanes)
     nice = _nice_range([schedule]) if colour_by_niceness else None
     fig = go.Figure()
-    for trace in gantt_traces(panel, unit, row_of=row_of, nice=nice):
+    per_row = 30 if lanes else 44
+    for trace in gantt_traces(panel, unit, row_of=row_of, nice=nice, thickness=per_row * 0.75 * 0.8):
         fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
         _add_makespan_marker(fig, makespan)
-    base_layout(fig, height=max(260, 150 + (30 if lanes else 44) * len(rows)))
+    base_layout(fig, height=max(260, 150 + per_row * len(rows)))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
         bargap=0.25,
@@ -294,7 +332,9 @@ def stacked_gantt_figure(
     shown: set[str] = set()
     end = max((p.schedule.makespan for p in panels), default=0.0)
     for i, (panel, (rows, row_of)) in enumerate(zip(panels, layout, strict=True), start=1):
-        traces = gantt_traces(panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range)
+        traces = gantt_traces(
+            panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range, thickness=per_row * 0.75 * 0.8
+        )
         _add_gantt_panel(fig, i, panel, traces, rows, shown)
     base_layout(fig, height=height)
     fig.update_layout(
@@ -431,10 +471,11 @@ def _gantt_trace(
     row_of = row_of or {}
     notes = notes or {}
     has_nice = any(a.niceness is not None for a in assignments)
-    marker: dict = {"color": colour, "line": {"color": "white", "width": 1}, **(marker_extra or {})}
+    outline_width = 1 if len(assignments) <= OUTLINED_BARS else 0
+    marker: dict = {"color": colour, "line": {"color": "white", "width": outline_width}, **(marker_extra or {})}
     if nice is not None:
         values = [a.niceness if a.niceness is not None else nice[1] for a in assignments]
-        marker = {"color": values, "coloraxis": "coloraxis", "line": {"color": "white", "width": 1}}
+        marker = {"color": values, "coloraxis": "coloraxis", "line": {"color": "white", "width": outline_width}}
         if outline:  # a highlighted set keeps its colour as a thick outline
             marker["line"] = {"color": colour, "width": 3}
         # Light bars (high niceness) need dark text.
@@ -460,6 +501,105 @@ def _gantt_trace(
         hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
         showlegend=True,
     )
+
+
+def _gantt_gl_trace(
+    assignments: list[Assignment],
+    name: str,
+    colour: str,
+    unit: str,
+    thickness: float,
+    *,
+    row_of: Mapping[tuple[str, int], str] | None = None,
+    notes: Mapping[tuple[str, int], str] | None = None,
+) -> go.Scattergl:
+    """Bars as WebGL line segments ``thickness`` pixels thick, drawn by the GPU in one call: tens of thousands
+    of bars stay fast and keep their colour at any width (an SVG bar's outline bleached thin ones).
+
+    The trace carries its bars' facts once, compactly, in ``meta["gantt"]`` (:func:`gl_gantt_facts` as one
+    JSON string), and
+    :data:`GL_GANTT_SCRIPT` (added by :func:`to_html`) expands them in the browser into the line points
+    (start, middle, finish and a gap per bar: hover finds points, not lines) and their hover text, the
+    same lines as :func:`_gantt_hover`'s with the duration written by Python (no ``%{x}``: the base/x
+    pitfall of issue 13). Sent as text, the hover strings made a 1000 x 10 schedule page 5.7 MB and the
+    server spent most of a second building them."""
+    name = esc(name)
+    return go.Scattergl(
+        name=name,
+        legendgroup=name,
+        mode="lines",
+        x=[],
+        y=[],
+        line={"color": colour, "width": thickness},
+        connectgaps=False,
+        hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
+        # One JSON string: Plotly deep-copies a figure's lists element by element (half a second at 10,000 bars).
+        meta={"gantt": json.dumps(gl_gantt_facts(assignments, unit, row_of or {}, notes or {}), separators=(",", ":"))},
+        showlegend=True,
+    )
+
+
+def _round6(x: float) -> float:
+    """``x`` to six significant digits (what :func:`fmt` prints), so that JSON carries no more."""
+    return float(fmt(x))
+
+
+def gl_gantt_facts(
+    assignments: list[Assignment],
+    unit: str,
+    row_of: Mapping[tuple[str, int], str],
+    notes: Mapping[tuple[str, int], str],
+) -> dict:
+    """The facts of WebGL Gantt bars, column by column (names escaped, times to six significant digits):
+    ``rows`` and ``processors`` name lists, then per bar ``task``, ``frame``, ``row`` and ``processor``
+    (indexes into those lists), ``start``, ``finish``, ``duration`` (``finish - start``, rounded after the
+    subtraction) and ``note`` (when any bar has one); ``unit`` the suffix of every time."""
+    rows: dict[str, int] = {}
+    processors: dict[str, int] = {}
+    facts: dict = {k: [] for k in ("task", "frame", "row", "processor", "start", "finish", "duration")}
+    for a in assignments:
+        row = esc(row_of.get((a.task, a.frame), a.processor))
+        facts["task"].append(esc(a.task))
+        facts["frame"].append(a.frame)
+        facts["row"].append(rows.setdefault(row, len(rows)))
+        facts["processor"].append(processors.setdefault(esc(a.processor), len(processors)))
+        facts["start"].append(_round6(a.start))
+        facts["finish"].append(_round6(a.finish))
+        facts["duration"].append(_round6(a.finish - a.start))
+    if any((a.task, a.frame) in notes for a in assignments):
+        facts["note"] = [esc(notes.get((a.task, a.frame), "")) for a in assignments]
+    suffix = f" {esc(unit)}" if unit else " time units"
+    return {"unit": suffix, "rows": list(rows), "processors": list(processors)} | facts
+
+
+#: Expands the WebGL Gantt traces' ``meta.gantt`` facts (:func:`gl_gantt_facts`) into their points and hover
+#: text, in :func:`_gantt_hover`'s words; numbers as Python's ``%.6g`` would print them.
+GL_GANTT_SCRIPT = r"""(function () {
+var gd = document.getElementById('{plot_id}'); if (!gd || !window.Plotly) return;
+function num(x) {
+  var a = Math.abs(x);
+  if (a !== 0 && (a < 1e-4 || a >= 1e6)) {
+    return x.toExponential(5).replace(/\.?0+e/, 'e').replace(/e([+-])(\d)$/, 'e$10$2');
+  }
+  return String(parseFloat(x.toPrecision(6)));
+}
+var idx = [], xs = [], ys = [], hs = [];
+gd.data.forEach(function (t, i) {
+  var g = t.meta && t.meta.gantt; if (!g) return; g = JSON.parse(g);
+  var n = g.task.length, x = new Float64Array(4 * n), y = new Array(4 * n), h = new Array(4 * n), u = g.unit;
+  for (var k = 0; k < n; k++) {
+    var s = g.start[k], f = g.finish[k], r = g.rows[g.row[k]];
+    var text = '<b>' + g.task[k] + '</b> (frame ' + g.frame[k] + ')<br>processor: ' + g.processors[g.processor[k]] +
+      '<br>start: ' + num(s) + u + '<br>finish: ' + num(f) + u + '<br>duration: ' + num(g.duration[k]) + u +
+      (g.note && g.note[k] ? '<br>' + g.note[k] : '');
+    x[4 * k] = s; x[4 * k + 1] = (s + f) / 2; x[4 * k + 2] = f; x[4 * k + 3] = NaN;
+    y[4 * k] = y[4 * k + 1] = y[4 * k + 2] = y[4 * k + 3] = r;
+    h[4 * k] = h[4 * k + 1] = h[4 * k + 2] = text; h[4 * k + 3] = '';
+  }
+  idx.push(i); xs.push(x); ys.push(y); hs.push(h);
+});
+if (idx.length) Plotly.restyle(gd, {x: xs, y: ys, hovertext: hs}, idx);
+})();"""
 
 
 def _gantt_facts(a: Assignment, notes: Mapping[tuple[str, int], str]) -> list:
