@@ -309,6 +309,8 @@ class ScheduleSerializer(ScopedModelSerializer):
 
 
 class ScheduleListSerializer(ScopedModelSerializer):
+    """A stored schedule in a list: its small columns only (never its assignments, ranks or platform)."""
+
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
 
     class Meta:
