@@ -6,7 +6,8 @@ For each checkout, one subprocess (that checkout's code, its own fresh PostgreSQ
 - a 310-task layered DAG scheduled by HEFT on 8 processors (one frame),
 - a 1000-task layered DAG scheduled for 10 frames (10,000 assignments),
 - a 10,000-task layered DAG (one frame),
-- 99 copies of the 1000 x 10 schedule (100 in all, 1,000,000 assignment rows) for the list pages,
+- 99 copies of the 1000 x 10 schedule (100 in all, 1,000,000 assignment rows), 100 jobs and 100 comparisons
+  (JSON columns of realistic size) for the list pages,
 
 then measures through Django's test client (in-process: the server's time for the whole request, every
 middleware included, gzip too) the schedule page, the application page and the API's schedule detail at each
@@ -138,6 +139,29 @@ def worker(repeats: int) -> dict:
                 f"INSERT INTO {q(Assignment._meta.db_table)} ({q('schedule_id')}, {cols}) "
                 f"SELECT %s, {cols} FROM {q(Assignment._meta.db_table)} WHERE {q('schedule_id')} = %s",
                 [copy.pk, source.pk],
+            )
+        # A job and a comparison per copy, with JSON columns of a realistic size, for the jobs and comparisons lists.
+        from apps.jobs.models import Job
+        from apps.scheduling.models import Comparison
+
+        for i in range(LIST_COPIES + 1):
+            Job.objects.create(
+                fleet=fleet,
+                kind="schedule",
+                state="succeeded",
+                progress=100,
+                arguments={"application": source.application_id, "algorithm": "heft", "platform": source.platform},
+                result={"schedule": source.pk, "makespan": source.makespan},
+                created_by=user,
+            )
+            Comparison.objects.create(
+                fleet=fleet,
+                application=source.application,
+                platform=source.platform,
+                algorithms=["heft", "xeft"],
+                params={"frames": 10},
+                result={"results": {"heft": source.metrics}, "ranks": source.ranks, "best": "heft"},
+                best="heft",
             )
     with connection.cursor() as cursor:
         cursor.execute("ANALYZE")

@@ -148,6 +148,29 @@ class Schedule(FleetOwned):
         return Platform.from_dict(self.platform)
 
 
+class ComparisonQuerySet(models.QuerySet):
+    def for_list(self) -> "ComparisonQuerySet":
+        """Comparisons for a list page: the small columns of the comparison, its application, fleet and cluster
+        (never the result, the platform or a DAG) and ``processor_count`` read inside the database."""
+        return (
+            self.select_related("fleet", "application", "cluster")
+            .only(
+                "id",
+                "algorithms",
+                "params",
+                "best",
+                "created",
+                "fleet__id",
+                "fleet__name",
+                "application__id",
+                "application__name",
+                "cluster__id",
+                "cluster__name",
+            )
+            .annotate(processor_count=JSONArrayLength(F("platform"), "processors"))
+        )
+
+
 class Comparison(FleetOwned):
     """Several algorithms run on one application and target in one job (thesis Tables 4.1 and 4.3).
 
@@ -167,6 +190,8 @@ class Comparison(FleetOwned):
     result = models.JSONField(help_text="continuum.engine.device.compare.compare()'s figures")
     best = models.CharField(max_length=50, blank=True)
     created = models.DateTimeField(auto_now_add=True)
+
+    objects = ComparisonQuerySet.as_manager()
 
     class Meta:
         ordering = ["-created"]

@@ -285,9 +285,7 @@ def schedule_push(request: HttpRequest, pk: int) -> HttpResponse:
 # ---- comparisons ----------------------------------------------------------------------------------
 @login_required
 def comparison_list(request: HttpRequest) -> HttpResponse:
-    comparisons = scoped(request, Comparison.objects.select_related("fleet", "application", "cluster")).order_by(
-        "-created", "-pk"
-    )
+    comparisons = scoped(request, Comparison.objects.for_list()).order_by("-created", "-pk")
     return render(
         request, "scheduling/comparison_list.html", {"page": paginate(request, comparisons), "nav": "comparisons"}
     )
