@@ -31,8 +31,10 @@ import json
 import math
 from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from statistics import fmean
 
+import numpy as np
 import plotly.graph_objects as go
 from plotly.colors import sample_colorscale
 from plotly.subplots import make_subplots
@@ -56,6 +58,10 @@ FONT = {"family": "system-ui, -apple-system, Segoe UI, Roboto, sans-serif", "siz
 #: Above these sizes labels and arrow heads would only clutter the picture; hover still tells everything.
 MAX_LABELLED_TASKS = 40
 MAX_ARROWS = 150
+#: Past this many tasks or edges a DAG or network is drawn with WebGL from numpy columns (add_edge_traces);
+#: past MAX_EDGE_HOVER edges, edges have no hover markers of their own.
+LARGE_GRAPH = 2000
+MAX_EDGE_HOVER = 5000
 #: Past this many bars a Gantt chart is drawn with WebGL (:func:`_gantt_gl_trace`): SVG bars, one DOM
 #: element each, took the browser 72 s on a 1000-task x 10-frame schedule (issue 13).
 WEBGL_BARS = 2000
@@ -707,22 +713,41 @@ def add_edge_traces(
     width: float,
     hover_size: int,
 ) -> None:
-    """Draw ``segments`` ((x0, y0), (x1, y1), hover text) as lines, with an invisible marker at each middle
-    that carries the hover text (Plotly lines have no hover of their own between their points)."""
+    """Draw ``segments`` ((x0, y0), (x1, y1), hover text) as lines in one trace, with an invisible marker at
+    each middle that carries the hover text (Plotly lines have no hover of their own between their points).
+
+    Past :data:`LARGE_GRAPH` segments both traces are WebGL and their columns numpy arrays (NaN between
+    segments), which Plotly copies whole instead of validating point by point (seconds at 30,000 edges);
+    past :data:`MAX_EDGE_HOVER` the hover markers are left out (the tasks' hover gives their degrees)."""
+    large = len(segments) > LARGE_GRAPH
     xs: list[float | None] = []
     ys: list[float | None] = []
     for (x0, y0), (x1, y1), _ in segments:
         xs += [x0, x1, None]
         ys += [y0, y1, None]
     line = {"color": EDGE_COLOUR, "width": width}
-    fig.add_trace(go.Scatter(x=xs, y=ys, mode="lines", line=line, hoverinfo="skip", name=name, showlegend=False))
+    # Large: WebGL, and columns built here from checked values (Plotly's per-string check took most of a second).
+    scatter = partial(go.Scattergl, _validate=False) if large else go.Scatter
     fig.add_trace(
-        go.Scatter(
-            x=[(a[0] + b[0]) / 2 for a, b, _ in segments],
-            y=[(a[1] + b[1]) / 2 for a, b, _ in segments],
+        scatter(
+            x=_column(xs, large),
+            y=_column(ys, large),
+            mode="lines",
+            line=line,
+            hoverinfo="skip",
+            name=name,
+            showlegend=False,
+        )
+    )
+    if len(segments) > MAX_EDGE_HOVER:
+        return
+    fig.add_trace(
+        scatter(
+            x=_column([(a[0] + b[0]) / 2 for a, b, _ in segments], large),
+            y=_column([(a[1] + b[1]) / 2 for a, b, _ in segments], large),
             mode="markers",
             marker={"size": hover_size, "color": EDGE_COLOUR, "opacity": 0},
-            hovertext=[text for _, _, text in segments],
+            hovertext=_column([text for _, _, text in segments], large),
             hoverinfo="text",
             name=hover_name,
             showlegend=False,
@@ -730,9 +755,19 @@ def add_edge_traces(
     )
 
 
+def _column(values: Sequence, large: bool):
+    """A trace's column: the list itself, or for a large figure a numpy array (floats with NaN for None, or
+    strings), which Plotly takes whole."""
+    if not large:
+        return values
+    if values and isinstance(values[0], str):
+        return np.array(values)
+    return np.array([np.nan if v is None else v for v in values], dtype=float)
+
+
 def dag_figure(dag: TaskGraph) -> go.Figure:
     """The DAG drawn in layers by topological level; hover shows a task's costs or an edge's data."""
-    pos = dag_layout(dag)
+    pos = dag_layout(dag, sweeps=1 if len(dag.tasks) > LARGE_GRAPH else 2)  # a sweep: 0.4 s at 10,000 tasks
     fig = go.Figure()
     add_edge_traces(
         fig,
@@ -759,22 +794,24 @@ def _dag_task_trace(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], labe
     if "colorbar_tickvals" in colour_opts:
         colorbar["tickvals"] = colour_opts["colorbar_tickvals"]
         colorbar["ticktext"] = colour_opts["colorbar_ticktext"]
-    return go.Scatter(
-        x=[pos[t.id][0] for t in tasks],
-        y=[pos[t.id][1] for t in tasks],
+    large = len(tasks) > LARGE_GRAPH  # WebGL, numpy columns, no per-point validation (see add_edge_traces)
+    scatter = partial(go.Scattergl, _validate=False) if large else go.Scatter
+    return scatter(
+        x=_column([pos[t.id][0] for t in tasks], large),
+        y=_column([pos[t.id][1] for t in tasks], large),
         mode="markers+text" if labelled else "markers",
-        text=[esc(t.id) for t in tasks],
-        textposition="top center",
+        text=None if large else [esc(t.id) for t in tasks],
+        textposition=None if large else "top center",
         marker={
             "size": 18 if labelled else 12,
-            "color": colours,
+            "color": _column(colours, large),
             "colorscale": colour_opts["colorscale"],
             "showscale": True,
             "colorbar": colorbar,
-            "symbol": ["diamond" if t.critical else "circle" for t in tasks],
+            "symbol": _column(["diamond" if t.critical else "circle" for t in tasks], large),
             "line": {"color": "#1f2933", "width": 1},
         },
-        hovertext=_dag_task_hover(dag, pos, tasks),
+        hovertext=_column(_dag_task_hover(dag, pos, tasks), large),
         hoverinfo="text",
         name="tasks",
         showlegend=False,
@@ -787,8 +824,12 @@ def _dag_task_hover(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], task
     succ_count = {t: len(es) for t, es in dag.successors().items()}
     pred_count = {t: len(es) for t, es in dag.predecessors().items()}
     hover = []
+    names: dict[str, str] = {}  # the processor classes' escaped names, once each
+    suffix = f" {esc(unit)}"
     for t in tasks:
-        costs = "<br>".join(f"  {esc(k)}: {fmt(v)} {esc(unit)}" for k, v in sorted(t.cost.items()))
+        costs = "<br>".join(
+            f"  {names.get(k) or names.setdefault(k, esc(k))}: {fmt(v)}{suffix}" for k, v in sorted(t.cost.items())
+        )
         title = f"<b>{esc(t.id)}</b>" + (f" ({esc(t.name)})" if t.name and t.name != t.id else "")
         flags = "<br><i>critical task</i>" if t.critical else ""
         hover.append(
