@@ -1,5 +1,5 @@
-from drf_spectacular.utils import extend_schema
-from rest_framework import mixins, status, viewsets
+from drf_spectacular.utils import OpenApiParameter, extend_schema
+from rest_framework import mixins, serializers, status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
@@ -39,7 +39,15 @@ class ScheduleViewSet(
         return AssignmentSerializer if self.action == "assignments" else ScheduleSerializer
 
     @extend_schema(
-        parameters=[AssignmentFilterSerializer],
+        parameters=[
+            OpenApiParameter(
+                name,
+                int if isinstance(field, serializers.IntegerField) else str,
+                enum=list(field.choices) if isinstance(field, serializers.ChoiceField) else None,
+                description=str(field.help_text),
+            )
+            for name, field in AssignmentFilterSerializer().fields.items()
+        ],
         responses={200: AssignmentSerializer(many=True)},
         filters=False,
     )
