@@ -42,7 +42,9 @@ class ScheduleViewSet(
         parameters=[
             OpenApiParameter(
                 name,
-                int if isinstance(field, serializers.IntegerField) else str,
+                {"type": "integer", "minimum": field.min_value, "maximum": field.max_value}
+                if isinstance(field, serializers.IntegerField)
+                else str,
                 enum=list(field.choices) if isinstance(field, serializers.ChoiceField) else None,
                 description=str(field.help_text),
             )
