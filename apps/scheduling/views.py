@@ -138,6 +138,7 @@ def schedule_page(request: HttpRequest, schedule: Schedule, status: int = 200, *
             **_figures(schedule, dag.time_unit),
             **table,
             **gantt,
+            "unit": dag.time_unit,
             "nav": "schedules",
         },
         status=status,
