@@ -712,14 +712,16 @@ def add_edge_traces(
     hover_name: str,
     width: float,
     hover_size: int,
+    large: bool | None = None,
 ) -> None:
     """Draw ``segments`` ((x0, y0), (x1, y1), hover text) as lines in one trace, with an invisible marker at
     each middle that carries the hover text (Plotly lines have no hover of their own between their points).
 
-    Past :data:`LARGE_GRAPH` segments both traces are WebGL and their columns numpy arrays (NaN between
-    segments), which Plotly copies whole instead of validating point by point (seconds at 30,000 edges);
+    ``large`` (by default: past :data:`LARGE_GRAPH` segments): both traces are WebGL and their columns numpy
+    arrays (NaN between segments), which Plotly copies whole instead of validating point by point (seconds
+    at 30,000 edges);
     past :data:`MAX_EDGE_HOVER` the hover markers are left out (the tasks' hover gives their degrees)."""
-    large = len(segments) > LARGE_GRAPH
+    large = len(segments) > LARGE_GRAPH if large is None else large
     xs: list[float | None] = []
     ys: list[float | None] = []
     for (x0, y0), (x1, y1), _ in segments:
@@ -776,6 +778,7 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
         hover_name="edge data",
         width=1.2,
         hover_size=10,
+        large=len(dag.tasks) > LARGE_GRAPH,  # with the tasks: SVG edges under SVG tasks draw in order
     )
     labelled = len(dag.tasks) <= MAX_LABELLED_TASKS
     fig.add_trace(_dag_task_trace(dag, pos, labelled))
