@@ -61,7 +61,8 @@ class ScheduleViewSet(
         schedule = self.get_object()
         processors = [p.get("id") for p in schedule.platform.get("processors", []) if isinstance(p, dict)]
         processors += schedule.assignments.order_by().values_list("processor", flat=True).distinct()
-        filters = AssignmentFilterSerializer(data=request.query_params, context={"processors": set(processors)})
+        context = {**self.get_serializer_context(), "processors": set(processors)}
+        filters = AssignmentFilterSerializer(data=request.query_params, context=context)
         filters.is_valid(raise_exception=True)
         page = self.paginate_queryset(filters.filter(schedule.assignments.all()))
         data = AssignmentSerializer(page, many=True, context=self.get_serializer_context()).data

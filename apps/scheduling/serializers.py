@@ -199,7 +199,7 @@ class AssignmentSerializer(ScopedModelSerializer):
         read_only_fields = ["pod_phase", "pod_node", "pod_event", "pod_state_at"]
 
 
-class AssignmentFilterSerializer(serializers.Serializer):
+class AssignmentFilterSerializer(ScopedSerializer):
     """Which assignments of one schedule to list: the request contract of ``GET
     /api/v1/schedules/{id}/assignments/`` and of the schedule page's table filter. ``context["processors"]``
     is the schedule's processors: naming another is a 400 rather than an empty page."""

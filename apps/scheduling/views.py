@@ -152,7 +152,7 @@ def _assignment_table(request: HttpRequest, schedule: Schedule, engine, critical
     processors += sorted({a.processor for a in engine.assignments} - set(processors))
     frames = sorted({a.frame for a in engine.assignments})
     query = {k: v for k, v in request.GET.items() if k in AssignmentFilterSerializer._declared_fields and v != ""}
-    filters = AssignmentFilterSerializer(data=query, context={"processors": set(processors)})
+    filters = AssignmentFilterSerializer(data=query, context={"request": request, "processors": set(processors)})
     rows = schedule.assignments.all()
     errors: dict = {}
     if filters.is_valid():
