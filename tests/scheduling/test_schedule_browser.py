@@ -15,6 +15,7 @@ from continuum.engine.device.generators import layered_dag, related_platform
 from tests.dashboard.test_browser import browser, log_in, page  # noqa: F401 (the browser fixtures)
 
 pytestmark = [pytest.mark.browser, pytest.mark.django_db(transaction=True)]
+SLOW_MS = 120_000
 
 #: The centre of bar ``k`` of the first trace, in page pixels, and its task and frame, from Plotly's own axes.
 BAR_CENTRE = """(k) => {
@@ -51,6 +52,8 @@ def test_a_1000_task_schedule_page_hovers_right_and_pages_and_filters_its_table(
     operator,
     big_schedule,
 ):
+    # A loaded CI machine serves plotly.js (4.8 MB) and this page slowly: generous timeouts, no speed asserted.
+    page.set_default_timeout(SLOW_MS)
     log_in(page, live_server)
     url = f"{live_server.url}/schedules/{big_schedule.pk}/"
     page.goto(url)
