@@ -13,7 +13,8 @@ then measures through Django's test client (in-process: the server's time for th
 middleware included, gzip too) the schedule page, the application page and the API's schedule detail at each
 size, and the schedules, applications, comparisons and jobs lists with 100 schedules stored: bytes raw and
 gzip-compressed (what the browser receives with ``Accept-Encoding: gzip``) and the median server time over
-``--repeats`` requests after one warm-up request (one request when the warm-up took more than 5 s).
+``--repeats`` requests after one warm-up request (one request when the warm-up took more than 5 s), and
+the CPU time the server process spent on it (a load-independent figure on a shared machine).
 Storing: ``Schedule.store`` of the 1000 x 10 schedule (10,000 assignments), median of ``--repeats`` (each in
 a rolled-back transaction).
 
@@ -99,10 +100,12 @@ def worker(repeats: int) -> dict:
         start = time.perf_counter()
         client.get(url, HTTP_ACCEPT_ENCODING="gzip")  # warm-up: imports, template loading, database caches
         repeats_here = 1 if time.perf_counter() - start > 5 else repeats
+        cpus = []
         for _ in range(repeats_here):
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             response = client.get(url, HTTP_ACCEPT_ENCODING="gzip")
             times.append(time.perf_counter() - start)
+            cpus.append(time.process_time() - cpu)
             assert response.status_code == 200, (url, response.status_code)
             body = b"".join(response.streaming_content) if response.streaming else response.content
             if response.get("Content-Encoding") == "gzip":
@@ -111,7 +114,15 @@ def worker(repeats: int) -> dict:
                 raw, packed = len(body), len(gzip.compress(body))
                 packed = -packed  # not compressed by the server: the size it would have been, marked
         figures.append(
-            {"page": page, "size": size, "url": url, "raw": raw, "gzip": packed, "seconds": statistics.median(times)}
+            {
+                "page": page,
+                "size": size,
+                "url": url,
+                "raw": raw,
+                "gzip": packed,
+                "seconds": statistics.median(times),
+                "cpu": statistics.median(cpus),
+            }
         )
 
     for label, _, _ in SIZES:
@@ -175,13 +186,14 @@ def worker(repeats: int) -> dict:
 
     # Storing: the 1000 x 10 schedule again, rolled back each time.
     app = source.application
-    times = []
+    times, cpus = [], []
     for _ in range(repeats):
         try:
             with transaction.atomic():
-                start = time.perf_counter()
+                start, cpu = time.perf_counter(), time.process_time()
                 Schedule.store(engine_schedules["1000x10"], application=app, platform=platform)
                 times.append(time.perf_counter() - start)
+                cpus.append(time.process_time() - cpu)
                 raise _Rollback
         except _Rollback:
             pass
@@ -194,6 +206,7 @@ def worker(repeats: int) -> dict:
             "raw": 0,
             "gzip": 0,
             "seconds": statistics.median(times),
+            "cpu": statistics.median(cpus),
         }
     )
     return {"figures": figures}
@@ -273,16 +286,20 @@ def report(head: dict, base: dict, base_name: str) -> None:
     rows = {(f["page"], f["size"]): f for f in base["figures"]}
     print(f"dashboard pages: this checkout (head) against {base_name} (base), same machine, one run")
     print("kB = 1000 bytes; gzip = bytes on the wire with Accept-Encoding: gzip (in parentheses: the server sent")
-    print("it uncompressed, the figure is what gzip would make of it); s = median server time per request\n")
+    print("it uncompressed, the figure is what gzip would make of it); s = median server time per request (wall);")
+    print("cpu s = the CPU time of the server process for it (the database's own work not included): on a machine")
+    print("shared with other jobs, wall time grows with the load and cpu time much less\n")
     header = (
         "page",
         "size",
         "head raw",
         "head gzip",
         "head s",
+        "head cpu s",
         "base raw",
         "base gzip",
         "base s",
+        "base cpu s",
         "time x",
         "wire x",
         "goal",
@@ -309,9 +326,11 @@ def report(head: dict, base: dict, base_name: str) -> None:
                 kb(f["raw"]),
                 kb(f["gzip"]),
                 f"{f['seconds']:.3f}",
+                f"{f['cpu']:.3f}",
                 kb(b["raw"]) if b else "?",
                 kb(b["gzip"]) if b else "?",
                 f"{b['seconds']:.3f}" if b else "?",
+                f"{b['cpu']:.3f}" if b else "?",
                 f"{b['seconds'] / f['seconds']:.1f}x faster" if b else "?",
                 f"{wire(b) / wire(f):.1f}x smaller" if b and f["gzip"] else "",
                 goal_text,

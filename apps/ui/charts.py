@@ -562,13 +562,18 @@ def gl_gantt_facts(
     subtraction) and ``note`` (when any bar has one); ``unit`` the suffix of every time."""
     rows: dict[str, int] = {}
     processors: dict[str, int] = {}
+    names: dict[str, str] = {}  # escaped once per name: a task recurs in every frame
     facts: dict = {k: [] for k in ("task", "frame", "row", "processor", "start", "finish", "duration")}
+
+    def name(value: str) -> str:
+        return names.get(value) or names.setdefault(value, esc(value))
+
     for a in assignments:
-        row = esc(row_of.get((a.task, a.frame), a.processor))
-        facts["task"].append(esc(a.task))
+        row = name(row_of.get((a.task, a.frame), a.processor))
+        facts["task"].append(name(a.task))
         facts["frame"].append(a.frame)
         facts["row"].append(rows.setdefault(row, len(rows)))
-        facts["processor"].append(processors.setdefault(esc(a.processor), len(processors)))
+        facts["processor"].append(processors.setdefault(name(a.processor), len(processors)))
         facts["start"].append(_round6(a.start))
         facts["finish"].append(_round6(a.finish))
         facts["duration"].append(_round6(a.finish - a.start))
