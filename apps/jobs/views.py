@@ -24,7 +24,8 @@ def job_result_link(job: Job) -> str:
 
 @login_required
 def job_list(request: HttpRequest) -> HttpResponse:
-    jobs = scoped(request, Job.objects.select_related("fleet", "created_by"))
+    # The list shows none of a job's JSON or text columns (a job's arguments may hold a platform document).
+    jobs = scoped(request, Job.objects.select_related("fleet", "created_by")).defer("arguments", "result", "error")
     state = request.GET.get("state", "")
     if state in Job.State.values:
         jobs = jobs.filter(state=state)

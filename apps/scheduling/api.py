@@ -1,5 +1,5 @@
-from drf_spectacular.utils import extend_schema
-from rest_framework import mixins, status, viewsets
+from drf_spectacular.utils import OpenApiParameter, extend_schema
+from rest_framework import mixins, serializers, status, viewsets
 from rest_framework.decorators import action
 from rest_framework.response import Response
 
@@ -11,6 +11,8 @@ from apps.workloads.api import ApplicationViewSet
 
 from .models import Comparison, Schedule
 from .serializers import (
+    AssignmentFilterSerializer,
+    AssignmentSerializer,
     CompareRequestSerializer,
     ComparisonListSerializer,
     ComparisonSerializer,
@@ -31,12 +33,40 @@ class ScheduleViewSet(
     filterset_fields = ["application", "cluster", "algorithm"]
     ordering_fields = ["created", "makespan"]
 
-    def get_queryset(self):
-        qs = super().get_queryset()
-        return qs.prefetch_related("assignments") if self.action == "retrieve" else qs
-
     def get_serializer_class(self):
-        return ScheduleListSerializer if self.action == "list" else ScheduleSerializer
+        if self.action == "list":
+            return ScheduleListSerializer
+        return AssignmentSerializer if self.action == "assignments" else ScheduleSerializer
+
+    @extend_schema(
+        parameters=[
+            OpenApiParameter(
+                name,
+                {"type": "integer", "minimum": field.min_value, "maximum": field.max_value}
+                if isinstance(field, serializers.IntegerField)
+                else str,
+                enum=list(field.choices) if isinstance(field, serializers.ChoiceField) else None,
+                description=str(field.help_text),
+            )
+            for name, field in AssignmentFilterSerializer().fields.items()
+        ],
+        responses={200: AssignmentSerializer(many=True)},
+        filters=False,
+    )
+    @action(detail=True, methods=["get"], filter_backends=[])
+    def assignments(self, request, pk=None):
+        """The schedule's assignments, paginated (``limit``, ``offset``) in start order, filtered by part of the
+        task's id (``task``), the processor (``processor``), the frame (``frame``) or the placement status
+        (``placement``); a malformed filter or a processor not in the schedule is a 400 naming it."""
+        schedule = self.get_object()
+        processors = [p.get("id") for p in schedule.platform.get("processors", []) if isinstance(p, dict)]
+        processors += schedule.assignments.order_by().values_list("processor", flat=True).distinct()
+        context = {**self.get_serializer_context(), "processors": set(processors)}
+        filters = AssignmentFilterSerializer(data=request.query_params, context=context)
+        filters.is_valid(raise_exception=True)
+        page = self.paginate_queryset(filters.filter(schedule.assignments.all()))
+        data = AssignmentSerializer(page, many=True, context=self.get_serializer_context()).data
+        return self.get_paginated_response(data)
 
     @extend_schema(request=None, responses={202: JobSerializer})
     @action(detail=True, methods=["post"])

@@ -1,3 +1,5 @@
+from django.urls import reverse
+from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
@@ -197,12 +199,62 @@ class AssignmentSerializer(ScopedModelSerializer):
         read_only_fields = ["pod_phase", "pod_node", "pod_event", "pod_state_at"]
 
 
+class AssignmentFilterSerializer(ScopedSerializer):
+    """Which assignments of one schedule to list: the request contract of ``GET
+    /api/v1/schedules/{id}/assignments/`` and of the schedule page's table filter. ``context["processors"]``
+    is the schedule's processors: naming another is a 400 rather than an empty page."""
+
+    task = serializers.CharField(
+        required=False, max_length=200, allow_blank=True, help_text="part of the task's id (case-insensitive)"
+    )
+    processor = serializers.CharField(
+        required=False, max_length=253, allow_blank=True, help_text="the processor (node) it runs on, exactly"
+    )
+    frame = serializers.IntegerField(
+        required=False, min_value=0, max_value=MAX_FRAMES, error_messages=at_most("frame"), help_text="the frame"
+    )
+    placement = serializers.ChoiceField(
+        required=False, choices=Assignment.Placement.choices, help_text="its Kubernetes placement status"
+    )
+
+    def validate_processor(self, value: str) -> str:
+        processors = self.context.get("processors")
+        if value and processors is not None and value not in processors:
+            raise serializers.ValidationError(f"no processor {value!r} in this schedule")
+        return value
+
+    def filter(self, queryset):
+        """``queryset`` (assignments) narrowed to the validated filters."""
+        data = self.validated_data
+        if data.get("task"):
+            queryset = queryset.filter(task__icontains=data["task"])
+        if data.get("processor"):
+            queryset = queryset.filter(processor=data["processor"])
+        if data.get("frame") is not None:
+            queryset = queryset.filter(frame=data["frame"])
+        if data.get("placement"):
+            queryset = queryset.filter(placement=data["placement"])
+        return queryset
+
+
+#: Assignments the schedule detail carries inline at most; the rest from its assignments endpoint (issue 15:
+#: 10,000 inline assignments made a 1.9 MB answer).
+MAX_INLINE_ASSIGNMENTS = 1000
+
+
 class ScheduleSerializer(ScopedModelSerializer):
-    """A stored schedule in the ``continuum.schedule/v1`` shape, plus its placement status per task."""
+    """A stored schedule in the ``continuum.schedule/v1`` shape, plus its placement status per task.
+
+    Bounded: ``assignments`` holds the first :data:`MAX_INLINE_ASSIGNMENTS` (in start order);
+    ``assignment_count`` says how many there are, ``assignments_complete`` whether all are inline, and
+    ``assignments_url`` lists them all, paginated and filterable."""
 
     format = serializers.SerializerMethodField()
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
-    assignments = AssignmentSerializer(many=True, read_only=True)
+    assignments = serializers.SerializerMethodField()
+    assignment_count = serializers.SerializerMethodField()
+    assignments_complete = serializers.SerializerMethodField()
+    assignments_url = serializers.SerializerMethodField()
 
     class Meta:
         model = Schedule
@@ -221,6 +273,9 @@ class ScheduleSerializer(ScopedModelSerializer):
             "metrics",
             "platform",
             "assignments",
+            "assignment_count",
+            "assignments_complete",
+            "assignments_url",
             "created",
         ]
         read_only_fields = fields
@@ -228,10 +283,40 @@ class ScheduleSerializer(ScopedModelSerializer):
     def get_format(self, obj) -> str:
         return "continuum.schedule/v1"
 
+    def _inline(self, obj) -> list:
+        # One query for the first rows plus one over the limit: the count only when they do not all fit.
+        if not hasattr(obj, "_inline_assignments"):
+            rows = list(obj.assignments.all()[: MAX_INLINE_ASSIGNMENTS + 1])
+            obj._inline_assignments = rows[:MAX_INLINE_ASSIGNMENTS]
+            obj._assignment_count = len(rows) if len(rows) <= MAX_INLINE_ASSIGNMENTS else obj.assignments.count()
+        return obj._inline_assignments
 
-class ScheduleListSerializer(ScheduleSerializer):
-    class Meta(ScheduleSerializer.Meta):
+    @extend_schema_field(AssignmentSerializer(many=True))
+    def get_assignments(self, obj) -> list:
+        return AssignmentSerializer(self._inline(obj), many=True, context=self.context).data
+
+    def get_assignment_count(self, obj) -> int:
+        self._inline(obj)
+        return obj._assignment_count
+
+    def get_assignments_complete(self, obj) -> bool:
+        return len(self._inline(obj)) == obj._assignment_count
+
+    def get_assignments_url(self, obj) -> str:
+        url = reverse("api:schedule-assignments", args=[obj.pk])
+        request = self.context.get("request")
+        return request.build_absolute_uri(url) if request is not None else url
+
+
+class ScheduleListSerializer(ScopedModelSerializer):
+    """A stored schedule in a list: its small columns only (never its assignments, ranks or platform)."""
+
+    fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
+
+    class Meta:
+        model = Schedule
         fields = ["id", "fleet", "application", "cluster", "job", "algorithm", "makespan", "created"]
+        read_only_fields = fields
 
 
 class ComparisonScheduleSerializer(ScopedModelSerializer):

@@ -12,8 +12,12 @@ Gantt chart and ``gantt_title`` to complete its heading. This app's own panel on
 
 from __future__ import annotations
 
+from urllib.parse import urlencode
+
 from django.contrib import messages
 from django.contrib.auth.decorators import login_required
+from django.core.paginator import Paginator
+from django.db.models import Count
 from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.urls import reverse
@@ -34,6 +38,7 @@ from continuum.engine.core.platform import Platform
 
 from . import charts as scheduling_charts
 from .models import Assignment, Comparison, Schedule
+from .serializers import AssignmentFilterSerializer
 
 SCHEDULE_PAGE = "scheduling.schedule"
 
@@ -110,17 +115,22 @@ def schedule_detail(request: HttpRequest, pk: int) -> HttpResponse:
     return schedule_page(request, schedule)
 
 
+#: Rows of the schedule page's assignment table per page (the whole table of a 1000 x 10 schedule was 10,010
+#: rows, 5.5 MB of HTML: issue 13).
+TABLE_PAGE_SIZE = 100
+
+
 def schedule_page(request: HttpRequest, schedule: Schedule, status: int = 200, **state) -> HttpResponse:
     """The schedule page with every registered panel; ``state`` goes to the panels (HEFT4K's bound what-if
-    form, for instance)."""
-    rows = list(schedule.assignments.all())
+    form, for instance). The assignment table is one page of the schedule's rows, filtered by the query
+    string (``task``, ``processor``, ``frame``, ``placement``: the API's assignment filter) and paginated in
+    the database; the figures come from aggregates, so the page's size does not grow with the rows."""
     engine = schedule.to_engine()
     dag = schedule.application.graph
     gantt = _gantt(request, schedule, engine, dag, state)
-    on_path = set(gantt["critical"])
-    for row in rows:
-        row.on_critical_path = (row.task, row.frame) in on_path
-        row.duration = row.finish - row.start
+    table = _assignment_table(request, schedule, engine, gantt["critical"])
+    if table["filter_errors"] and status == 200:
+        status = 400
     return render(
         request,
         "scheduling/schedule_detail.html",
@@ -128,12 +138,57 @@ def schedule_page(request: HttpRequest, schedule: Schedule, status: int = 200, *
             "schedule": schedule,
             **_figures(schedule, dag.time_unit),
             "time_unit": dag.time_unit,
-            **_assignment_context(schedule, rows, gantt["critical"]),
+            "push_blocked": push_blocked(schedule),
+            **table,
             **gantt,
+            "unit": dag.time_unit,
             "nav": "schedules",
         },
         status=status,
     )
+
+
+def _assignment_table(request: HttpRequest, schedule: Schedule, engine, critical: list[tuple[str, int]]) -> dict:
+    """One page of the assignment table (filtered by the query string), the filter's choices and errors, and
+    what the page says about all the rows (counted in the database)."""
+    processors = [p.get("id") for p in schedule.platform.get("processors", []) if isinstance(p, dict)]
+    processors += sorted({a.processor for a in engine.assignments} - set(processors))
+    frames = sorted({a.frame for a in engine.assignments})
+    query = {k: v for k, v in request.GET.items() if k in AssignmentFilterSerializer._declared_fields and v != ""}
+    filters = AssignmentFilterSerializer(data=query, context={"request": request, "processors": set(processors)})
+    rows = schedule.assignments.all()
+    errors: dict = {}
+    if filters.is_valid():
+        rows = filters.filter(rows)
+    else:
+        errors = {k: " ".join(str(m) for m in v) for k, v in filters.errors.items()}
+        rows = rows.none()
+    page = Paginator(rows, TABLE_PAGE_SIZE).get_page(request.GET.get("page"))
+    on_path = set(critical)
+    for row in page:
+        row.on_critical_path = (row.task, row.frame) in on_path
+        row.duration = row.finish - row.start
+    counts = dict(schedule.assignments.order_by().values_list("placement").annotate(n=Count("pk")))
+    busy: dict[str, list[float]] = {}
+    for a in engine.assignments:
+        entry = busy.setdefault(a.processor, [0, 0.0])
+        entry[0] += 1
+        entry[1] += a.finish - a.start
+    return {
+        "page": page,
+        "task_count": len(engine.assignments),
+        "filter": query,
+        "filter_query": urlencode(query),
+        "filter_errors": errors,
+        "processors": processors,
+        "frames": frames,
+        "per_processor": [(p, *busy.get(p, (0, 0.0))) for p in processors],
+        "critical_tasks": [t if len(frames) <= 1 else f"{t} [{f}]" for t, f in critical],
+        "placement": [(value, label, counts.get(value, 0)) for value, label in Assignment.Placement.choices],
+        "can_push": bool(schedule.cluster and schedule.cluster.kubeconfig),
+        "processor_count": len(schedule.platform.get("processors", [])),
+        "has_niceness": any(a.niceness is not None for a in engine.assignments),
+    }
 
 
 def _gantt(request: HttpRequest, schedule: Schedule, engine, dag, state: dict) -> dict:
@@ -174,22 +229,6 @@ def _figures(schedule: Schedule, unit: str) -> dict:
         "metrics": schedule_metrics(schedule.metrics, unit),
         "idle_rows": idle_rows(schedule.metrics, schedule.makespan, cpus),
         "multicore": any(n > 1 for n in cpus.values()),
-    }
-
-
-def _assignment_context(schedule: Schedule, rows: list, critical: list[tuple[str, int]]) -> dict:
-    """The assignment table's rows and what the page says about them."""
-    placement = [
-        (value, label, sum(1 for r in rows if r.placement == value)) for value, label in Assignment.Placement.choices
-    ]
-    return {
-        "rows": rows,
-        "critical_tasks": [t if len({r.frame for r in rows}) <= 1 else f"{t} [{f}]" for t, f in critical],
-        "placement": placement,
-        "can_push": bool(schedule.cluster and schedule.cluster.kubeconfig),
-        "push_blocked": push_blocked(schedule),
-        "processor_count": len(schedule.platform.get("processors", [])),
-        "has_niceness": any(r.niceness is not None for r in rows),
     }
 
 
@@ -295,9 +334,7 @@ def schedule_push(request: HttpRequest, pk: int) -> HttpResponse:
 # ---- comparisons ----------------------------------------------------------------------------------
 @login_required
 def comparison_list(request: HttpRequest) -> HttpResponse:
-    comparisons = scoped(request, Comparison.objects.select_related("fleet", "application", "cluster")).order_by(
-        "-created", "-pk"
-    )
+    comparisons = scoped(request, Comparison.objects.for_list()).order_by("-created", "-pk")
     return render(
         request, "scheduling/comparison_list.html", {"page": paginate(request, comparisons), "nav": "comparisons"}
     )

@@ -27,12 +27,16 @@ uses. Plotly turns the entities back into the characters it shows.
 from __future__ import annotations
 
 import html
+import json
 import math
 from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from statistics import fmean
 
+import numpy as np
 import plotly.graph_objects as go
+from plotly.colors import sample_colorscale
 from plotly.subplots import make_subplots
 
 from continuum.engine.core.dag import TaskGraph
@@ -54,11 +58,24 @@ FONT = {"family": "system-ui, -apple-system, Segoe UI, Roboto, sans-serif", "siz
 #: Above these sizes labels and arrow heads would only clutter the picture; hover still tells everything.
 MAX_LABELLED_TASKS = 40
 MAX_ARROWS = 150
+#: Past this many tasks or edges a DAG or network is drawn with WebGL from numpy columns (add_edge_traces);
+#: past MAX_EDGE_HOVER edges, edges have no hover markers of their own.
+LARGE_GRAPH = 2000
+MAX_EDGE_HOVER = 5000
+#: Past this many bars a Gantt chart is drawn with WebGL (:func:`_gantt_gl_trace`): SVG bars, one DOM
+#: element each, took the browser 72 s on a 1000-task x 10-frame schedule (issue 13).
+WEBGL_BARS = 2000
+#: Past this many bars in one SVG trace the white outline that separates neighbours is dropped: on bars a
+#: few pixels wide it covered the colour (bleached bars).
+OUTLINED_BARS = 300
 
 
 def to_html(fig: go.Figure, div_id: str | None = None) -> str:
-    """The figure as a ``<div>`` plus the script that draws it; plotly.js itself comes from static files."""
+    """The figure as a ``<div>`` plus the script that draws it; plotly.js itself comes from static files.
+    A figure with WebGL Gantt bars gets the script that expands their facts (:data:`GL_GANTT_SCRIPT`)."""
+    gl = any(isinstance(t.meta, dict) and "gantt" in t.meta for t in fig.data if hasattr(t, "meta"))
     return fig.to_html(
+        post_script=GL_GANTT_SCRIPT if gl else None,
         full_html=False,
         include_plotlyjs=False,
         div_id=div_id,
@@ -140,8 +157,13 @@ def gantt_traces(
     row_of: Mapping[tuple[str, int], str] | None = None,
     nice: tuple[int, int] | None = None,
     frame_range: tuple[int, int] | None = None,
-) -> list[go.Bar]:
+    thickness: float = 30,
+) -> list[go.Bar | go.Scattergl]:
     """The bars of one schedule, the only place that decides how a Gantt bar looks.
+
+    Past :data:`WEBGL_BARS` bars (and unless coloured by niceness) they are WebGL line segments
+    ``thickness`` pixels thick (:func:`_gantt_gl_trace`), frames binned into at most
+    :data:`MAX_FRAME_TRACES` colours; below, ``go.Bar`` as follows.
 
     Colour: by niceness when ``nice`` (the colour axis's range) is given; else by frame when the schedule has
     several (one trace per frame, or one trace on a colour scale over ``frame_range`` beyond
@@ -156,10 +178,15 @@ def gantt_traces(
     normal = [a for a in schedule.assignments if (a.task, a.frame) not in marked]
     highlighted = [a for a in schedule.assignments if (a.task, a.frame) in marked]
 
-    def bar(items: list[Assignment], name: str, colour: str | list, **style) -> go.Bar:
+    # WebGL past WEBGL_BARS (niceness colours need a colour per bar, which WebGL lines do not have: SVG).
+    webgl = nice is None and len(schedule.assignments) > WEBGL_BARS
+
+    def bar(items: list[Assignment], name: str, colour: str | list, **style) -> go.Bar | go.Scattergl:
+        if webgl:
+            return _gantt_gl_trace(items, name, colour, unit, thickness, row_of=row_of, notes=panel.notes)
         return _gantt_trace(items, name, colour, several, unit, row_of=row_of, notes=panel.notes, **style)
 
-    traces: list[go.Bar] = []
+    traces: list[go.Bar | go.Scattergl] = []
     if nice is not None:
         traces.append(bar(normal, "task", TASK_COLOUR, nice=nice))
     elif not several:
@@ -169,6 +196,13 @@ def gantt_traces(
             colour = frame_colour(f)
             text = "#1f2933" if colour in LIGHT_COLOURS else "white"
             traces.append(bar([a for a in normal if a.frame == f], f"frame {f}", colour, text_colour=text))
+    elif webgl:  # a WebGL trace has one colour: frames binned into MAX_FRAME_TRACES colours of the scale
+        lo, hi = frame_range or (frames[0], frames[-1])
+        for group in _frame_bins(frames, lo, hi):
+            colour = sample_colorscale(FRAME_SCALE, (group[0] - lo) / (hi - lo) if hi > lo else 0.0)[0]
+            name = f"frame {group[0]}" if len(group) == 1 else f"frames {group[0]}-{group[-1]}"
+            in_group = set(group)
+            traces.append(bar([a for a in normal if a.frame in in_group], name, colour))
     else:
         lo, hi = frame_range or (frames[0], frames[-1])
         marker = {"colorscale": FRAME_SCALE, "cmin": lo, "cmax": hi, "showscale": True}
@@ -180,6 +214,15 @@ def gantt_traces(
     if highlighted:
         traces.append(bar(highlighted, panel.highlight_name, panel.highlight_colour, nice=nice, outline=True))
     return traces
+
+
+def _frame_bins(frames: list[int], lo: int, hi: int) -> list[list[int]]:
+    """``frames`` (sorted) in at most :data:`MAX_FRAME_TRACES` consecutive groups of equal span."""
+    span = max(1, math.ceil((hi - lo + 1) / MAX_FRAME_TRACES))
+    groups: dict[int, list[int]] = {}
+    for f in frames:
+        groups.setdefault((f - lo) // span, []).append(f)
+    return list(groups.values())
 
 
 def gantt_figure(
@@ -206,12 +249,13 @@ def gantt_figure(
     rows, row_of = gantt_rows(schedule, platform, lanes)
     nice = _nice_range([schedule]) if colour_by_niceness else None
     fig = go.Figure()
-    for trace in gantt_traces(panel, unit, row_of=row_of, nice=nice):
+    per_row = 30 if lanes else 44
+    for trace in gantt_traces(panel, unit, row_of=row_of, nice=nice, thickness=per_row * 0.75 * 0.8):
         fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
         _add_makespan_marker(fig, makespan)
-    base_layout(fig, height=max(260, 150 + (30 if lanes else 44) * len(rows)))
+    base_layout(fig, height=max(260, 150 + per_row * len(rows)))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
         bargap=0.25,
@@ -294,7 +338,9 @@ def stacked_gantt_figure(
     shown: set[str] = set()
     end = max((p.schedule.makespan for p in panels), default=0.0)
     for i, (panel, (rows, row_of)) in enumerate(zip(panels, layout, strict=True), start=1):
-        traces = gantt_traces(panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range)
+        traces = gantt_traces(
+            panel, time_unit, row_of=row_of, nice=nice, frame_range=frame_range, thickness=per_row * 0.75 * 0.8
+        )
         _add_gantt_panel(fig, i, panel, traces, rows, shown)
     base_layout(fig, height=height)
     fig.update_layout(
@@ -431,10 +477,11 @@ def _gantt_trace(
     row_of = row_of or {}
     notes = notes or {}
     has_nice = any(a.niceness is not None for a in assignments)
-    marker: dict = {"color": colour, "line": {"color": "white", "width": 1}, **(marker_extra or {})}
+    outline_width = 1 if len(assignments) <= OUTLINED_BARS else 0
+    marker: dict = {"color": colour, "line": {"color": "white", "width": outline_width}, **(marker_extra or {})}
     if nice is not None:
         values = [a.niceness if a.niceness is not None else nice[1] for a in assignments]
-        marker = {"color": values, "coloraxis": "coloraxis", "line": {"color": "white", "width": 1}}
+        marker = {"color": values, "coloraxis": "coloraxis", "line": {"color": "white", "width": outline_width}}
         if outline:  # a highlighted set keeps its colour as a thick outline
             marker["line"] = {"color": colour, "width": 3}
         # Light bars (high niceness) need dark text.
@@ -460,6 +507,110 @@ def _gantt_trace(
         hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
         showlegend=True,
     )
+
+
+def _gantt_gl_trace(
+    assignments: list[Assignment],
+    name: str,
+    colour: str,
+    unit: str,
+    thickness: float,
+    *,
+    row_of: Mapping[tuple[str, int], str] | None = None,
+    notes: Mapping[tuple[str, int], str] | None = None,
+) -> go.Scattergl:
+    """Bars as WebGL line segments ``thickness`` pixels thick, drawn by the GPU in one call: tens of thousands
+    of bars stay fast and keep their colour at any width (an SVG bar's outline bleached thin ones).
+
+    The trace carries its bars' facts once, compactly, in ``meta["gantt"]`` (:func:`gl_gantt_facts` as one
+    JSON string), and
+    :data:`GL_GANTT_SCRIPT` (added by :func:`to_html`) expands them in the browser into the line points
+    (start, middle, finish and a gap per bar: hover finds points, not lines) and their hover text, the
+    same lines as :func:`_gantt_hover`'s with the duration written by Python (no ``%{x}``: the base/x
+    pitfall of issue 13). Sent as text, the hover strings made a 1000 x 10 schedule page 5.7 MB and the
+    server spent most of a second building them."""
+    name = esc(name)
+    return go.Scattergl(
+        name=name,
+        legendgroup=name,
+        mode="lines",
+        x=[],
+        y=[],
+        line={"color": colour, "width": thickness},
+        connectgaps=False,
+        hovertemplate=f"%{{hovertext}}<extra>{name}</extra>",
+        # One JSON string: Plotly deep-copies a figure's lists element by element (half a second at 10,000 bars).
+        meta={"gantt": json.dumps(gl_gantt_facts(assignments, unit, row_of or {}, notes or {}), separators=(",", ":"))},
+        showlegend=True,
+    )
+
+
+def _round6(x: float) -> float:
+    """``x`` to six significant digits (what :func:`fmt` prints), so that JSON carries no more."""
+    return float(fmt(x))
+
+
+def gl_gantt_facts(
+    assignments: list[Assignment],
+    unit: str,
+    row_of: Mapping[tuple[str, int], str],
+    notes: Mapping[tuple[str, int], str],
+) -> dict:
+    """The facts of WebGL Gantt bars, column by column (names escaped, times to six significant digits):
+    ``rows`` and ``processors`` name lists, then per bar ``task``, ``frame``, ``row`` and ``processor``
+    (indexes into those lists), ``start``, ``finish``, ``duration`` (``finish - start``, rounded after the
+    subtraction) and ``note`` (when any bar has one); ``unit`` the suffix of every time."""
+    rows: dict[str, int] = {}
+    processors: dict[str, int] = {}
+    names: dict[str, str] = {}  # escaped once per name: a task recurs in every frame
+    facts: dict = {k: [] for k in ("task", "frame", "row", "processor", "start", "finish", "duration")}
+
+    def name(value: str) -> str:
+        return names.get(value) or names.setdefault(value, esc(value))
+
+    for a in assignments:
+        row = name(row_of.get((a.task, a.frame), a.processor))
+        facts["task"].append(name(a.task))
+        facts["frame"].append(a.frame)
+        facts["row"].append(rows.setdefault(row, len(rows)))
+        facts["processor"].append(processors.setdefault(name(a.processor), len(processors)))
+        facts["start"].append(_round6(a.start))
+        facts["finish"].append(_round6(a.finish))
+        facts["duration"].append(_round6(a.finish - a.start))
+    if any((a.task, a.frame) in notes for a in assignments):
+        facts["note"] = [esc(notes.get((a.task, a.frame), "")) for a in assignments]
+    suffix = f" {esc(unit)}" if unit else " time units"
+    return {"unit": suffix, "rows": list(rows), "processors": list(processors)} | facts
+
+
+#: Expands the WebGL Gantt traces' ``meta.gantt`` facts (:func:`gl_gantt_facts`) into their points and hover
+#: text, in :func:`_gantt_hover`'s words; numbers as Python's ``%.6g`` would print them.
+GL_GANTT_SCRIPT = r"""(function () {
+var gd = document.getElementById('{plot_id}'); if (!gd || !window.Plotly) return;
+function num(x) {
+  var a = Math.abs(x);
+  if (a !== 0 && (a < 1e-4 || a >= 1e6)) {
+    return x.toExponential(5).replace(/\.?0+e/, 'e').replace(/e([+-])(\d)$/, 'e$10$2');
+  }
+  return String(parseFloat(x.toPrecision(6)));
+}
+var idx = [], xs = [], ys = [], hs = [];
+gd.data.forEach(function (t, i) {
+  var g = t.meta && t.meta.gantt; if (!g) return; g = JSON.parse(g);
+  var n = g.task.length, x = new Float64Array(4 * n), y = new Array(4 * n), h = new Array(4 * n), u = g.unit;
+  for (var k = 0; k < n; k++) {
+    var s = g.start[k], f = g.finish[k], r = g.rows[g.row[k]];
+    var text = '<b>' + g.task[k] + '</b> (frame ' + g.frame[k] + ')<br>processor: ' + g.processors[g.processor[k]] +
+      '<br>start: ' + num(s) + u + '<br>finish: ' + num(f) + u + '<br>duration: ' + num(g.duration[k]) + u +
+      (g.note && g.note[k] ? '<br>' + g.note[k] : '');
+    x[4 * k] = s; x[4 * k + 1] = (s + f) / 2; x[4 * k + 2] = f; x[4 * k + 3] = NaN;
+    y[4 * k] = y[4 * k + 1] = y[4 * k + 2] = y[4 * k + 3] = r;
+    h[4 * k] = h[4 * k + 1] = h[4 * k + 2] = text; h[4 * k + 3] = '';
+  }
+  idx.push(i); xs.push(x); ys.push(y); hs.push(h);
+});
+if (idx.length) Plotly.restyle(gd, {x: xs, y: ys, hovertext: hs}, idx);
+})();"""
 
 
 def _gantt_facts(a: Assignment, notes: Mapping[tuple[str, int], str]) -> list:
@@ -566,23 +717,44 @@ def add_edge_traces(
     hover_name: str,
     width: float,
     hover_size: int,
+    large: bool | None = None,
 ) -> None:
-    """Draw ``segments`` ((x0, y0), (x1, y1), hover text) as lines, with an invisible marker at each middle
-    that carries the hover text (Plotly lines have no hover of their own between their points)."""
+    """Draw ``segments`` ((x0, y0), (x1, y1), hover text) as lines in one trace, with an invisible marker at
+    each middle that carries the hover text (Plotly lines have no hover of their own between their points).
+
+    ``large`` (by default: past :data:`LARGE_GRAPH` segments): both traces are WebGL and their columns numpy
+    arrays (NaN between segments), which Plotly copies whole instead of validating point by point (seconds
+    at 30,000 edges);
+    past :data:`MAX_EDGE_HOVER` the hover markers are left out (the tasks' hover gives their degrees)."""
+    large = len(segments) > LARGE_GRAPH if large is None else large
     xs: list[float | None] = []
     ys: list[float | None] = []
     for (x0, y0), (x1, y1), _ in segments:
         xs += [x0, x1, None]
         ys += [y0, y1, None]
     line = {"color": EDGE_COLOUR, "width": width}
-    fig.add_trace(go.Scatter(x=xs, y=ys, mode="lines", line=line, hoverinfo="skip", name=name, showlegend=False))
+    # Large: WebGL, and columns built here from checked values (Plotly's per-string check took most of a second).
+    scatter = partial(go.Scattergl, _validate=False) if large else go.Scatter
     fig.add_trace(
-        go.Scatter(
-            x=[(a[0] + b[0]) / 2 for a, b, _ in segments],
-            y=[(a[1] + b[1]) / 2 for a, b, _ in segments],
+        scatter(
+            x=_column(xs, large),
+            y=_column(ys, large),
+            mode="lines",
+            line=line,
+            hoverinfo="skip",
+            name=name,
+            showlegend=False,
+        )
+    )
+    if len(segments) > MAX_EDGE_HOVER:
+        return
+    fig.add_trace(
+        scatter(
+            x=_column([(a[0] + b[0]) / 2 for a, b, _ in segments], large),
+            y=_column([(a[1] + b[1]) / 2 for a, b, _ in segments], large),
             mode="markers",
             marker={"size": hover_size, "color": EDGE_COLOUR, "opacity": 0},
-            hovertext=[text for _, _, text in segments],
+            hovertext=_column([text for _, _, text in segments], large),
             hoverinfo="text",
             name=hover_name,
             showlegend=False,
@@ -590,9 +762,19 @@ def add_edge_traces(
     )
 
 
+def _column(values: Sequence, large: bool):
+    """A trace's column: the list itself, or for a large figure a numpy array (floats with NaN for None, or
+    strings), which Plotly takes whole."""
+    if not large:
+        return values
+    if values and isinstance(values[0], str):
+        return np.array(values)
+    return np.array([np.nan if v is None else v for v in values], dtype=float)
+
+
 def dag_figure(dag: TaskGraph) -> go.Figure:
     """The DAG drawn in layers by topological level; hover shows a task's costs or an edge's data."""
-    pos = dag_layout(dag)
+    pos = dag_layout(dag, sweeps=1 if len(dag.tasks) > LARGE_GRAPH else 2)  # a sweep: 0.4 s at 10,000 tasks
     fig = go.Figure()
     add_edge_traces(
         fig,
@@ -601,6 +783,7 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
         hover_name="edge data",
         width=1.2,
         hover_size=10,
+        large=len(dag.tasks) > LARGE_GRAPH,  # with the tasks: SVG edges under SVG tasks draw in order
     )
     labelled = len(dag.tasks) <= MAX_LABELLED_TASKS
     fig.add_trace(_dag_task_trace(dag, pos, labelled))
@@ -619,22 +802,24 @@ def _dag_task_trace(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], labe
     if "colorbar_tickvals" in colour_opts:
         colorbar["tickvals"] = colour_opts["colorbar_tickvals"]
         colorbar["ticktext"] = colour_opts["colorbar_ticktext"]
-    return go.Scatter(
-        x=[pos[t.id][0] for t in tasks],
-        y=[pos[t.id][1] for t in tasks],
+    large = len(tasks) > LARGE_GRAPH  # WebGL, numpy columns, no per-point validation (see add_edge_traces)
+    scatter = partial(go.Scattergl, _validate=False) if large else go.Scatter
+    return scatter(
+        x=_column([pos[t.id][0] for t in tasks], large),
+        y=_column([pos[t.id][1] for t in tasks], large),
         mode="markers+text" if labelled else "markers",
-        text=[esc(t.id) for t in tasks],
-        textposition="top center",
+        text=None if large else [esc(t.id) for t in tasks],
+        textposition=None if large else "top center",
         marker={
             "size": 18 if labelled else 12,
-            "color": colours,
+            "color": _column(colours, large),
             "colorscale": colour_opts["colorscale"],
             "showscale": True,
             "colorbar": colorbar,
-            "symbol": ["diamond" if t.critical else "circle" for t in tasks],
+            "symbol": _column(["diamond" if t.critical else "circle" for t in tasks], large),
             "line": {"color": "#1f2933", "width": 1},
         },
-        hovertext=_dag_task_hover(dag, pos, tasks),
+        hovertext=_column(_dag_task_hover(dag, pos, tasks), large),
         hoverinfo="text",
         name="tasks",
         showlegend=False,
@@ -647,8 +832,12 @@ def _dag_task_hover(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], task
     succ_count = {t: len(es) for t, es in dag.successors().items()}
     pred_count = {t: len(es) for t, es in dag.predecessors().items()}
     hover = []
+    names: dict[str, str] = {}  # the processor classes' escaped names, once each
+    suffix = f" {esc(unit)}"
     for t in tasks:
-        costs = "<br>".join(f"  {esc(k)}: {fmt(v)} {esc(unit)}" for k, v in sorted(t.cost.items()))
+        costs = "<br>".join(
+            f"  {names.get(k) or names.setdefault(k, esc(k))}: {fmt(v)}{suffix}" for k, v in sorted(t.cost.items())
+        )
         title = f"<b>{esc(t.id)}</b>" + (f" ({esc(t.name)})" if t.name and t.name != t.id else "")
         flags = "<br><i>critical task</i>" if t.critical else ""
         hover.append(

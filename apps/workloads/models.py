@@ -22,6 +22,9 @@ class Application(FleetOwned):
     created = models.DateTimeField(auto_now_add=True)
     updated = models.DateTimeField(auto_now=True)
 
+    #: The columns a list shows (never the DAG JSON or the description).
+    LIST_FIELDS = ("id", "fleet", "name", "source_format", "task_count", "edge_count", "created")
+
     class Meta:
         ordering = ["-created"]
 

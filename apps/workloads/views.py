@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from django.contrib import messages
 from django.contrib.auth.decorators import login_required
-from django.db.models import Count
+from django.db.models import Count, IntegerField, OuterRef, Subquery
+from django.db.models.functions import Coalesce
 from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
@@ -55,9 +56,21 @@ def application_generate(request: HttpRequest) -> HttpResponse:
 
 
 def _application_list_page(request, fleets, upload: UploadForm, generate: GenerateForm, status: int = 200):
+    # The small columns only (never the DAG JSON) and the schedule count from a correlated subquery: a
+    # GROUP BY over the joined rows groups by every selected column on SQLite, the DAG included (issue 13).
+    # (The schedules app sits above this one: its model is reached through the reverse relation's name, as the
+    # Count("schedules") this replaces did.)
+    schedule_model = Application._meta.get_field("schedules").related_model
+    schedules = (
+        schedule_model.objects.filter(application=OuterRef("pk"))
+        .order_by()
+        .values("application")
+        .annotate(n=Count("pk"))
+    )
     apps = (
         scoped(request, Application.objects.select_related("fleet"))
-        .annotate(schedule_count=Count("schedules"))
+        .only(*Application.LIST_FIELDS, "fleet__id", "fleet__name")
+        .annotate(schedule_count=Coalesce(Subquery(schedules.values("n"), output_field=IntegerField()), 0))
         .order_by("-created", "-pk")
     )
     return render(

@@ -89,6 +89,7 @@ from .outcome_enum import OutcomeEnum
 from .paginated_allocation_run_list import PaginatedAllocationRunList
 from .paginated_application_list_list import PaginatedApplicationListList
 from .paginated_assertion_list import PaginatedAssertionList
+from .paginated_assignment_list import PaginatedAssignmentList
 from .paginated_cluster_list import PaginatedClusterList
 from .paginated_clustering_list_list import PaginatedClusteringListList
 from .paginated_comparison_list_list import PaginatedComparisonListList
@@ -190,6 +191,7 @@ from .schedule import Schedule
 from .schedule_list import ScheduleList
 from .schedule_request_request import ScheduleRequestRequest
 from .schedule_request_request_params import ScheduleRequestRequestParams
+from .schedules_assignments_list_placement import SchedulesAssignmentsListPlacement
 from .simulation_request_request import SimulationRequestRequest
 from .sort_tiebreak_enum import SortTiebreakEnum
 from .source_format_enum import SourceFormatEnum
@@ -299,6 +301,7 @@ __all__ = (
     "PaginatedAllocationRunList",
     "PaginatedApplicationListList",
     "PaginatedAssertionList",
+    "PaginatedAssignmentList",
     "PaginatedClusterList",
     "PaginatedClusteringListList",
     "PaginatedComparisonListList",
@@ -400,6 +403,7 @@ __all__ = (
     "ScheduleList",
     "ScheduleRequestRequest",
     "ScheduleRequestRequestParams",
+    "SchedulesAssignmentsListPlacement",
     "SimulationRequestRequest",
     "SortTiebreakEnum",
     "SourceFormatEnum",

@@ -19,22 +19,29 @@ T = TypeVar("T", bound="Schedule")
 class Schedule:
     """A stored schedule in the ``continuum.schedule/v1`` shape, plus its placement status per task.
 
-    Attributes:
-        id (int):
-        format_ (str):
-        fleet (str):
-        application (int):
-        cluster (int | None):
-        job (None | UUID):
-        comparison (int | None): the comparison that made this schedule, if any
-        algorithm (str):
-        params (Any):
-        makespan (float):
-        ranks (Any):
-        metrics (Any):
-        platform (Any): the platform scheduled on, as continuum.platform/v1
-        assignments (list[Assignment]):
-        created (datetime.datetime):
+    Bounded: ``assignments`` holds the first :data:`MAX_INLINE_ASSIGNMENTS` (in start order);
+    ``assignment_count`` says how many there are, ``assignments_complete`` whether all are inline, and
+    ``assignments_url`` lists them all, paginated and filterable.
+
+        Attributes:
+            id (int):
+            format_ (str):
+            fleet (str):
+            application (int):
+            cluster (int | None):
+            job (None | UUID):
+            comparison (int | None): the comparison that made this schedule, if any
+            algorithm (str):
+            params (Any):
+            makespan (float):
+            ranks (Any):
+            metrics (Any):
+            platform (Any): the platform scheduled on, as continuum.platform/v1
+            assignments (list[Assignment]):
+            assignment_count (int):
+            assignments_complete (bool):
+            assignments_url (str):
+            created (datetime.datetime):
     """
 
     id: int
@@ -51,6 +58,9 @@ class Schedule:
     metrics: Any
     platform: Any
     assignments: list[Assignment]
+    assignment_count: int
+    assignments_complete: bool
+    assignments_url: str
     created: datetime.datetime
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
@@ -89,6 +99,12 @@ class Schedule:
             assignments_item = assignments_item_data.to_dict()
             assignments.append(assignments_item)
 
+        assignment_count = self.assignment_count
+
+        assignments_complete = self.assignments_complete
+
+        assignments_url = self.assignments_url
+
         created = self.created.isoformat()
 
         field_dict: dict[str, Any] = {}
@@ -109,6 +125,9 @@ class Schedule:
                 "metrics": metrics,
                 "platform": platform,
                 "assignments": assignments,
+                "assignment_count": assignment_count,
+                "assignments_complete": assignments_complete,
+                "assignments_url": assignments_url,
                 "created": created,
             }
         )
@@ -176,6 +195,12 @@ class Schedule:
 
             assignments.append(assignments_item)
 
+        assignment_count = d.pop("assignment_count")
+
+        assignments_complete = d.pop("assignments_complete")
+
+        assignments_url = d.pop("assignments_url")
+
         created = datetime.datetime.fromisoformat(d.pop("created"))
 
         schedule = cls(
@@ -193,6 +218,9 @@ class Schedule:
             metrics=metrics,
             platform=platform,
             assignments=assignments,
+            assignment_count=assignment_count,
+            assignments_complete=assignments_complete,
+            assignments_url=assignments_url,
             created=created,
         )
 

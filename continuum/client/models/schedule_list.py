@@ -13,7 +13,7 @@ T = TypeVar("T", bound="ScheduleList")
 
 @_attrs_define
 class ScheduleList:
-    """A stored schedule in the ``continuum.schedule/v1`` shape, plus its placement status per task.
+    """A stored schedule in a list: its small columns only (never its assignments, ranks or platform).
 
     Attributes:
         id (int):
