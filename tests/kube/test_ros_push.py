@@ -149,7 +149,11 @@ def test_autoware_clusters_places_and_pushes_end_to_end(api, kube, hollow_cluste
     # The controllers create a ReplicaSet and one pod per Deployment, kube-scheduler binds the pod to the placed
     # node, and that node's kubelet runs it.
     wanted = {rows[c].deployment: n for c, n in placed.items()}
-    wait_for("the Deployments' pods Running on the placed nodes", lambda: running(kube, kube_namespace) == wanted)
+    wait_for(
+        "the Deployments' pods Running on the placed nodes",
+        lambda: running(kube, kube_namespace) == wanted,
+        timeout=180,
+    )
     replica_sets = apps_api.list_namespaced_replica_set(kube_namespace).items
     assert sorted(r.metadata.owner_references[0].name for r in replica_sets) == sorted(wanted)
     for pod in kube.list_namespaced_pod(kube_namespace).items:
