@@ -217,7 +217,8 @@ def test_failures_are_recorded_per_container(api, kube, kube_cluster, kube_names
     assert len(found) == 3 and rows[gone_container].deployment not in found
 
 
-def test_an_unreachable_api_fails_every_container_cleanly(kube_admin, api, kube_server, kube_cluster):
+def test_an_unreachable_api_fails_every_container_cleanly(kube_admin, api, kube_server, kube_cluster, settings):
+    settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 2  # refused connections are retried until this deadline
     placement = autoware_placement(api, kube_cluster)
     closed = kubeconfig_text(f"https://127.0.0.1:{free_port()}", "token", kube_server.ca_path.read_bytes())
     response = kube_admin.patch(f"/api/v1/clusters/{kube_cluster.pk}/", {"kubeconfig": closed}, format="json")
