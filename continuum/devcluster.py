@@ -334,9 +334,8 @@ class DevCluster:
         found = []
         for name in self.processes():
             if name.startswith("node/"):
-                match = _KUBELET_DIR.search(self.log_tail(name, 10**7))
-                if match:
-                    found.append(match.group(1))
+                # Every run of the node (a restarted one logs a second directory).
+                found += _KUBELET_DIR.findall(self.log_tail(name, 10**7))
         return found
 
     def _reset(self) -> None:
@@ -450,6 +449,30 @@ class DevCluster:
         if node.taints:
             argv.append(f"--register-with-taints={','.join(node.taints)}")
         self._spawn(f"node/{node.name}", argv, {"TMPDIR": str(tmp)})
+
+    def restart_node(self, name: str, *, timeout: float = 300, progress: Progress = _stderr) -> None:
+        """Start hollow node ``name`` again (after it was stopped, e.g. to fail it) with the same name, labels and
+        taints, and wait until it is Ready and the node lifecycle controller lifted its not-ready/unreachable
+        taints. Its Node object was kept: the new kubelet takes it over and finishes the deletion of the pods
+        evicted meanwhile."""
+        spec = next((n for n in self.state.get("nodes", []) if n["name"] == name), None)
+        if spec is None:
+            raise DevClusterError(f"no hollow node {name!r} in this cluster")
+        if self._alive(f"node/{name}"):
+            raise DevClusterError(f"hollow node {name!r} still runs")
+        node = HollowNode(spec["name"], dict(spec["labels"]), tuple(spec["taints"]))
+        self._start_node(Path(self.state["bin_dir"]), node)
+        deadline = time.monotonic() + timeout
+
+        def schedulable() -> bool:
+            seen = self.nodes().get(name, {})
+            stale = {"node.kubernetes.io/not-ready", "node.kubernetes.io/unreachable"}
+            return seen.get("ready") == "True" and not stale & set(seen.get("taints", []))
+
+        self._wait(f"hollow node {name} Ready again", schedulable, deadline, [f"node/{name}", "kube-apiserver"])
+        self.state["kubelet_dirs"] = self._kubelet_dirs()
+        self._save()
+        progress(f"hollow node {name} restarted and Ready")
 
     # -- the API ----------------------------------------------------------------------------------------------
     def _get(self, path: str, timeout: float = 10) -> Any:

@@ -85,8 +85,10 @@ class ClusterAdmin(admin.ModelAdmin):
 @admin.register(ComputeNode)
 class ComputeNodeAdmin(admin.ModelAdmin):
     list_display = ["name", "cluster", "arch", "cpu", "memory_mib", "rt", "criticality", "rt_threshold", "status"]
-    list_filter = ["cluster", "arch", "status", "rt", "criticality"]
+    list_filter = ["cluster", "arch", "status", "rt", "criticality", "capacity_source"]
     search_fields = ["name"]
+    # What Kubernetes reports is node sync's; capacity_source says whether sync keeps cpu/memory/storage.
+    readonly_fields = ["reported_cpu", "reported_memory_mib", "reported_storage_mib"]
 
 
 @admin.register(Link)

@@ -27,8 +27,28 @@ def target_for(cluster: Cluster):
     return gateway.target(cluster.kubeconfig, cluster.kube_context, name=cluster.name)
 
 
+#: node_fields' capacity keys -> the columns that keep what Kubernetes reports.
+REPORTED = {"cpu": "reported_cpu", "memory_mib": "reported_memory_mib", "storage_mib": "reported_storage_mib"}
+
+
+def row_fields(fields: dict, source: str) -> dict:
+    """The ComputeNode columns a node's API fields set. The reported capacity always goes to ``reported_*``;
+    it becomes the planning capacity (``cpu``, ``memory_mib``, ``storage_mib``) only for a node whose capacity
+    is ``reported`` (found by sync): a declared capacity (the cluster file's board) stays the planning input,
+    since an emulated node (a kubemark hollow node: 1 CPU, 3840 MiB) or a partly allocatable one reports less."""
+    out = {k: v for k, v in fields.items() if k not in REPORTED}
+    for key, column in REPORTED.items():
+        if key in fields:
+            out[column] = fields[key]
+            if source == ComputeNode.Capacity.REPORTED:
+                out[key] = fields[key]
+    return out
+
+
 def sync_nodes(cluster: Cluster, progress: Progress | None = None) -> dict:
     """Create/update the cluster's ComputeNode rows from its API; nodes gone from the API become NotReady.
+    Labels, taints, Ready and architecture come from the API; capacity as :func:`row_fields` says (a node
+    created here gets the reported capacity as its planning capacity, a declared one keeps its own).
 
     Returns counts: ``{"nodes", "created", "updated", "unchanged", "gone"}``.
     """
@@ -48,12 +68,15 @@ def sync_nodes(cluster: Cluster, progress: Progress | None = None) -> dict:
         for node in items:
             name = node["metadata"]["name"]
             seen.add(name)
-            fields = gateway.node_fields(node)
             row = existing.get(name)
             if row is None:
-                ComputeNode.objects.create(cluster=cluster, name=name, **fields)
+                source = ComputeNode.Capacity.REPORTED
+                fields = row_fields(gateway.node_fields(node), source)
+                ComputeNode.objects.create(cluster=cluster, name=name, capacity_source=source, **fields)
                 counts["created"] += 1
-            elif any(getattr(row, k) != v for k, v in fields.items()):
+                continue
+            fields = row_fields(gateway.node_fields(node), row.capacity_source)
+            if any(getattr(row, k) != v for k, v in fields.items()):
                 for key, value in fields.items():
                     setattr(row, key, value)
                 row.save(update_fields=list(fields))

@@ -91,6 +91,12 @@ class ComputeNode(models.Model):
         NOT_READY = "NotReady"
         UNKNOWN = "Unknown"
 
+    class Capacity(models.TextChoices):
+        #: cpu/memory_mib/storage_mib were declared (cluster file, API, admin): the planning input, kept by sync.
+        DECLARED = "declared"
+        #: The node was found by node sync: its planning capacity follows what Kubernetes reports.
+        REPORTED = "reported"
+
     class Criticality(models.TextChoices):
         A = "A"
         B = "B"
@@ -103,6 +109,17 @@ class ComputeNode(models.Model):
     cpu = models.FloatField(default=1.0, validators=[MinValueValidator(0.0)], help_text="CPU cores")
     memory_mib = models.PositiveIntegerField(default=1024)
     storage_mib = models.PositiveIntegerField(default=0)
+    # Planning uses cpu/memory_mib/storage_mib. A declared capacity is never overwritten by node sync (a kubemark
+    # hollow node reports 1 CPU / 3840 MiB whatever the board is); what Kubernetes reports is kept beside it.
+    capacity_source = models.CharField(
+        max_length=16,
+        choices=Capacity.choices,
+        default=Capacity.DECLARED,
+        help_text="declared: cpu/memory/storage as declared (node sync keeps them); reported: as Kubernetes reports",
+    )
+    reported_cpu = models.FloatField(null=True, blank=True, help_text="CPU cores Kubernetes reports (capacity)")
+    reported_memory_mib = models.PositiveIntegerField(null=True, blank=True, help_text="memory Kubernetes reports")
+    reported_storage_mib = models.PositiveIntegerField(null=True, blank=True, help_text="storage Kubernetes reports")
     accelerators = models.JSONField(default=list, blank=True, help_text='e.g. ["igpu"]')
     processor_class = models.CharField(
         max_length=32, default="cpu", help_text="class that DAG task costs name (cpu, gpu, ...)"

@@ -108,6 +108,10 @@ class VisibleClusterField(VisibleRelatedField):
     model = Cluster
 
 
+#: The planning capacity a caller may declare (node sync then keeps it; see apps.clusters.kube.row_fields).
+CAPACITY_FIELDS = frozenset({"cpu", "memory_mib", "storage_mib"})
+
+
 class ComputeNodeSerializer(ScopedModelSerializer):
     cluster = VisibleClusterField()
     # A list of names, never null (the column is NOT NULL; "null" used to reach the database).
@@ -125,6 +129,10 @@ class ComputeNodeSerializer(ScopedModelSerializer):
             "cpu",
             "memory_mib",
             "storage_mib",
+            "capacity_source",
+            "reported_cpu",
+            "reported_memory_mib",
+            "reported_storage_mib",
             "accelerators",
             "processor_class",
             "speed",
@@ -135,7 +143,14 @@ class ComputeNodeSerializer(ScopedModelSerializer):
             "taints",
             "status",
         ]
+        # What Kubernetes reports is written by node sync only; capacity_source follows what the caller sets.
+        read_only_fields = ["capacity_source", "reported_cpu", "reported_memory_mib", "reported_storage_mib"]
         extra_kwargs = {"cpu": {"max_value": LIMITS.cores, "error_messages": at_most("cpu")}}
+
+    def update(self, instance, validated_data):
+        if CAPACITY_FIELDS & set(validated_data):  # declared now: node sync keeps it from here on
+            validated_data["capacity_source"] = ComputeNode.Capacity.DECLARED
+        return super().update(instance, validated_data)
 
     def validate_taints(self, value):
         if not isinstance(value, list) or not all(

@@ -158,9 +158,10 @@ def update_node(api_client: client.ApiClient, name: str, change: Callable[[dict]
     taints back with optimistic concurrency (the node's resourceVersion), retried on conflicts. Returns the
     node written (or read, when unchanged); ``None`` when there is no such node."""
     core = client.CoreV1Api(api_client)
+    server = api_client.configuration.host
     for _ in range(8):
         try:
-            node = read_json(core.read_node, name)
+            node = call(read_json, core.read_node, name, what=f"read node {name}", server=server)
         except ApiException as exc:
             if exc.status == 404:
                 return None
@@ -175,7 +176,12 @@ def update_node(api_client: client.ApiClient, name: str, change: Callable[[dict]
             "spec": {"taints": (node.get("spec") or {}).get("taints") or None},
         }
         try:
-            return read_json(core.patch_node, name, patch, _content_type=MERGE_PATCH)
+            # Idempotent: a retried patch the server had applied answers 409 (resourceVersion), and the loop
+            # reads the node again and finds the change made.
+            return call(
+                read_json, core.patch_node, name, patch, _content_type=MERGE_PATCH, what=f"write node {name}",
+                server=server,
+            )  # fmt: skip
         except ApiException as exc:
             if exc.status != 409:
                 raise
@@ -194,11 +200,16 @@ def set_taint(
     wanted = _taint_dict(taint)
     if present:
         try:
-            return read_json(
+            # Idempotent: a retried append the server had applied is refused (422: the key and effect are
+            # there already) and the read-and-rewrite below finds the taint present.
+            return call(
+                read_json,
                 client.CoreV1Api(api_client).patch_node,
                 node,
                 [{"op": "add", "path": "/spec/taints/-", "value": wanted}],
                 _content_type=JSON_PATCH,
+                what=f"taint node {node}",
+                server=api_client.configuration.host,
             )
         except ApiException as exc:
             if exc.status not in (409, 422):

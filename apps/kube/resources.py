@@ -4,7 +4,11 @@
 
 Every call is a typed method of the official client (``CoreV1Api``, ``CustomObjectsApi``,
 ``ApiextensionsV1Api``) answered as the server's JSON (:func:`apps.kube.connect.read_json`): custom objects,
-Bindings and Status answers need no model classes, and large pod lists parse quickly. Used by RT-Kube
+Bindings and Status answers need no model classes, and large pod lists parse quickly. Every call goes through
+:func:`apps.kube.connect.call` (:mod:`apps.kube.retry`): transient failures (504/503, reset or refused
+connections) are retried with backoff until ``CONTINUUM_KUBE_RETRY_DEADLINE_S``, then
+:class:`~apps.kube.retry.GaveUp` names the call. Each call is safe to repeat, or says why not
+(``idempotent=False``: then it is repeated only when the request surely never reached the server). Used by RT-Kube
 (thesis 3.4, Fig. 3.32; spec 03 sections 3, 4.4, 5.4), whose CRD manifests and RealTime/Monitoring documents
 are its own domain data, passed in as plain dicts.
 """
@@ -24,7 +28,7 @@ from kubernetes.client.exceptions import ApiException
 from continuum.engine.core.taints import Taint
 
 from . import nodes
-from .connect import KubeError, describe, read_json
+from .connect import KubeError, call, describe, read_json
 
 MERGE_PATCH = "application/merge-patch+json"
 STRATEGIC_PATCH = "application/strategic-merge-patch+json"
@@ -76,17 +80,21 @@ class Kube:
         self.custom = client.CustomObjectsApi(api_client)
         self.extensions = client.ApiextensionsV1Api(api_client)
 
+    def _json(self, fn, *args, what: str, idempotent: bool = True, **kwargs):
+        """``read_json(fn, *args, **kwargs)`` retried on transient failures (see the module docstring)."""
+        return call(read_json, fn, *args, what=what, server=self.server, idempotent=idempotent, **kwargs)
+
     # ---- namespaces and CRDs ---------------------------------------------------------------------------
     def ensure_namespace(self, namespace: str) -> None:
         try:
-            read_json(self.core.read_namespace, namespace)
+            self._json(self.core.read_namespace, namespace, what=f"read namespace {namespace}")
             return
         except ApiException as exc:
             if exc.status != 404:
                 raise
         body = {"apiVersion": "v1", "kind": "Namespace", "metadata": {"name": namespace}}
         try:
-            read_json(self.core.create_namespace, body)
+            self._json(self.core.create_namespace, body, what=f"create namespace {namespace}")
         except ApiException as exc:
             if exc.status != 409:
                 raise
@@ -97,11 +105,12 @@ class Kube:
         for crd in manifests:
             name = crd["metadata"]["name"]
             try:
-                current = read_json(self.extensions.read_custom_resource_definition, name)
+                current = self._json(self.extensions.read_custom_resource_definition, name, what=f"read CRD {name}")
             except ApiException as exc:
                 if exc.status != 404:
                     raise
-                read_json(self.extensions.create_custom_resource_definition, crd)
+                create = self.extensions.create_custom_resource_definition
+                self._json(create, crd, what=f"create CRD {name}", idempotent=False)
                 changed.append(f"created {name}")
                 continue
             if (
@@ -110,13 +119,13 @@ class Kube:
             ):
                 body = copy.deepcopy(crd)
                 body["metadata"]["resourceVersion"] = current["metadata"]["resourceVersion"]
-                read_json(self.extensions.replace_custom_resource_definition, name, body)
+                self._json(self.extensions.replace_custom_resource_definition, name, body, what=f"replace CRD {name}")
                 changed.append(f"updated {name}")
         deadline = time.monotonic() + wait
         for crd in manifests:
             name = crd["metadata"]["name"]
             while True:
-                answer = read_json(self.extensions.read_custom_resource_definition, name)
+                answer = self._json(self.extensions.read_custom_resource_definition, name, what=f"read CRD {name}")
                 conditions = (answer.get("status") or {}).get("conditions") or []
                 if any(c.get("type") == "Established" and c.get("status") == "True" for c in conditions):
                     break
@@ -128,14 +137,19 @@ class Kube:
     # ---- custom objects --------------------------------------------------------------------------------
     def list_objects(self, group: str, version: str, plural: str, namespace: str | None) -> list[dict]:
         if namespace is None:
-            answer = read_json(self.custom.list_cluster_custom_object, group, version, plural)
+            answer = self._json(self.custom.list_cluster_custom_object, group, version, plural, what=f"list {plural}")
         else:
-            answer = read_json(self.custom.list_namespaced_custom_object, group, version, namespace, plural)
+            answer = self._json(
+                self.custom.list_namespaced_custom_object, group, version, namespace, plural, what=f"list {plural}"
+            )
         return (answer or {}).get("items") or []
 
     def get_object(self, group: str, version: str, plural: str, namespace: str, name: str) -> dict | None:
         try:
-            return read_json(self.custom.get_namespaced_custom_object, group, version, namespace, plural, name)
+            return self._json(
+                self.custom.get_namespaced_custom_object, group, version, namespace, plural, name,
+                what=f"read {plural}/{name}",
+            )  # fmt: skip
         except ApiException as exc:
             if exc.status == 404:
                 return None
@@ -148,9 +162,11 @@ class Kube:
             current = self.get_object(group, version, plural, namespace, name)
             if current is None:
                 try:
-                    return read_json(
-                        self.custom.create_namespaced_custom_object, group, version, namespace, plural, obj
-                    )
+                    # A retried create the server had done answers 409: replaced below, the same object.
+                    return self._json(
+                        self.custom.create_namespaced_custom_object, group, version, namespace, plural, obj,
+                        what=f"create {plural}/{name}",
+                    )  # fmt: skip
                 except ApiException as exc:
                     if exc.status != 409:
                         raise
@@ -159,9 +175,10 @@ class Kube:
             body["metadata"] = {**current["metadata"], **obj["metadata"]}
             body["metadata"]["resourceVersion"] = current["metadata"]["resourceVersion"]
             try:
-                return read_json(
-                    self.custom.replace_namespaced_custom_object, group, version, namespace, plural, name, body
-                )
+                return self._json(
+                    self.custom.replace_namespaced_custom_object, group, version, namespace, plural, name, body,
+                    what=f"replace {plural}/{name}",
+                )  # fmt: skip
             except ApiException as exc:
                 if exc.status != 409:
                     raise
@@ -169,7 +186,10 @@ class Kube:
 
     def delete_object(self, group: str, version: str, plural: str, namespace: str, name: str) -> bool:
         try:
-            read_json(self.custom.delete_namespaced_custom_object, group, version, namespace, plural, name)
+            self._json(
+                self.custom.delete_namespaced_custom_object, group, version, namespace, plural, name,
+                what=f"delete {plural}/{name}",
+            )  # fmt: skip
             return True
         except ApiException as exc:
             if exc.status == 404:
@@ -178,7 +198,7 @@ class Kube:
 
     def patch_status(self, group: str, version: str, plural: str, namespace: str, name: str, status: dict) -> None:
         try:
-            read_json(
+            self._json(
                 self.custom.patch_namespaced_custom_object_status,
                 group,
                 version,
@@ -187,6 +207,7 @@ class Kube:
                 name,
                 {"status": status},
                 _content_type=MERGE_PATCH,
+                what=f"write the status of {plural}/{name}",
             )
         except ApiException as exc:
             if exc.status != 404:  # deleted meanwhile: nothing to annotate
@@ -194,7 +215,7 @@ class Kube:
 
     # ---- nodes -------------------------------------------------------------------------------------------
     def list_nodes(self) -> list[dict]:
-        return (read_json(self.core.list_node) or {}).get("items") or []
+        return (self._json(self.core.list_node, what="list nodes") or {}).get("items") or []
 
     def update_node(self, name: str, change: Callable[[dict], Any]) -> dict | None:
         """See :func:`apps.kube.nodes.update_node`."""
@@ -207,9 +228,9 @@ class Kube:
     # ---- pods --------------------------------------------------------------------------------------------
     def list_pods(self, namespace: str | None, **query) -> list[dict]:
         if namespace is None:
-            answer = read_json(self.core.list_pod_for_all_namespaces, **query)
+            answer = self._json(self.core.list_pod_for_all_namespaces, what="list pods", **query)
         else:
-            answer = read_json(self.core.list_namespaced_pod, namespace, **query)
+            answer = self._json(self.core.list_namespaced_pod, namespace, what=f"list pods in {namespace}", **query)
         return (answer or {}).get("items") or []
 
     def bind(self, namespace: str, name: str, node: str, uid: str | None = None) -> tuple[bool, str]:
@@ -221,10 +242,26 @@ class Kube:
             target=client.V1ObjectReference(api_version="v1", kind="Node", name=node),
         )
         try:
-            read_json(self.core.create_namespaced_pod_binding, name, namespace, body)
+            what = f"bind pod {namespace}/{name} to {node}"
+            self._json(self.core.create_namespaced_pod_binding, name, namespace, body, what=what)
         except ApiException as exc:
+            # A retried binding the server had done (its answer lost) answers 409: done if bound there.
+            if exc.status == 409 and self._bound_to(namespace, name, uid) == node:
+                return True, f"bound to {node}"
             return False, f"binding refused: {describe(exc)}"
         return True, f"bound to {node}"
+
+    def _bound_to(self, namespace: str, name: str, uid: str | None) -> str | None:
+        """The node pod ``namespace/name`` (of ``uid``, when given) is bound to; ``None``: not bound, or gone."""
+        try:
+            pod = self._json(self.core.read_namespaced_pod, name, namespace, what=f"read pod {namespace}/{name}")
+        except ApiException as exc:
+            if exc.status == 404:
+                return None
+            raise
+        if uid and pod["metadata"].get("uid") != uid:
+            return None
+        return (pod.get("spec") or {}).get("nodeName")
 
     def delete_pod(self, namespace: str, name: str, uid: str | None = None) -> dict | None:
         """Evict: delete the pod with grace period 0 (the kill of Fig. 3.36). Returns the deleted pod (the API
@@ -236,7 +273,10 @@ class Kube:
             preconditions=client.V1Preconditions(uid=uid) if uid else None,
         )
         try:
-            answer = read_json(self.core.delete_namespaced_pod, name, namespace, body=body)
+            # Idempotent: a retried deletion the server had done answers 404 (or 409 for the uid): "gone already".
+            answer = self._json(
+                self.core.delete_namespaced_pod, name, namespace, body=body, what=f"evict pod {namespace}/{name}"
+            )
         except ApiException as exc:
             if exc.status in (404, 409):
                 return None
@@ -244,7 +284,12 @@ class Kube:
         return answer if isinstance(answer, dict) and answer.get("kind") == "Pod" else {}
 
     def create_pod(self, namespace: str, body: dict) -> dict:
-        return read_json(self.core.create_namespaced_pod, namespace, body)
+        # Not idempotent (a repeated create answers 409 and the caller cannot tell whose pod that is): repeated
+        # only when the request never reached the server.
+        name = (body.get("metadata") or {}).get("name", "")
+        return self._json(
+            self.core.create_namespaced_pod, namespace, body, what=f"create pod {namespace}/{name}", idempotent=False
+        )
 
     def explain_pending(self, pod: dict, message: str) -> None:
         """Tell the pod why it stays pending, as kube-scheduler does: the PodScheduled condition and an Event."""
@@ -258,12 +303,13 @@ class Kube:
             "lastTransitionTime": now_rfc3339(),
         }
         try:
-            read_json(
+            self._json(
                 self.core.patch_namespaced_pod_status,
                 name,
                 namespace,
                 {"status": {"conditions": [condition]}},
                 _content_type=STRATEGIC_PATCH,
+                what=f"explain pod {namespace}/{name}",
             )
         except ApiException as exc:
             if exc.status != 404:
@@ -276,7 +322,11 @@ class Kube:
             meta["namespace"], meta["name"], reason, message, self.component, kind=kind, uid=meta.get("uid")
         )
         try:
-            read_json(self.core.create_namespaced_event, meta["namespace"], body)
+            # Idempotent: the Event's name is unique, so a retried create the server had done answers 409.
+            self._json(
+                self.core.create_namespaced_event, meta["namespace"], body,
+                what=f"record event {reason} of pod {meta['namespace']}/{meta['name']}",
+            )  # fmt: skip
         except ApiException as exc:
             if exc.status not in (404, 409):
                 raise

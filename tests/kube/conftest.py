@@ -40,13 +40,18 @@ class SessionAPIServer:
 
 
 def pytest_collection_modifyitems(session, config, items):
-    """test_multinode.py runs first in the session. Its victim test kills a hollow node and waits for the node
-    lifecycle controller's NoExecute taint; the controller (v1.20) keeps a synthetic node that a later test made
-    NotReady and then deleted at the head of its rate-limited NoExecute queue for the rest of the session ("no
-    longer present in nodeLister!" every 10 s), so a node killed after that is never tainted NoExecute."""
-    first = [i for i in items if i.nodeid.startswith("tests/kube/test_multinode.py")]
+    """test_multinode.py and test_node_failure.py (FIRST) run first in the session. They kill hollow nodes and
+    wait for the node lifecycle controller's NoExecute taint; the controller (v1.20) keeps a synthetic node that a
+    later test made NotReady and then deleted at the head of its rate-limited NoExecute queue for the rest of the
+    session ("no longer present in nodeLister!" every 10 s), so a node killed after that is never tainted
+    NoExecute."""
+    first = [i for f in FIRST for i in items if i.nodeid.startswith(f"tests/kube/{f}")]
     if first:
         items[:] = first + [i for i in items if i not in first]
+
+
+#: Files whose tests kill hollow nodes, run first in this order (see pytest_collection_modifyitems).
+FIRST = ("test_multinode.py", "test_node_failure.py")
 
 
 @pytest.fixture(scope="session")
@@ -247,15 +252,22 @@ def kube_cluster(api, kube_admin, cluster_doc, kubeconfig, kube_namespace, make_
 
 # ---- a real multi-node cluster (kube-controller-manager, kube-scheduler, kubemark hollow nodes) -------------
 # The same implementation as ./scripts/cluster (continuum/devcluster.py), started once per session in a private
-# directory. Tests that kill a node use MULTINODE_VICTIM only, so the others stay Ready for every test.
+# directory. Tests that kill a node use MULTINODE_VICTIM (dead for the rest of the session) or LOST_NODE (restarted
+# by its test), so the others stay Ready for every test. HOLLOW_RT_NODES are two RT nodes of criticality A for the
+# RT-Kube eviction test (the RT sync writes RT labels and taints onto a cluster's nodes: these are its own).
 MULTINODE_VICTIM = "hollow-victim"
+LOST_NODE = "hollow-lost"
+HOLLOW_RT_NODES = ("hollow-rt-a0", "hollow-rt-a1")
 MULTINODE_CLUSTER = {
     "format": "continuum.cluster/v1",
     "nodes": [
         {"name": "hollow-a", "arch": "amd64", "cpu": 4, "memory_mib": 8192, "labels": {"zone": "edge"}},
         {"name": "hollow-b", "arch": "arm64", "cpu": 4, "memory_mib": 8192, "labels": {"zone": "edge"}},
+        {"name": "hollow-c", "arch": "amd64", "cpu": 4, "memory_mib": 8192},
         {"name": "hollow-rt", "arch": "arm64", "cpu": 8, "rt": True, "criticality": "C", "rt_threshold": 7.6},
         {"name": MULTINODE_VICTIM, "arch": "amd64", "cpu": 2, "labels": {"zone": "doomed"}},
+        {"name": LOST_NODE, "arch": "amd64", "cpu": 4},
+        *({"name": n, "arch": "arm64", "cpu": 1, "rt": True, "criticality": "A"} for n in HOLLOW_RT_NODES),
     ],
 }
 
@@ -297,3 +309,56 @@ def multinode_api(kube_multinode):
     api_client = config.new_client_from_config_dict(yaml.safe_load(kube_multinode.kubeconfig()), persist_config=False)
     with api_client:
         yield api_client
+
+
+@pytest.fixture
+def hollow_cluster(api, kube_admin, kube_multinode, kube_namespace):
+    """``hollow_cluster(nodes, name=...)``: a Continuum cluster (through the API, with the session cluster's
+    kubeconfig and a fresh namespace) whose nodes are hollow nodes of the session cluster, as declared in
+    ``nodes`` (``continuum.cluster/v1`` node documents; ``arch`` defaults to the hollow node's). Pods placed
+    there reach Running (a real kubelet with a fake runtime), unlike on ``make_node``'s synthetic nodes.
+
+    The declared capacity is the planning input (node sync keeps it, apps.clusters.kube.row_fields): a test
+    may declare the boards it models (4 CPUs) while each hollow node reports 1 CPU; what Kubernetes itself
+    schedules (requests, kube-scheduler) must fit the 1 CPU, 3840Mi a hollow node has."""
+    from apps.clusters.models import Cluster
+
+    archs = {n["name"]: n.get("arch", "amd64") for n in MULTINODE_CLUSTER["nodes"]}
+
+    def make(nodes: list[dict], name: str = "hollow", links: list[dict] | None = None) -> Cluster:
+        for node in nodes:
+            assert node["name"] in SESSION_NODES, f"{node['name']} is not a hollow node of the session cluster"
+        docs = [{"arch": archs[n["name"]], **n} for n in nodes]
+        doc = {"name": name, "kubeconfig": kube_multinode.kubeconfig(), "format": "continuum.cluster/v1",
+               "nodes": docs, "links": links or []}  # fmt: skip
+        response = kube_admin.post("/api/v1/clusters/import/", doc, format="json")
+        assert response.status_code == 201, response.data
+        pk = response.data["id"]
+        response = api.patch(f"/api/v1/clusters/{pk}/", {"namespace": kube_namespace}, format="json")
+        assert response.status_code == 200, response.data
+        return Cluster.objects.get(pk=pk)
+
+    return make
+
+
+def wait_for(what: str, check, timeout: float = 180, interval: float = 0.5):
+    """Poll ``check()`` until it returns something truthy (returned); fail naming ``what`` after ``timeout`` s
+    (generous: the suite runs on a busy 2-core machine; tests wait for conditions, never for fixed times)."""
+    deadline = time.monotonic() + timeout
+    last = None
+    while time.monotonic() < deadline:
+        last = check()
+        if last:
+            return last
+        time.sleep(interval)
+    pytest.fail(f"timed out after {timeout} s waiting for {what} (last: {last!r})")
+
+
+def running_on(kube, namespace: str, selector: str = "") -> dict[str, str]:
+    """Pod name -> node of the pods of ``namespace`` that are Running (and not being deleted)."""
+    pods = kube.list_namespaced_pod(namespace, label_selector=selector).items
+    return {
+        p.metadata.name: p.spec.node_name
+        for p in pods
+        if p.status.phase == "Running" and p.metadata.deletion_timestamp is None
+    }

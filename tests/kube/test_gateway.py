@@ -1,8 +1,10 @@
 """The Kubernetes gateway against the session's real multi-node cluster (controllers, scheduler, hollow nodes).
 
-The cluster's nodes a test places on are synthetic Node objects (``make_node``: a given capacity and state,
-their Leases renewed so the node lifecycle controller treats them as alive; no kubelet, so pods bound to them
-stay Pending); pods reaching Running on hollow nodes is tested in test_multinode.py."""
+What an operator sees is checked on the session's hollow nodes (``hollow_edge``: real kubelets, pods reach
+Running on the node Continuum chose). Tests that delete, fail or cordon a node, or need a given capacity or
+Ready condition, place on synthetic Node objects instead (``kube_cluster``/``make_node``: their Leases renewed
+so the node lifecycle controller treats them as alive; no kubelet, so pods bound to them stay Pending): the
+hollow nodes are shared by the whole session."""
 
 import re
 import time
@@ -10,7 +12,8 @@ import time
 import pytest
 from django.conf import settings
 
-from tests.kube.conftest import SESSION_NODES
+from tests.kube.conftest import SESSION_NODES, running_on
+from tests.kube.conftest import wait_for as wait_until
 from tests.kubeapi import free_port, kubeconfig_text
 
 pytestmark = [pytest.mark.kube, pytest.mark.django_db]
@@ -133,7 +136,10 @@ def test_sync_reads_capacity_arch_ready_taints_and_keeps_vanished_nodes(kube_adm
     nodes = {n.name: n for n in ComputeNode.objects.filter(cluster_id=cluster_id)}
     assert set(nodes) == {"jetson", "rpi-5", "vm-1", "retired"} | SESSION_NODES
     jetson = nodes["jetson"]
-    assert (jetson.arch, jetson.cpu, jetson.memory_mib, jetson.storage_mib) == ("arm64", 6.0, 7870, 58 * 1024)
+    reported = (jetson.reported_cpu, jetson.reported_memory_mib, jetson.reported_storage_mib)
+    assert jetson.arch == "arm64" and reported == (6.0, 7870, 58 * 1024)
+    # The declared capacity stays the planning input (test_node_capacity.py); nodes sync found plan with the API's.
+    assert (jetson.cpu, jetson.memory_mib, jetson.capacity_source) == (1.0, 1, "declared")
     assert jetson.status == "Ready"
     assert jetson.taints == [{"key": "rt", "value": "yes", "effect": "NoSchedule"}]
     assert jetson.labels["continuum.io/criticality"] == "A" and jetson.labels["kubernetes.io/arch"] == "arm64"
@@ -167,6 +173,14 @@ def test_sync_of_an_unreachable_api_fails_the_job_cleanly(kube_admin, api, clust
 
 
 # -- push ---------------------------------------------------------------------------------------------------
+#: Three hollow nodes declared as the 4-CPU boards HEFT plans for (the declared capacity is the planning input;
+#: the pushed pods carry no requests, so a hollow node's 1 CPU runs them all).
+HOLLOW_EDGE = ("hollow-a", "hollow-b", "hollow-c")
+
+
+@pytest.fixture
+def hollow_edge(hollow_cluster):
+    return hollow_cluster([{"name": n, "cpu": 4, "memory_mib": 8192} for n in HOLLOW_EDGE], name="edge")
 
 
 def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube_namespace):
@@ -216,7 +230,30 @@ def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube
     assert len(set(planners)) == 2 and all(n.startswith("nav-stack-2-path-planner-0-") for n in planners)
 
 
+def test_pushed_pods_run_on_the_chosen_hollow_nodes_and_a_second_push_keeps_them(
+    api, kube, hollow_edge, kube_namespace
+):
+    schedule = heft_schedule(api, hollow_edge)
+    assert {a.processor for a in schedule.assignments.all()} == set(HOLLOW_EDGE)  # HEFT spread the fork
+    job = run(api, f"/api/v1/schedules/{schedule.pk}/push/")
+    assert job["state"] == "succeeded", job
+    assert job["result"]["bound"] == len(DAG["tasks"])
+    # What an operator sees: the chosen node's kubelet admits each pod and runs it, with the Scheduled event
+    # the gateway wrote (a hollow kubelet reports none of its own).
+    chosen = {a.pod_name: a.processor for a in schedule.assignments.all()}
+    wait_until("every pushed pod Running on its node", lambda: running_on(kube, kube_namespace) == chosen)
+    events = kube.list_namespaced_event(kube_namespace, field_selector="reason=Scheduled").items
+    assert {e.involved_object.name for e in events} == set(chosen)
+    uids = {name: p.metadata.uid for name, p in pods_by_name(kube, kube_namespace).items()}
+
+    again = run(api, f"/api/v1/schedules/{schedule.pk}/push/")
+    assert again["state"] == "succeeded" and again["result"]["bound"] == len(chosen), again
+    assert {name: p.metadata.uid for name, p in pods_by_name(kube, kube_namespace).items()} == uids
+    assert running_on(kube, kube_namespace) == chosen
+
+
 def test_pushing_twice_changes_nothing(api, kube, kube_cluster, kube_namespace):
+
     schedule = heft_schedule(api, kube_cluster)
     assert run(api, f"/api/v1/schedules/{schedule.pk}/push/")["state"] == "succeeded"
     before = {name: p.metadata.resource_version for name, p in pods_by_name(kube, kube_namespace).items()}

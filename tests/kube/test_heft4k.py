@@ -1,8 +1,9 @@
 """HEFT4K against the session's real multi-node cluster: niceness in the pods, the node watcher and remaps that
-recreate only the pods that change. The cluster's nodes are synthetic Node objects (``make_node``: their Leases
-are renewed, so the real node lifecycle controller keeps the Ready condition a test writes and taints the node
-as it would a real one; no kubelet: pods stay Pending once bound); a hollow node killed for real is in
-test_multinode.py."""
+recreate only the pods that change. The niceness test pushes to hollow nodes, where the pods run. The remap tests
+fail, delete or cordon nodes, so they use synthetic Node objects (``make_node``: their Leases are renewed, so the
+real node lifecycle controller keeps the Ready condition a test writes and taints the node as it would a real
+one; no kubelet: pods stay Pending once bound); a hollow node killed for real, its pods evicted by the
+controller-manager and remapped by the watcher, is test_node_failure.py."""
 
 import json
 from io import StringIO
@@ -14,6 +15,7 @@ from apps.heft4k.models import RemapEvent
 from apps.heft4k.watch import watch_nodes
 from continuum.engine.heft4k.remap import remap as engine_remap
 from tests.heft4k.fan import heft4k_schedule, run
+from tests.kube.conftest import running_on, wait_for
 from tests.kubeapi import free_port, kubeconfig_text
 
 pytestmark = [pytest.mark.kube, pytest.mark.django_db]
@@ -38,8 +40,12 @@ def snapshot(kube, namespace: str) -> dict:
     }
 
 
-def test_pods_run_their_command_under_nice_with_sys_nice_only_when_negative(api, kube, kube_cluster, kube_namespace):
-    schedule = pushed_schedule(api, kube_cluster, nice_high=-5, nice_low=10)
+def test_pods_run_their_command_under_nice_with_sys_nice_only_when_negative(api, kube, hollow_cluster, kube_namespace):
+    # Three hollow nodes declared as the 4-CPU boards HEFT4K plans for (the pods carry no requests).
+    cluster = hollow_cluster([{"name": n, "cpu": 4, "memory_mib": 8192} for n in ("hollow-a", "hollow-b", "hollow-c")])
+    schedule = pushed_schedule(api, cluster, nice_high=-5, nice_low=10)
+    chosen = {a.pod_name: a.processor for a in schedule.assignments.all()}
+    wait_for("every pod Running on its node", lambda: running_on(kube, kube_namespace) == chosen)
     live = pods(kube, kube_namespace)
     assert len(live) == schedule.assignments.count() == 22
     seen = set()

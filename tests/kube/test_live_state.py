@@ -8,7 +8,6 @@ reach Running on the assigned hollow node and the API shows it with the kubelet'
 from __future__ import annotations
 
 import time
-import uuid
 
 import pytest
 from django.core.management import call_command
@@ -274,11 +273,13 @@ def test_a_nodes_ready_status_reaches_its_compute_node_once(cluster):
 
 @pytest.mark.kube
 @pytest.mark.django_db
-def test_a_pushed_schedules_pods_show_running_on_their_node_with_the_kubelets_event(api, kube_admin, kube_multinode):
+def test_a_pushed_schedules_pods_show_running_on_their_node_with_the_kubelets_event(
+    api, kube_admin, kube_multinode, kube_namespace
+):
     from apps.scheduling.models import Schedule
 
     nodes = [{"name": name, "cpu": 1, "memory_mib": 3840} for name in ("hollow-a", "hollow-b")]
-    namespace = f"live-{uuid.uuid4().hex[:12]}"
+    namespace = kube_namespace  # deleted at the end: the hollow nodes are shared by the session
     doc = {"name": "hollow-live", "kubeconfig": kube_multinode.kubeconfig(), "format": "continuum.cluster/v1",
            "nodes": nodes, "links": [{"src": "hollow-a", "dst": "hollow-b", "bandwidth_mbps": 1000}]}  # fmt: skip
     response = kube_admin.post("/api/v1/clusters/import/", doc, format="json")
@@ -328,7 +329,7 @@ def test_a_pushed_schedules_pods_show_running_on_their_node_with_the_kubelets_ev
 @pytest.mark.kube
 @pytest.mark.django_db
 def test_a_pushed_placements_deployments_show_their_pods_running_where_kube_scheduler_put_them(
-    api, kube_admin, kube_multinode
+    api, kube_admin, kube_multinode, kube_namespace
 ):
     from apps.containers.models import ContainerDeployment
     from tests.kube.conftest import MULTINODE_CLUSTER
@@ -337,7 +338,7 @@ def test_a_pushed_placements_deployments_show_their_pods_running_where_kube_sche
     by_name = {n["name"]: n for n in MULTINODE_CLUSTER["nodes"]}
     nodes = [{"name": name, "arch": by_name[name]["arch"], "cpu": 1, "memory_mib": 3840, "labels": by_name[name].get(
         "labels", {})} for name in ("hollow-a", "hollow-b")]  # fmt: skip
-    namespace = f"live-{uuid.uuid4().hex[:12]}"
+    namespace = kube_namespace  # deleted at the end: the hollow nodes are shared by the session
     doc = {"name": "hollow-ros", "kubeconfig": kube_multinode.kubeconfig(), "format": "continuum.cluster/v1",
            "nodes": nodes, "links": [{"src": "hollow-a", "dst": "hollow-b", "bandwidth_mbps": 1000}]}  # fmt: skip
     response = kube_admin.post("/api/v1/clusters/import/", doc, format="json")

@@ -268,8 +268,10 @@ def test_deletions_are_mirrored_both_ways(api, custom, rt_kube_cluster, schedule
     wait_for(lambda: not RealTime.objects.filter(cluster=cluster, name="gps").exists(), "gps deleted here")
 
 
-def test_scheduler_survives_an_unreachable_api(kube_admin, api, kube_server):
+def test_scheduler_survives_an_unreachable_api(kube_admin, api, kube_server, settings):
     from apps.clusters.models import Cluster
+
+    settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 2  # each cycle's calls are retried until this deadline
 
     dead = kubeconfig_text(f"https://127.0.0.1:{free_port()}", "token", kube_server.ca_path.read_bytes())
     doc = {"name": "gone", "kubeconfig": dead, "nodes": [{"name": "n1"}]}

@@ -40,11 +40,16 @@ def test_registers_the_live_cluster_and_syncs_its_nodes_ready(fleet, files):
     assert set(nodes) == {n["name"] for n in MULTINODE_CLUSTER["nodes"]}
     # Every node but the one other tests kill is Ready, as the API says.
     assert {n for n in nodes if n != MULTINODE_VICTIM} <= set(result["ready"])
-    # What Kubernetes says wins (arch, labels, taints, the hollow node's fixed capacity)...
+    # What Kubernetes says wins (arch, labels, taints); the hollow node's fixed capacity is stored as reported...
     assert nodes["hollow-b"].arch == "arm64" and nodes["hollow-a"].labels["zone"] == "edge"
-    assert nodes["hollow-a"].cpu == 1.0
+    assert (nodes["hollow-a"].reported_cpu, nodes["hollow-a"].reported_memory_mib) == (1.0, 3840)
     assert any(t["key"] == "RealTime" for t in nodes["hollow-rt"].taints)
-    # ...Continuum's own attributes come from the file.
+    # ...Continuum's own attributes, and the capacity it plans with, come from the file.
+    assert (nodes["hollow-a"].cpu, nodes["hollow-a"].memory_mib, nodes["hollow-a"].capacity_source) == (
+        4.0,
+        8192,
+        "declared",
+    )
     assert nodes["hollow-rt"].rt and nodes["hollow-rt"].rt_threshold == 7.6 and nodes["hollow-rt"].criticality == "C"
     assert cluster.links.get().bandwidth_mbps == 1000
     assert cluster.last_synced is not None
@@ -95,7 +100,12 @@ def test_bad_input_exits_2_with_one_line(fleet, files, tmp_path, change, message
 def test_check_only_needs_no_kubeconfig_and_writes_nothing(fleet, files):
     _, cluster_file = files
     result = register("--check-only", "--cluster-file", cluster_file, "--fleet", fleet.slug)
-    assert result == {"name": "testbed", "fleet": fleet.slug, "nodes": 4, "check_only": True}
+    assert result == {
+        "name": "testbed",
+        "fleet": fleet.slug,
+        "nodes": len(MULTINODE_CLUSTER["nodes"]),
+        "check_only": True,
+    }
     assert not Cluster.objects.exists()
 
 

@@ -1,11 +1,14 @@
 """ROS graph -> containers -> nodes -> Deployments, end to end through the API into the session's real
 multi-node cluster.
 
-The cluster's nodes are synthetic Node objects (``make_node``: 4 CPUs each, their Leases renewed so the node
-lifecycle controller treats them as alive; no kubelet). The real Deployment and ReplicaSet controllers create
-each Deployment's pod and the real kube-scheduler lands it on the node the placement chose (by its hostname
-node selector); the test reads the Deployment objects the push created (host network, requests, architecture and
-hostname node selector) and checks that a second push changes nothing.
+The end-to-end test places on three of the session's hollow nodes (``hollow_cluster``): the real Deployment and
+ReplicaSet controllers create each Deployment's ReplicaSet and pod, the real kube-scheduler lands the pod on the
+node the placement chose (its hostname and architecture node selector), and the hollow kubelet runs it. A hollow
+node has 1 CPU whatever a cluster file says, and kube-scheduler checks the requests against it: the containers
+are sized to fit (0.4 cores each, so two share a node and a third does not fit: the choice the placement makes
+on the thesis' boards at 1.5 of 4 cores, scaled down), and the nodes are declared with their real 1 CPU.
+The other tests read and change the Deployment objects on synthetic Node objects (``make_node``: 4 CPUs, their
+Leases renewed so the node lifecycle controller treats them as alive; no kubelet), one of which they delete.
 """
 
 import time
@@ -53,19 +56,22 @@ def wait_for(what: str, check, timeout: float = 120):
     pytest.fail(f"timed out after {timeout} s waiting for {what}")
 
 
-def scheduled(kube, namespace: str) -> dict:
-    """Deployment name -> the node its (live) pod is bound to."""
+def running(kube, namespace: str) -> dict:
+    """Deployment name -> the node its Running pod is on."""
     out = {}
     for pod in kube.list_namespaced_pod(namespace).items:
-        if pod.metadata.deletion_timestamp is None and pod.spec.node_name:
+        if pod.metadata.deletion_timestamp is None and pod.status.phase == "Running":
             out[pod.metadata.labels["continuum.io/deployment"]] = pod.spec.node_name
     return out
 
 
 def settled(apps_api, namespace: str) -> dict | None:
-    """The Deployments once the controller has observed each one's generation and counted its pod."""
+    """The Deployments once the controller has observed each one's generation and counted its pod available."""
     found = deployments(apps_api, namespace)
-    done = all(d.status.observed_generation == d.metadata.generation and d.status.replicas == 1 for d in found.values())
+    done = all(
+        d.status.observed_generation == d.metadata.generation and d.status.replicas == d.status.available_replicas == 1
+        for d in found.values()
+    )  # available: the controller's last status write for a pod that runs
     return found if found and done else None
 
 
@@ -91,11 +97,16 @@ def autoware_placement(api, cluster, cpu: float = 1.5, extra: dict | None = None
     return Placement.objects.get(pk=job["result"]["placement"])
 
 
-def test_autoware_clusters_places_and_pushes_end_to_end(api, kube, kube_cluster, kube_namespace, apps_api):
-    placement = autoware_placement(api, kube_cluster)
+#: Hollow nodes of the session cluster and their architecture (the Deployments' node selector names it).
+HOLLOW = {"hollow-a": "amd64", "hollow-b": "arm64", "hollow-c": "amd64"}
+
+
+def test_autoware_clusters_places_and_pushes_end_to_end(api, kube, hollow_cluster, kube_namespace, apps_api):
+    cluster = hollow_cluster([{"name": n, "cpu": 1, "memory_mib": 3840} for n in HOLLOW], name="edge")
+    placement = autoware_placement(api, cluster, cpu=0.4)
     placed = placement.placed()
     assert len(placed) == 4 and placement.pending_count == 0
-    # 1.5 cores each on 4-core nodes: two containers per node at most, so traffic must cross nodes, and
+    # 0.4 cores each on 1-core nodes: two containers per node at most, so traffic must cross nodes, and
     # super-clustering keeps less of it on the network than the bandwidth-blind baseline.
     assert max(list(placed.values()).count(n) for n in set(placed.values())) == 2
     assert 0 < placement.inter_node_bandwidth < placement.baseline["inter_node_bandwidth"]
@@ -125,20 +136,29 @@ def test_autoware_clusters_places_and_pushes_end_to_end(api, kube, kube_cluster,
         assert len(row.deployment) <= 63 and dep.spec.replicas == 1 and dep.spec.strategy.type == "Recreate"
         pod = dep.spec.template.spec
         assert pod.host_network is True and pod.dns_policy == "ClusterFirstWithHostNet"
-        assert pod.node_selector == {"kubernetes.io/arch": "amd64", "kubernetes.io/hostname": node}
+        assert pod.node_selector == {"kubernetes.io/arch": HOLLOW[node], "kubernetes.io/hostname": node}
         assert pod.node_name is None  # pinned through the scheduler, not around it
         (ros,) = pod.containers
-        assert ros.resources.requests == {"cpu": "1500m", "memory": "256Mi"} and not ros.resources.limits
+        assert ros.resources.requests == {"cpu": "400m", "memory": "256Mi"} and not ros.resources.limits
         env = {e.name: e.value for e in ros.env}
         assert env["CONTINUUM_ROS_NODES"].split() == specs[container]["nodes"]
         assert dep.metadata.annotations["continuum.io/node"] == node
         assert dep.metadata.labels["app.kubernetes.io/managed-by"] == "continuum"
         assert dep.spec.selector.match_labels == {"continuum.io/deployment": row.deployment}
 
-    # The controllers create one pod per Deployment and kube-scheduler binds it to the placed node.
-    wait_for("the Deployments' pods scheduled on the placed nodes", lambda: scheduled(kube, kube_namespace) == {
-        rows[c].deployment: n for c, n in placed.items()
-    })  # fmt: skip
+    # The controllers create a ReplicaSet and one pod per Deployment, kube-scheduler binds the pod to the placed
+    # node, and that node's kubelet runs it.
+    wanted = {rows[c].deployment: n for c, n in placed.items()}
+    wait_for(
+        "the Deployments' pods Running on the placed nodes",
+        lambda: running(kube, kube_namespace) == wanted,
+        timeout=180,
+    )
+    replica_sets = apps_api.list_namespaced_replica_set(kube_namespace).items
+    assert sorted(r.metadata.owner_references[0].name for r in replica_sets) == sorted(wanted)
+    for pod in kube.list_namespaced_pod(kube_namespace).items:
+        assert pod.metadata.owner_references[0].kind == "ReplicaSet"
+        assert pod.spec.scheduler_name == "default-scheduler"
     # Once the Deployment controller has written its status, a second push changes nothing: same objects,
     # same resourceVersions, same records.
     found = wait_for("the Deployment controller to observe every Deployment", lambda: settled(apps_api, kube_namespace))
@@ -197,7 +217,8 @@ def test_failures_are_recorded_per_container(api, kube, kube_cluster, kube_names
     assert len(found) == 3 and rows[gone_container].deployment not in found
 
 
-def test_an_unreachable_api_fails_every_container_cleanly(kube_admin, api, kube_server, kube_cluster):
+def test_an_unreachable_api_fails_every_container_cleanly(kube_admin, api, kube_server, kube_cluster, settings):
+    settings.CONTINUUM_KUBE_RETRY_DEADLINE_S = 2  # refused connections are retried until this deadline
     placement = autoware_placement(api, kube_cluster)
     closed = kubeconfig_text(f"https://127.0.0.1:{free_port()}", "token", kube_server.ca_path.read_bytes())
     response = kube_admin.patch(f"/api/v1/clusters/{kube_cluster.pk}/", {"kubeconfig": closed}, format="json")

@@ -19,6 +19,7 @@ from .assertion_request import AssertionRequest
 from .assignment import Assignment
 from .b_score_argument_enum import BScoreArgumentEnum
 from .blank_enum import BlankEnum
+from .capacity_source_enum import CapacitySourceEnum
 from .cluster import Cluster
 from .cluster_document_link_request import ClusterDocumentLinkRequest
 from .cluster_document_node_request import ClusterDocumentNodeRequest
@@ -231,6 +232,7 @@ __all__ = (
     "Assignment",
     "BScoreArgumentEnum",
     "BlankEnum",
+    "CapacitySourceEnum",
     "Cluster",
     "ClusterDocumentLinkRequest",
     "ClusterDocumentNodeRequest",

@@ -8,6 +8,7 @@ from attrs import field as _attrs_field
 
 from ..models.arch_enum import ArchEnum, check_arch_enum
 from ..models.blank_enum import BlankEnum, check_blank_enum
+from ..models.capacity_source_enum import CapacitySourceEnum, check_capacity_source_enum
 from ..models.compute_node_status_enum import ComputeNodeStatusEnum, check_compute_node_status_enum
 from ..models.criticality_enum import CriticalityEnum, check_criticality_enum
 from ..types import UNSET, Unset
@@ -23,6 +24,11 @@ class ComputeNode:
         id (int):
         cluster (int):
         name (str):
+        capacity_source (CapacitySourceEnum): * `declared` - Declared
+            * `reported` - Reported
+        reported_cpu (float | None): CPU cores Kubernetes reports (capacity)
+        reported_memory_mib (int | None): memory Kubernetes reports
+        reported_storage_mib (int | None): storage Kubernetes reports
         arch (ArchEnum | Unset): * `amd64` - Amd64
             * `arm64` - Arm64
             * `riscv64` - Riscv64
@@ -45,6 +51,10 @@ class ComputeNode:
     id: int
     cluster: int
     name: str
+    capacity_source: CapacitySourceEnum
+    reported_cpu: float | None
+    reported_memory_mib: int | None
+    reported_storage_mib: int | None
     arch: ArchEnum | Unset = UNSET
     cpu: float | Unset = UNSET
     memory_mib: int | Unset = UNSET
@@ -66,6 +76,17 @@ class ComputeNode:
         cluster = self.cluster
 
         name = self.name
+
+        capacity_source: str = self.capacity_source
+
+        reported_cpu: float | None
+        reported_cpu = self.reported_cpu
+
+        reported_memory_mib: int | None
+        reported_memory_mib = self.reported_memory_mib
+
+        reported_storage_mib: int | None
+        reported_storage_mib = self.reported_storage_mib
 
         arch: str | Unset = UNSET
         if not isinstance(self.arch, Unset):
@@ -113,6 +134,10 @@ class ComputeNode:
                 "id": id,
                 "cluster": cluster,
                 "name": name,
+                "capacity_source": capacity_source,
+                "reported_cpu": reported_cpu,
+                "reported_memory_mib": reported_memory_mib,
+                "reported_storage_mib": reported_storage_mib,
             }
         )
         if arch is not UNSET:
@@ -152,6 +177,29 @@ class ComputeNode:
         cluster = d.pop("cluster")
 
         name = d.pop("name")
+
+        capacity_source = check_capacity_source_enum(d.pop("capacity_source"))
+
+        def _parse_reported_cpu(data: object) -> float | None:
+            if data is None:
+                return data
+            return cast(float | None, data)
+
+        reported_cpu = _parse_reported_cpu(d.pop("reported_cpu"))
+
+        def _parse_reported_memory_mib(data: object) -> int | None:
+            if data is None:
+                return data
+            return cast(int | None, data)
+
+        reported_memory_mib = _parse_reported_memory_mib(d.pop("reported_memory_mib"))
+
+        def _parse_reported_storage_mib(data: object) -> int | None:
+            if data is None:
+                return data
+            return cast(int | None, data)
+
+        reported_storage_mib = _parse_reported_storage_mib(d.pop("reported_storage_mib"))
 
         _arch = d.pop("arch", UNSET)
         arch: ArchEnum | Unset
@@ -211,6 +259,10 @@ class ComputeNode:
             id=id,
             cluster=cluster,
             name=name,
+            capacity_source=capacity_source,
+            reported_cpu=reported_cpu,
+            reported_memory_mib=reported_memory_mib,
+            reported_storage_mib=reported_storage_mib,
             arch=arch,
             cpu=cpu,
             memory_mib=memory_mib,

@@ -6,7 +6,8 @@ The cluster file (``continuum.cluster/v1``, JSON or YAML) gives the nodes, links
 (class, speed, RT threshold...), read exactly as ``POST /api/v1/clusters/import/`` reads it; the kubeconfig is
 validated as every stored kubeconfig is (:mod:`apps.kube.kubeconfig`, the ``CONTINUUM_KUBE_*`` settings). Then
 the nodes are synced from the API (:func:`apps.clusters.kube.sync_nodes`): labels, taints, Ready, and the
-capacity Kubernetes reports (a kubemark hollow node reports 1 CPU and 3840 MiB whatever the file says).
+capacity Kubernetes reports, stored beside the file's (``reported_cpu``...: a kubemark hollow node reports 1 CPU
+and 3840 MiB whatever the file says); the file's capacity stays the planning input.
 
 Idempotent: registering again (after ``scripts/cluster down`` and ``up``, which makes a new kubeconfig) updates the
 stored cluster's kubeconfig, nodes and links instead of failing. Exit status 2 with one line on stderr for bad
@@ -115,7 +116,9 @@ class Command(EngineCommand):
             cluster.save()
             rows = {}
             for raw in nodes:
+                # The file declares the planning capacity: node sync keeps it (and stores what Kubernetes reports).
                 fields = {k: v for k, v in raw.items() if k != "name"}
+                fields["capacity_source"] = ComputeNode.Capacity.DECLARED
                 rows[raw["name"]], _ = ComputeNode.objects.update_or_create(
                     cluster=cluster, name=raw["name"], defaults=fields
                 )
