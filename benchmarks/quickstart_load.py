@@ -60,7 +60,8 @@ class QuickStart:
     def __init__(self, root: Path, var: Path, port: int, startup_s: float = 300) -> None:
         self.port, self.log_path = port, var.parent / "server.log"
         env = {k: v for k, v in os.environ.items() if k not in {"DATABASE_URL", "CELERY_BROKER_URL", "DEBUG",
-                                                                 "DJANGO_SETTINGS_MODULE", "SECRET_KEY"}}  # fmt: skip
+                                                                 "DJANGO_SETTINGS_MODULE", "SECRET_KEY",
+                                                                 "CONTINUUM_JOBS_EAGER"}}  # fmt: skip
         env.update(CONTINUUM_VAR_DIR=str(var), PORT=str(port), LOG_LEVEL="WARNING")
         self.proc = subprocess.Popen(
             [str(root / "scripts" / "start")],
