@@ -59,21 +59,21 @@ def cancel_job(job: Job, user=None) -> Job:
     (its progress callback raises :class:`~apps.jobs.tasks.JobCancelled`). :class:`JobActionRefused` for a
     job that has ended or is already being cancelled."""
     now = timezone.now()
-    queued = Job.objects.filter(pk=job.pk, state=Job.State.PENDING).update(
-        state=Job.State.CANCELLED, finished=now, cancel_requested=now, message="cancelled before it started"
-    )
-    if queued:
-        joblog.write(job.pk, f"cancelled{_who(user)} before it started")
-        if not settings.CELERY_TASK_ALWAYS_EAGER:
-            transaction.on_commit(lambda: _revoke(str(job.pk)))
-    else:
-        running = Job.objects.filter(pk=job.pk, state=Job.State.RUNNING, cancel_requested__isnull=True).update(
-            cancel_requested=now, message="cancelling: the job stops at its next step"
+    with transaction.atomic():  # the change and its log line together
+        queued = Job.objects.filter(pk=job.pk, state=Job.State.PENDING).update(
+            state=Job.State.CANCELLED, finished=now, cancel_requested=now, message="cancelled before it started"
         )
-        if not running:
+        if queued:
+            joblog.write(job.pk, f"cancelled{_who(user)} before it started")
+            if not settings.CELERY_TASK_ALWAYS_EAGER:
+                transaction.on_commit(lambda: _revoke(str(job.pk)))
+        elif Job.objects.filter(pk=job.pk, state=Job.State.RUNNING, cancel_requested__isnull=True).update(
+            cancel_requested=now, message="cancelling: the job stops at its next step"
+        ):
+            joblog.write(job.pk, f"cancel asked{_who(user)}: the job stops at its next step")
+        else:
             job.refresh_from_db()
             raise JobActionRefused(f"cannot cancel: {job.cancel_unavailable() or 'the job has ended'}")
-        joblog.write(job.pk, f"cancel asked{_who(user)}: the job stops at its next step")
     job.refresh_from_db()
     return job
 

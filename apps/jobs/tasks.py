@@ -18,6 +18,7 @@ from contextlib import contextmanager, nullcontext
 from celery import shared_task, signals
 from celery.exceptions import SoftTimeLimitExceeded, TimeLimitExceeded
 from django.conf import settings
+from django.db import transaction
 from django.utils import timezone
 
 from apps.tenancy.audit import acting_for
@@ -128,30 +129,29 @@ def run_job(self, job_id: str) -> str:
             ):
                 result, url = handler(job, progress)
     except JobCancelled as stop:
-        if mine.update(state=Job.State.CANCELLED, finished=timezone.now(), message="cancelled"):
-            joblog.write(job_id, f"cancelled at the step {str(stop)!r}: nothing after it ran")
-        joblog.prune(job_id)
+        end(mine, job_id, f"cancelled at the step {str(stop)!r}: nothing after it ran",
+            state=Job.State.CANCELLED, message="cancelled")  # fmt: skip
         return Job.State.CANCELLED
     except Exception as exc:
         detail, result = failure(job, exc)
-        if mine.update(state=Job.State.FAILED, finished=timezone.now(), error=detail, message="failed", result=result):
-            joblog.write(job_id, f"failed: {detail}")
-        joblog.prune(job_id)
+        end(mine, job_id, f"failed: {detail}", state=Job.State.FAILED, error=detail, message="failed", result=result)
         return Job.State.FAILED
-    if not mine.update(
-        state=Job.State.SUCCEEDED,
-        finished=timezone.now(),
-        progress=100,
-        message="done",
-        result=result,
-        result_url=url,
-    ):
+    late = Job.objects.filter(pk=job_id, cancel_requested__isnull=False).exists()
+    line = "succeeded" + (" (its last step ran before the cancel came)" if late else "")
+    if not end(mine, job_id, line, state=Job.State.SUCCEEDED, progress=100, message="done", result=result,
+               result_url=url):  # fmt: skip
         log.warning("job %s: attempt %s ended after the job was taken from it; result dropped", job_id, attempt)
-    else:
-        late = Job.objects.filter(pk=job_id, cancel_requested__isnull=False).exists()
-        joblog.write(job_id, "succeeded" + (" (its last step ran before the cancel came)" if late else ""), 100)
-    joblog.prune(job_id)
     return Job.State.SUCCEEDED
+
+
+def end(mine, job_id, line: str, **change) -> bool:
+    """Record the end of this run (``change``) with its log line, together, if the job is still the run's."""
+    with transaction.atomic():
+        ended = bool(mine.update(finished=timezone.now(), **change))
+        if ended:
+            joblog.write(job_id, line, change.get("progress"))
+    joblog.prune(job_id)
+    return ended
 
 
 @shared_task(name="continuum.recover_lost_jobs")
@@ -187,12 +187,8 @@ def time_limit_message(seconds: float) -> str:
 
 
 def _fail(job_id, error: str) -> None:
-    if (
-        Job.objects.filter(pk=job_id)
-        .exclude(state__in=Job.FINAL)
-        .update(state=Job.State.FAILED, finished=timezone.now(), error=error, message="failed", result=None)
-    ):
-        joblog.write(job_id, f"failed: {error}")
+    unfinished = Job.objects.filter(pk=job_id).exclude(state__in=Job.FINAL)
+    end(unfinished, job_id, f"failed: {error}", state=Job.State.FAILED, error=error, message="failed", result=None)
 
 
 @signals.task_failure.connect
