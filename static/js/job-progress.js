@@ -20,7 +20,7 @@
     var b = document.getElementById("job-" + name);
     var why = document.getElementById("job-" + name + "-reason");
     if (!b) return;
-    b.disabled = Boolean(reason);
+    b.disabled = Boolean(reason) || Boolean(b.dataset.busy);  // busy: its form is being submitted (forms.js)
     if (reason) b.title = reason; else b.removeAttribute("title");
     if (why) why.textContent = reason || "";
   }
