@@ -1,7 +1,7 @@
 """The quick start under load: robots posting RT-Kube missed-deadline reports to `scripts/start`'s server.
 
 Runs the real quick start (`<root>/scripts/start`: migrate, demo data, the server it serves with) in a
-throw-away var directory on a free loopback port, with the embedded SQLite database and no broker. Then,
+throw-away var directory on a free loopback port, with the embedded SQLite database and its file broker. Then,
 over the API with the demo fleet's token: one RealTime object per robot on the demo cluster, and ROBOTS
 threads that each post REQUESTS batches of BATCH reports to /api/v1/rt-reports/ as fast as answers come
 (every VIOLATION_EVERY-th batch of a robot crosses the threshold, so the monitor's reconcile writes too).
