@@ -7,7 +7,7 @@ from . import joblog
 from .models import Job, JobLogLine
 
 
-class JobLogLineSerializer(serializers.ModelSerializer):
+class JobLogLineSerializer(ScopedModelSerializer):
     class Meta:
         model = JobLogLine
         fields = ["at", "progress", "text"]
