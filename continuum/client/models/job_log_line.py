@@ -12,7 +12,8 @@ T = TypeVar("T", bound="JobLogLine")
 
 @_attrs_define
 class JobLogLine:
-    """
+    """The base of every model serializer of the API.
+
     Attributes:
         at (datetime.datetime):
         progress (int | None):
