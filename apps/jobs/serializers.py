@@ -8,6 +8,8 @@ from .models import Job, JobLogLine
 
 
 class JobLogLineSerializer(ScopedModelSerializer):
+    """One line of a job's log: when, the progress then (if any) and what happened."""
+
     class Meta:
         model = JobLogLine
         fields = ["at", "progress", "text"]

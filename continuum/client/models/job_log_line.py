@@ -12,7 +12,7 @@ T = TypeVar("T", bound="JobLogLine")
 
 @_attrs_define
 class JobLogLine:
-    """The base of every model serializer of the API.
+    """One line of a job's log: when, the progress then (if any) and what happened.
 
     Attributes:
         at (datetime.datetime):
