@@ -83,6 +83,12 @@ class Job(FleetOwned):
             return f"the job is {self.state}: cancel it first, or wait for its end"
         return ""
 
+    @property
+    def duration(self) -> float | None:
+        if self.started and self.finished:
+            return (self.finished - self.started).total_seconds()
+        return None
+
 
 class JobLogLine(models.Model):
     """One line of a job's log: its progress messages and what happened to it (queued, started, cancelled,
@@ -99,9 +105,3 @@ class JobLogLine(models.Model):
 
     def __str__(self) -> str:
         return self.text
-
-    @property
-    def duration(self) -> float | None:
-        if self.started and self.finished:
-            return (self.finished - self.started).total_seconds()
-        return None
