@@ -310,7 +310,7 @@ class Fleet:
 
     def wait(
         self,
-        job: Job | uuid.UUID | str,
+        job: Job | JobDetail | uuid.UUID | str,
         *,
         poll: float = 0.5,
         timeout: float | None = None,
@@ -320,7 +320,7 @@ class Fleet:
         """Follow a job until it succeeds, fails or is cancelled, calling ``on_progress(job)`` whenever its state,
         progress or message changes. Raises JobFailed (or returns the failed or cancelled job), TimeoutError after
         ``timeout`` seconds."""
-        current = job if isinstance(job, Job) else self.job(job)
+        current = job if isinstance(job, Job | JobDetail) else self.job(job)
         deadline = None if timeout is None else time.monotonic() + timeout
         seen = None
         while True:
