@@ -1,7 +1,7 @@
 """The quick start under load: robots posting RT-Kube missed-deadline reports to `scripts/start`'s server.
 
 Runs the real quick start (`<root>/scripts/start`: migrate, demo data, the server it serves with) in a
-throw-away var directory on a free loopback port, with the embedded SQLite database and no broker. Then,
+throw-away var directory on a free loopback port, with the embedded SQLite database and its file broker. Then,
 over the API with the demo fleet's token: one RealTime object per robot on the demo cluster, and ROBOTS
 threads that each post REQUESTS batches of BATCH reports to /api/v1/rt-reports/ as fast as answers come
 (every VIOLATION_EVERY-th batch of a robot crosses the threshold, so the monitor's reconcile writes too).
@@ -60,7 +60,8 @@ class QuickStart:
     def __init__(self, root: Path, var: Path, port: int, startup_s: float = 300) -> None:
         self.port, self.log_path = port, var.parent / "server.log"
         env = {k: v for k, v in os.environ.items() if k not in {"DATABASE_URL", "CELERY_BROKER_URL", "DEBUG",
-                                                                 "DJANGO_SETTINGS_MODULE", "SECRET_KEY"}}  # fmt: skip
+                                                                 "DJANGO_SETTINGS_MODULE", "SECRET_KEY",
+                                                                 "CONTINUUM_JOBS_EAGER"}}  # fmt: skip
         env.update(CONTINUUM_VAR_DIR=str(var), PORT=str(port), LOG_LEVEL="WARNING")
         self.proc = subprocess.Popen(
             [str(root / "scripts" / "start")],

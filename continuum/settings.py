@@ -1,7 +1,8 @@
 """Django settings, read from the environment.
 
 DATABASE_URL       default: a SQLite file under var/ (the embedded quick-start default)
-CELERY_BROKER_URL  default: none, and then jobs run in-process (eager) so the quick start needs no server
+CELERY_BROKER_URL  default: a broker in files under var/broker/ (kombu's filesystem transport), so the quick start
+                   runs a real worker (scripts/start starts it) with no broker server to install
 SECRET_KEY, DEBUG, ALLOWED_HOSTS
 CONTINUUM_*        algorithm defaults where the thesis is ambiguous (see continuum/engine docstrings)
 """
@@ -217,7 +218,10 @@ SPECTACULAR_SETTINGS = {
     "SWAGGER_UI_DIST": "SIDECAR",
     "SWAGGER_UI_FAVICON_HREF": "SIDECAR",
     "REDOC_DIST": "SIDECAR",
-    "ENUM_NAME_OVERRIDES": {"AlgorithmEnum": "apps.scheduling.serializers.ALGORITHM_CHOICES"},
+    "ENUM_NAME_OVERRIDES": {
+        "AlgorithmEnum": "apps.scheduling.serializers.ALGORITHM_CHOICES",
+        "JobStateEnum": "apps.jobs.models.Job.State",
+    },
     # Operations tagged and named by resource ("jobs", "jobs_retrieve"), not all under "v1" ("v1_jobs_retrieve"):
     # the docs group them by resource and the generated client (continuum/client/) has usable names.
     "SCHEMA_PATH_PREFIX": r"/api/v[0-9]+",
@@ -225,8 +229,26 @@ SPECTACULAR_SETTINGS = {
 
 # ---- Celery ---------------------------------------------------------------------------------------
 CELERY_BROKER_URL = os.environ.get("CELERY_BROKER_URL", "")
-# With no broker the quick start runs jobs in-process; the job record, progress and errors are the same.
-CELERY_TASK_ALWAYS_EAGER = not CELERY_BROKER_URL
+CELERY_BROKER_TRANSPORT_OPTIONS: dict = {}
+if not CELERY_BROKER_URL:
+    # The quick start: no broker server, messages are files under var/broker/ (kombu's filesystem transport:
+    # flock'ed files, fanout for revoke and the other remote controls), consumed by the worker that
+    # scripts/start runs beside the web server. Web and worker share the directory as they share the database.
+    BROKER_DIR = Path(os.environ.get("CONTINUUM_BROKER_DIR") or VAR_DIR / "broker")
+    for _sub in ("queue", "control", "processed"):
+        (BROKER_DIR / _sub).mkdir(mode=0o700, parents=True, exist_ok=True)
+    CELERY_BROKER_URL = "filesystem://"
+    CELERY_BROKER_TRANSPORT_OPTIONS = {
+        "data_folder_in": str(BROKER_DIR / "queue"),
+        "data_folder_out": str(BROKER_DIR / "queue"),
+        "control_folder": str(BROKER_DIR / "control"),
+        "processed_folder": str(BROKER_DIR / "processed"),
+        "store_processed": False,
+        "polling_interval": 0.2,  # seconds between two looks at the queue directory when it is empty
+    }
+# CONTINUUM_JOBS_EAGER=1 runs every job inside the process that starts it (its web request or command), with
+# the same record, progress and errors: only for tests that ask for it (tests/conftest.py). Never the default.
+CELERY_TASK_ALWAYS_EAGER = os.environ.get("CONTINUUM_JOBS_EAGER", "") == "1"
 CELERY_TASK_EAGER_PROPAGATES = False
 CELERY_TASK_DEFAULT_QUEUE = os.environ.get("CELERY_QUEUE", "continuum")
 CELERY_TASK_ACKS_LATE = True
@@ -240,7 +262,7 @@ CELERY_RESULT_BACKEND = None
 # again only after the visibility timeout. That timeout must exceed the longest job: a message held longer
 # is delivered a second time while the first run goes on (run_job then waits for that run). A lost worker
 # is noticed sooner by the jobs' heartbeats (CONTINUUM_JOB_* below).
-CELERY_BROKER_TRANSPORT_OPTIONS = {
+CELERY_BROKER_TRANSPORT_OPTIONS |= {
     "visibility_timeout": int(os.environ.get("CELERY_VISIBILITY_TIMEOUT", 3600)),
     "unacked_restore_interval": int(os.environ.get("CELERY_RESTORE_INTERVAL", 10)),
     "unacked_restore_throttle": int(os.environ.get("CELERY_RESTORE_THROTTLE", 10)),

@@ -1,14 +1,22 @@
 """Fixtures shared by the test suite: fleets, users, tokens and API clients."""
 
 import json
+import os
 from pathlib import Path
 
 import pytest
+from django.conf import settings
 from rest_framework.test import APIClient
 
 from apps.scheduling.kinds import SchedulingJob
 
 DATA = Path(__file__).resolve().parent / "data"
+
+# The suite asks for in-process jobs (CONTINUUM_JOBS_EAGER, never the default): a test's request or command
+# runs its job before it returns. Commands the tests run as subprocesses inherit it; tests that need a real
+# worker (tests/services/conftest.py: celery_broker, start_worker) turn it off for themselves.
+os.environ["CONTINUUM_JOBS_EAGER"] = "1"
+settings.CELERY_TASK_ALWAYS_EAGER = True
 
 
 @pytest.fixture

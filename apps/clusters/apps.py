@@ -6,6 +6,10 @@ class ClustersConfig(AppConfig):
     label = "clusters"
 
     def ready(self) -> None:
+        from apps.ui.links import register_object_page
+
+        # Job pages link the rows a job's arguments name to their pages.
+        register_object_page("cluster", "clusters:cluster")
         from apps.tenancy.demo import register_demo
 
         from . import jobs  # noqa: F401 - registers the sync_cluster job kind

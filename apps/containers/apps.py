@@ -7,6 +7,12 @@ class ContainersConfig(AppConfig):
     verbose_name = "ROS graphs, containers and placements"
 
     def ready(self) -> None:
+        from apps.ui.links import register_object_page
+
+        # Job pages link the rows a job's arguments name to their pages.
+        register_object_page("rosgraph", "containers:rosgraph")
+        register_object_page("clustering", "containers:clustering")
+        register_object_page("placement", "containers:placement")
         from apps.clusters.live import register_pod_handler
 
         from . import jobs  # noqa: F401 - registers the cluster_ros, place and push_placement job kinds

@@ -1,9 +1,18 @@
 """The containers app's job kinds (ROS clustering, placement, pushing a placement)."""
 
-from apps.jobs.registry import JobKind
+from apps.jobs.registry import JobKind, describe_kinds
 
 
 class ContainersJob(JobKind):
     CLUSTER_ROS = "cluster_ros"
     PLACE = "place"
     PUSH_PLACEMENT = "push_placement"
+
+
+describe_kinds(
+    {
+        ContainersJob.CLUSTER_ROS: "Cluster a ROS graph's nodes into containers",
+        ContainersJob.PLACE: "Place containers on a cluster's nodes",
+        ContainersJob.PUSH_PLACEMENT: "Push a placement to Kubernetes as Deployments",
+    }
+)

@@ -8,11 +8,18 @@ a new pod replaces the stored one, while a terminating or deleted pod only updat
 
 from __future__ import annotations
 
+from django.contrib.auth.decorators import login_required
+from django.db.models import F
+from django.http import HttpRequest, HttpResponse
+from django.shortcuts import get_object_or_404
+
 from apps.clusters.live import event_text, live_values, store
 from apps.clusters.models import Cluster
 from apps.kube.gateway import PREFIX, PodState
+from apps.ui.helpers import scoped
+from apps.ui.live import LIMIT, LivePod, live_response
 
-from .models import ContainerDeployment
+from .models import ContainerDeployment, Placement
 
 
 def store_pod_state(cluster: Cluster, state: PodState) -> int:
@@ -28,3 +35,32 @@ def store_pod_state(cluster: Cluster, state: PodState) -> int:
     # Rows that showed another pod take this one with its event (none yet: empty); the others keep theirs.
     replaced = store(rows.exclude(pod_name=state.name), {**values, "pod_event": event_text(state)})
     return replaced + store(rows.filter(pod_name=state.name), values)
+
+
+def placement_pods(placement: Placement) -> tuple[list[LivePod], int]:
+    """The pods of ``placement``'s pushed Deployments now, next to the node the placement chose (newest change
+    first, at most LIMIT), and how many Deployments were pushed."""
+    pushed = placement.deployments.exclude(state__in=[ContainerDeployment.State.NOT_PUSHED])
+    rows = pushed.order_by(F("pod_state_at").desc(nulls_last=True), "container")[:LIMIT]
+    pods = [
+        LivePod(
+            label=f"container {d.container}"
+            + (" (superseded by a newer placement)" if d.state == ContainerDeployment.State.SUPERSEDED else ""),
+            pod=d.pod_name,
+            planned=d.node,
+            node=d.pod_node,
+            phase=d.pod_phase,
+            event=d.pod_event,
+            at=d.pod_state_at,
+        )
+        for d in rows
+    ]
+    return pods, pushed.count()
+
+
+@login_required
+def placement_live(request: HttpRequest, pk: int) -> HttpResponse:
+    """``/ros/placements/<pk>/live/``: the placement's pods now (JSON for ``ui/includes/live_pods.html``)."""
+    placement = get_object_or_404(scoped(request, Placement.objects.all()), pk=pk)
+    pods, total = placement_pods(placement)
+    return live_response(pods, total, empty="No container of this placement was pushed to Kubernetes yet.")

@@ -1,6 +1,6 @@
 from django.urls import path
 
-from . import views
+from . import live, views
 
 app_name = "containers"
 urlpatterns = [
@@ -14,5 +14,6 @@ urlpatterns = [
     path("clusterings/<int:pk>/dockerfiles/", views.clustering_dockerfiles, name="clustering-dockerfiles"),
     path("clusterings/<int:pk>/place/", views.clustering_place, name="clustering-place"),
     path("placements/<int:pk>/", views.placement_detail, name="placement"),
+    path("placements/<int:pk>/live/", live.placement_live, name="placement-live"),
     path("placements/<int:pk>/push/", views.placement_push, name="placement-push"),
 ]

@@ -31,6 +31,7 @@ from django.db import DatabaseError, connection, transaction
 from django.db.models import QuerySet
 from django.utils import timezone
 
+from . import joblog
 from .models import Job
 
 log = logging.getLogger(__name__)
@@ -93,13 +94,16 @@ def recover_lost_jobs(queryset: QuerySet[Job] | None = None) -> list[tuple[str, 
     eager = settings.CELERY_TASK_ALWAYS_EAGER
     done = []
     base = (Job.objects.all() if queryset is None else queryset).select_related(None)
-    for job in base.filter(state=Job.State.RUNNING).only("id", "state", "worker", "heartbeat", "attempts"):
+    fields = ("id", "state", "worker", "heartbeat", "attempts", "cancel_requested")
+    for job in base.filter(state=Job.State.RUNNING).only(*fields):
         reason = lost_reason(job, now)
         if not reason:
             continue
-        # No broker (the quick start): nothing would run it again. Or it lost its worker too often.
-        again = not eager and job.attempts < settings.CONTINUUM_JOB_MAX_ATTEMPTS
-        if again:
+        # In-process runs (CONTINUUM_JOBS_EAGER): nothing would run it again. Or it lost its worker too often.
+        again = not eager and job.attempts < settings.CONTINUUM_JOB_MAX_ATTEMPTS and not job.cancel_requested
+        if job.cancel_requested:  # it was being cancelled: the cancel is what it gets
+            change = {"state": Job.State.CANCELLED, "finished": now, "message": "cancelled (its worker was lost)"}
+        elif again:
             change = {"state": Job.State.PENDING, "message": f"{reason}; queued again"[:300]}
         else:
             tries = "" if eager else f" (attempt {job.attempts} of {settings.CONTINUUM_JOB_MAX_ATTEMPTS})"
@@ -109,12 +113,14 @@ def recover_lost_jobs(queryset: QuerySet[Job] | None = None) -> list[tuple[str, 
                                       heartbeat=job.heartbeat, worker=job.worker)  # fmt: skip
         if not same_run.update(interruption=reason[:300], **change):
             continue
-        log.warning("job %s: %s; %s", job.pk, reason, "queued again" if again else "failed")
+        outcome = "queued again" if again else str(change["state"])
+        log.warning("job %s: %s; %s", job.pk, reason, outcome)
+        joblog.write(job.pk, f"{reason}; {outcome}")
         if again:
             from .tasks import run_job
 
-            transaction.on_commit(lambda pk=str(job.pk): run_job.delay(pk))
-        done.append((str(job.pk), "queued again" if again else "failed"))
+            transaction.on_commit(lambda pk=str(job.pk): run_job.apply_async(args=(pk,), task_id=pk))
+        done.append((str(job.pk), outcome))
     return done
 
 

@@ -14,6 +14,10 @@ class Job(FleetOwned):
         RUNNING = "running"
         SUCCEEDED = "succeeded"
         FAILED = "failed"
+        CANCELLED = "cancelled"
+
+    #: The states a job ends in.
+    FINAL = (State.SUCCEEDED, State.FAILED, State.CANCELLED)
 
     id = models.UUIDField(primary_key=True, default=uuid.uuid4, editable=False)
     kind = models.CharField(max_length=50)
@@ -34,6 +38,13 @@ class Job(FleetOwned):
     interruption = models.CharField(
         max_length=300, blank=True, help_text="why an earlier attempt ended unfinished (e.g. its worker was lost)"
     )
+    cancel_requested = models.DateTimeField(
+        null=True, blank=True, help_text="when a cancel of the running job was asked (its run stops at its next step)"
+    )
+    retry_of = models.ForeignKey(
+        "self", null=True, blank=True, on_delete=models.SET_NULL, related_name="retries",
+        help_text="the job this one runs again, with the same arguments",
+    )  # fmt: skip
     created = models.DateTimeField(auto_now_add=True)
     started = models.DateTimeField(null=True, blank=True)
     finished = models.DateTimeField(null=True, blank=True)
@@ -47,10 +58,50 @@ class Job(FleetOwned):
 
     @property
     def done(self) -> bool:
-        return self.state in (self.State.SUCCEEDED, self.State.FAILED)
+        return self.state in self.FINAL
+
+    @property
+    def title(self) -> str:
+        """What the job does, in words (registered with its kind)."""
+        from .registry import kind_title
+
+        return kind_title(self.kind)
+
+    def cancel_unavailable(self) -> str:
+        """Why this job cannot be cancelled now ('' when it can)."""
+        if self.done:
+            return f"the job has {self.state}"
+        if self.cancel_requested:
+            return "a cancel was already asked: the job stops at its next step"
+        return ""
+
+    def retry_unavailable(self) -> str:
+        """Why this job cannot be retried ('' when it can): only a failed or cancelled job runs again."""
+        if self.state == self.State.SUCCEEDED:
+            return "the job succeeded: start a new one from the page of what it worked on"
+        if not self.done:
+            return f"the job is {self.state}: cancel it first, or wait for its end"
+        return ""
 
     @property
     def duration(self) -> float | None:
         if self.started and self.finished:
             return (self.finished - self.started).total_seconds()
         return None
+
+
+class JobLogLine(models.Model):
+    """One line of a job's log: its progress messages and what happened to it (queued, started, cancelled,
+    failed...). Bounded per job (:data:`apps.jobs.joblog.LIMIT`): the oldest lines go first."""
+
+    job = models.ForeignKey(Job, on_delete=models.CASCADE, related_name="log_lines")
+    at = models.DateTimeField(auto_now_add=True)
+    progress = models.PositiveSmallIntegerField(null=True, blank=True)
+    text = models.CharField(max_length=300)
+
+    class Meta:
+        ordering = ["id"]
+        indexes = [models.Index(fields=["job", "id"])]
+
+    def __str__(self) -> str:
+        return self.text

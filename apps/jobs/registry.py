@@ -89,3 +89,20 @@ def owned_row(job: Any, rows: Any, name: str, *, what: str | None = None, requir
 
 def _name(fn: Callable) -> str:
     return f"{getattr(fn, '__module__', '?')}.{getattr(fn, '__qualname__', repr(fn))}"
+
+
+#: What each kind does, in words, for the job pages (registered with the kinds, in the apps' kinds.py).
+TITLES: dict[str, str] = {}
+
+
+def describe_kinds(titles: dict[JobKind, str]) -> None:
+    """Register what each kind of ``titles`` does, in words ("Schedule an application's DAG")."""
+    for kind, title in titles.items():
+        if not isinstance(kind, JobKind):
+            raise TypeError(f"job kinds are JobKind members, not {kind!r}")
+        TITLES[kind.value] = title
+
+
+def kind_title(kind: str) -> str:
+    """The registered words for ``kind``; else the kind's name made readable ("push_schedule": "Push schedule")."""
+    return TITLES.get(kind) or kind.replace("_", " ").capitalize()

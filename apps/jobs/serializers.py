@@ -1,8 +1,19 @@
+from drf_spectacular.utils import extend_schema_field
 from rest_framework import serializers
 
 from apps.tenancy.api import ScopedModelSerializer
 
-from .models import Job
+from . import joblog
+from .models import Job, JobLogLine
+
+
+class JobLogLineSerializer(ScopedModelSerializer):
+    """One line of a job's log: when, the progress then (if any) and what happened."""
+
+    class Meta:
+        model = JobLogLine
+        fields = ["at", "progress", "text"]
+        read_only_fields = fields
 
 
 class JobSerializer(ScopedModelSerializer):
@@ -10,6 +21,13 @@ class JobSerializer(ScopedModelSerializer):
     created_by = serializers.StringRelatedField()
     url = serializers.HyperlinkedIdentityField(view_name="api:job-detail")
     duration = serializers.FloatField(read_only=True, allow_null=True)
+    title = serializers.CharField(read_only=True, help_text="what the job does, in words")
+    cancel_unavailable = serializers.SerializerMethodField(
+        help_text="why POST .../cancel/ would be refused now ('' when the job can be cancelled)"
+    )
+    retry_unavailable = serializers.SerializerMethodField(
+        help_text="why POST .../retry/ would be refused now ('' when the job can be retried)"
+    )
 
     class Meta:
         model = Job
@@ -18,6 +36,7 @@ class JobSerializer(ScopedModelSerializer):
             "url",
             "fleet",
             "kind",
+            "title",
             "arguments",
             "created_by",
             "state",
@@ -30,9 +49,33 @@ class JobSerializer(ScopedModelSerializer):
             "worker",
             "heartbeat",
             "interruption",
+            "cancel_requested",
+            "cancel_unavailable",
+            "retry_unavailable",
+            "retry_of",
             "created",
             "started",
             "finished",
             "duration",
         ]
         read_only_fields = fields
+
+    def get_cancel_unavailable(self, job: Job) -> str:
+        return job.cancel_unavailable()
+
+    def get_retry_unavailable(self, job: Job) -> str:
+        return job.retry_unavailable()
+
+
+class JobDetailSerializer(JobSerializer):
+    """One job with its log (the newest lines, oldest first; bounded, see apps/jobs/joblog.py)."""
+
+    log = serializers.SerializerMethodField()
+
+    class Meta(JobSerializer.Meta):
+        fields = [*JobSerializer.Meta.fields, "log"]
+        read_only_fields = fields
+
+    @extend_schema_field(JobLogLineSerializer(many=True))
+    def get_log(self, job: Job) -> list[dict]:
+        return JobLogLineSerializer(joblog.lines(job.pk), many=True).data

@@ -18,10 +18,12 @@ from contextlib import contextmanager, nullcontext
 from celery import shared_task, signals
 from celery.exceptions import SoftTimeLimitExceeded, TimeLimitExceeded
 from django.conf import settings
+from django.db import transaction
 from django.utils import timezone
 
 from apps.tenancy.audit import acting_for
 
+from . import joblog
 from .liveness import heartbeats, identity, lost_reason, recover_lost_jobs
 from .models import Job
 from .registry import HANDLERS
@@ -29,6 +31,11 @@ from .registry import HANDLERS
 log = logging.getLogger(__name__)
 #: Minimum seconds between two progress writes, so a tight loop does not hammer the database.
 PROGRESS_INTERVAL = 0.2
+
+
+class JobCancelled(BaseException):
+    """Raised in a job's run by its progress callback once a cancel was asked: the handler stops at that step.
+    A BaseException, like asyncio's CancelledError, so a handler's ``except Exception`` does not swallow it."""
 
 
 def failure(job: Job, exc: Exception) -> tuple[str, dict | None]:
@@ -78,6 +85,7 @@ def claim(job_id: str, eager: bool) -> int | None:
             **interruption,
         )
         if taken:
+            joblog.write(job.pk, f"attempt {job.attempts + 1} started on {identity()}", 0)
             return job.attempts + 1
 
 
@@ -90,13 +98,24 @@ def run_job(self, job_id: str) -> str:
         return job.state if job else "missing"
     mine = Job.objects.filter(pk=job_id, attempts=attempt, state=Job.State.RUNNING)
     last = [0.0]
+    logged = [""]
 
     def progress(percent: float, message: str = "") -> None:
+        """Record progress, and stop the job here (JobCancelled) when a cancel was asked: a step boundary, so
+        nothing after the cancel is half done. A new message is also a line of the job's log."""
         now = time.monotonic()
         if now - last[0] < PROGRESS_INTERVAL and percent < 100:
             return
         last[0] = now
-        mine.update(progress=max(0, min(100, int(percent))), message=message[:300])
+        if not mine.filter(cancel_requested__isnull=True).update(
+            progress=max(0, min(100, int(percent))), message=message[:300]
+        ):
+            if mine.filter(cancel_requested__isnull=False).exists():
+                raise JobCancelled(message)
+            return  # the job was taken from this run (lost, then queued again): its writes are not recorded
+        if message and message != logged[0]:
+            logged[0] = message
+            joblog.write(job_id, message, percent)
 
     job = Job.objects.get(pk=job_id)
     beating = nullcontext() if eager else heartbeats(job_id, attempt)
@@ -109,20 +128,30 @@ def run_job(self, job_id: str) -> str:
                 soft_time_limit(settings.CELERY_TASK_SOFT_TIME_LIMIT, enabled=not eager),
             ):
                 result, url = handler(job, progress)
+    except JobCancelled as stop:
+        end(mine, job_id, f"cancelled at the step {str(stop)!r}: nothing after it ran",
+            state=Job.State.CANCELLED, message="cancelled")  # fmt: skip
+        return Job.State.CANCELLED
     except Exception as exc:
         detail, result = failure(job, exc)
-        mine.update(state=Job.State.FAILED, finished=timezone.now(), error=detail, message="failed", result=result)
+        end(mine, job_id, f"failed: {detail}", state=Job.State.FAILED, error=detail, message="failed", result=result)
         return Job.State.FAILED
-    if not mine.update(
-        state=Job.State.SUCCEEDED,
-        finished=timezone.now(),
-        progress=100,
-        message="done",
-        result=result,
-        result_url=url,
-    ):
+    late = Job.objects.filter(pk=job_id, cancel_requested__isnull=False).exists()
+    line = "succeeded" + (" (its last step ran before the cancel came)" if late else "")
+    if not end(mine, job_id, line, state=Job.State.SUCCEEDED, progress=100, message="done", result=result,
+               result_url=url):  # fmt: skip
         log.warning("job %s: attempt %s ended after the job was taken from it; result dropped", job_id, attempt)
     return Job.State.SUCCEEDED
+
+
+def end(mine, job_id, line: str, **change) -> bool:
+    """Record the end of this run (``change``) with its log line, together, if the job is still the run's."""
+    with transaction.atomic():
+        ended = bool(mine.update(finished=timezone.now(), **change))
+        if ended:
+            joblog.write(job_id, line, change.get("progress"))
+    joblog.prune(job_id)
+    return ended
 
 
 @shared_task(name="continuum.recover_lost_jobs")
@@ -158,9 +187,8 @@ def time_limit_message(seconds: float) -> str:
 
 
 def _fail(job_id, error: str) -> None:
-    Job.objects.filter(pk=job_id).exclude(state__in=[Job.State.SUCCEEDED, Job.State.FAILED]).update(
-        state=Job.State.FAILED, finished=timezone.now(), error=error, message="failed", result=None
-    )
+    unfinished = Job.objects.filter(pk=job_id).exclude(state__in=Job.FINAL)
+    end(unfinished, job_id, f"failed: {error}", state=Job.State.FAILED, error=error, message="failed", result=None)
 
 
 @signals.task_failure.connect

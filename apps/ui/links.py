@@ -18,6 +18,8 @@ from django.urls import reverse
 PAGE_ORDER = 30
 
 _RESULT_PAGES: dict[str, tuple[int, str]] = {}
+#: Pages of the rows a job's arguments name (``{"application": 3}``), by argument name: URL name.
+_OBJECT_PAGES: dict[str, str] = {}
 
 
 def register_result_page(key: str, url_name: str, *, order: int = 100) -> None:
@@ -37,3 +39,17 @@ def result_page(result: Mapping[str, Any]) -> str | None:
         elif isinstance(value, int) and not isinstance(value, bool):
             return reverse(url_name, args=[value])
     return None
+
+
+def register_object_page(key: str, url_name: str) -> None:
+    """An integer ``key`` in a job's arguments is the pk of an object shown at the URL named ``url_name``."""
+    _OBJECT_PAGES[key] = url_name
+
+
+def object_page(key: str, value: Any) -> str | None:
+    """The page of the row that argument ``key`` names by its pk ``value`` (result keys count too: a
+    ``schedule`` argument is shown where a ``schedule`` result is); None when none is registered."""
+    url_name = _OBJECT_PAGES.get(key) or _RESULT_PAGES.get(key, (0, ""))[1]
+    if not url_name or not isinstance(value, int) or isinstance(value, bool):
+        return None
+    return reverse(url_name, args=[value])

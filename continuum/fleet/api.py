@@ -36,6 +36,7 @@ from continuum.client.models import (
     ApplicationImportRequest,
     EventBatchRequest,
     Job,
+    JobDetail,
     ReportBatchRequest,
     RosGraphImportRequest,
     ScheduleRequestRequest,
@@ -49,7 +50,7 @@ MAX_REPORTS = 5_000
 RETRY_STATUSES = {429, 503}
 #: Also retried for idempotent requests (reads, reports with ids): the answer was lost, not the work.
 RETRY_STATUSES_IDEMPOTENT = RETRY_STATUSES | {502, 504}
-DONE = ("succeeded", "failed")
+DONE = ("succeeded", "failed", "cancelled")
 
 
 class ApiError(Exception):
@@ -67,9 +68,9 @@ class ApiError(Exception):
 
 
 class JobFailed(Exception):
-    def __init__(self, job: Job):
+    def __init__(self, job: Job | JobDetail):
         self.job = job
-        super().__init__(f"job {job.id} ({job.kind}) failed: {job.error or job.message or 'no reason given'}")
+        super().__init__(f"job {job.id} ({job.kind}) {job.state}: {job.error or job.message or 'no reason given'}")
 
 
 def _errors_line(body: Any) -> str:
@@ -303,22 +304,23 @@ class Fleet:
         """Start the job that binds a schedule's pods in its cluster's Kubernetes API."""
         return self.parsed(self.call("push", schedules_push_create.sync_detailed, schedule))
 
-    def job(self, job_id: uuid.UUID | str) -> Job:
+    def job(self, job_id: uuid.UUID | str) -> Job | JobDetail:
         jid = job_id if isinstance(job_id, uuid.UUID) else uuid.UUID(str(job_id))
         return self.parsed(self.call("job", jobs_retrieve.sync_detailed, jid, idempotent=True))
 
     def wait(
         self,
-        job: Job | uuid.UUID | str,
+        job: Job | JobDetail | uuid.UUID | str,
         *,
         poll: float = 0.5,
         timeout: float | None = None,
         on_progress: Callable[[Job], None] | None = None,
         raise_on_failure: bool = True,
-    ) -> Job:
-        """Follow a job until it succeeds or fails, calling ``on_progress(job)`` whenever its state, progress or
-        message changes. Raises JobFailed (or returns the failed job), TimeoutError after ``timeout`` seconds."""
-        current = job if isinstance(job, Job) else self.job(job)
+    ) -> Job | JobDetail:
+        """Follow a job until it succeeds, fails or is cancelled, calling ``on_progress(job)`` whenever its state,
+        progress or message changes. Raises JobFailed (or returns the failed or cancelled job), TimeoutError after
+        ``timeout`` seconds."""
+        current = job if isinstance(job, Job | JobDetail) else self.job(job)
         deadline = None if timeout is None else time.monotonic() + timeout
         seen = None
         while True:
@@ -332,6 +334,6 @@ class Fleet:
                 raise TimeoutError(f"job {current.id} still {current.state} after {timeout} s")
             time.sleep(poll)
             current = self.job(current.id)
-        if current.state == "failed" and raise_on_failure:
+        if current.state in ("failed", "cancelled") and raise_on_failure:
             raise JobFailed(current)
         return current

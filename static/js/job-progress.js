@@ -1,5 +1,5 @@
-/* Live progress of one job: poll the REST API (session auth) and update the bar until the job is done,
-   then reload so the server renders the final state and the link to the result. */
+/* Live progress of one job: poll the REST API (session auth) and update the bar, the log and the cancel/retry
+   buttons until the job ends, then reload so the server renders the final state and the link to the result. */
 (function () {
   "use strict";
   var box = document.getElementById("job-progress");
@@ -12,8 +12,41 @@
   var message = document.getElementById("job-message");
   var percent = document.getElementById("job-percent");
   var note = document.getElementById("job-poll-note");
+  var logList = document.getElementById("job-log");
   var delay = 1000;
   var MAX_DELAY = 10000;
+
+  function button(name, reason) {
+    var b = document.getElementById("job-" + name);
+    var why = document.getElementById("job-" + name + "-reason");
+    if (!b) return;
+    b.disabled = Boolean(reason) || Boolean(b.dataset.busy);  // busy: its form is being submitted (forms.js)
+    if (reason) b.title = reason; else b.removeAttribute("title");
+    if (why) why.textContent = reason || "";
+  }
+
+  function pad(n) { return (n < 10 ? "0" : "") + n; }
+
+  function showLog(lines) {
+    if (!logList || !lines) return;
+    var items = lines.map(function (line) {
+      var li = document.createElement("li");
+      var t = document.createElement("time");
+      var at = new Date(line.at);
+      t.setAttribute("datetime", line.at);
+      t.textContent = pad(at.getUTCHours()) + ":" + pad(at.getUTCMinutes()) + ":" + pad(at.getUTCSeconds());
+      li.appendChild(t);
+      if (line.progress !== null && line.progress !== undefined) {
+        var p = document.createElement("span");
+        p.className = "muted";
+        p.textContent = " " + line.progress + "%";
+        li.appendChild(p);
+      }
+      li.appendChild(document.createTextNode(" " + line.text));
+      return li;
+    });
+    logList.replaceChildren.apply(logList, items);
+  }
 
   function show(job) {
     var p = Math.max(0, Math.min(100, job.progress || 0));
@@ -24,6 +57,9 @@
     state.textContent = job.state.charAt(0).toUpperCase() + job.state.slice(1);
     state.className = "badge state-" + job.state;
     message.textContent = job.message || "";
+    button("cancel", job.cancel_unavailable);
+    button("retry", job.retry_unavailable);
+    showLog(job.log);
   }
 
   function poll() {
@@ -36,7 +72,7 @@
         note.textContent = "";
         delay = 1000;
         show(job);
-        if (job.state === "succeeded" || job.state === "failed") {
+        if (job.state === "succeeded" || job.state === "failed" || job.state === "cancelled") {
           window.location.reload();
         } else {
           window.setTimeout(poll, delay);

@@ -10,8 +10,8 @@
   });
 })();
 
-/* Every dashboard form: a refused form's error summary is brought into view (it may sit below a long chart),
-   and a submitted form's buttons are disabled until the page changes, so a slow job cannot be started twice. */
+/* A refused form's error summary is brought into view (it may sit below a long chart). Disabling a submitted
+   form's buttons is forms.js's job. */
 (function () {
   "use strict";
   var summary = document.querySelector("[data-error-summary]");
@@ -19,29 +19,6 @@
     summary.scrollIntoView({ block: "center" });
     summary.focus({ preventScroll: true });
   }
-  document.addEventListener("submit", function (event) {
-    var form = event.target;
-    if (event.defaultPrevented || form.hasAttribute("data-no-busy")) return;
-    form.setAttribute("aria-busy", "true");
-    // Disabled after this turn: a button disabled now would drop its own name/value from the submission.
-    window.setTimeout(function () {
-      form.querySelectorAll("button[type=submit], input[type=submit]").forEach(function (button) {
-        button.disabled = true;
-        button.classList.add("busy");
-      });
-    }, 0);
-  });
-  // Back/forward cache: a page restored after leaving must have its buttons back.
-  window.addEventListener("pageshow", function (event) {
-    if (!event.persisted) return;
-    document.querySelectorAll("form[aria-busy]").forEach(function (form) {
-      form.removeAttribute("aria-busy");
-      form.querySelectorAll("button.busy, input.busy").forEach(function (b) {
-        b.disabled = false;
-        b.classList.remove("busy");
-      });
-    });
-  });
 })();
 
 /* Phones: a horizontal legend above a chart wraps onto several lines there and covers the titles, so it moves

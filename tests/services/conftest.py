@@ -48,6 +48,7 @@ class Worker:
             CELERY_VISIBILITY_TIMEOUT=str(visibility_timeout),
             CELERY_RESTORE_INTERVAL="1",
             CELERY_RESTORE_THROTTLE="1",
+            CONTINUUM_JOBS_EAGER="0",
             **extra,
         )
         self.log = Path(f"/tmp/continuum-worker-{queue}-{uuid.uuid4().hex[:6]}.log")

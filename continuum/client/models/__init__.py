@@ -66,6 +66,8 @@ from .handler_request import HandlerRequest
 from .handler_sync_request import HandlerSyncRequest
 from .image_options_request import ImageOptionsRequest
 from .job import Job
+from .job_detail import JobDetail
+from .job_log_line import JobLogLine
 from .job_state_enum import JobStateEnum
 from .jobs_list_state import JobsListState
 from .linear_resource_enum import LinearResourceEnum
@@ -279,6 +281,8 @@ __all__ = (
     "HandlerSyncRequest",
     "ImageOptionsRequest",
     "Job",
+    "JobDetail",
+    "JobLogLine",
     "JobStateEnum",
     "JobsListState",
     "LinearResourceEnum",

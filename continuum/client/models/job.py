@@ -22,12 +22,14 @@ class Job:
         url (str):
         fleet (str):
         kind (str):
+        title (str): what the job does, in words
         arguments (Any):
         created_by (str):
         state (JobStateEnum): * `pending` - Pending
             * `running` - Running
             * `succeeded` - Succeeded
             * `failed` - Failed
+            * `cancelled` - Cancelled
         progress (int):
         message (str):
         result (Any): summary of what the job produced
@@ -37,6 +39,11 @@ class Job:
         worker (str): host:pid of the process running the job
         heartbeat (datetime.datetime | None): last sign of life of a worker's run (in-process runs send none)
         interruption (str): why an earlier attempt ended unfinished (e.g. its worker was lost)
+        cancel_requested (datetime.datetime | None): when a cancel of the running job was asked (its run stops at its
+            next step)
+        cancel_unavailable (str): why POST .../cancel/ would be refused now ('' when the job can be cancelled)
+        retry_unavailable (str): why POST .../retry/ would be refused now ('' when the job can be retried)
+        retry_of (None | UUID): the job this one runs again, with the same arguments
         created (datetime.datetime):
         started (datetime.datetime | None):
         finished (datetime.datetime | None):
@@ -47,6 +54,7 @@ class Job:
     url: str
     fleet: str
     kind: str
+    title: str
     arguments: Any
     created_by: str
     state: JobStateEnum
@@ -59,6 +67,10 @@ class Job:
     worker: str
     heartbeat: datetime.datetime | None
     interruption: str
+    cancel_requested: datetime.datetime | None
+    cancel_unavailable: str
+    retry_unavailable: str
+    retry_of: UUID | None
     created: datetime.datetime
     started: datetime.datetime | None
     finished: datetime.datetime | None
@@ -73,6 +85,8 @@ class Job:
         fleet = self.fleet
 
         kind = self.kind
+
+        title = self.title
 
         arguments = self.arguments
 
@@ -99,6 +113,19 @@ class Job:
 
         interruption = self.interruption
 
+        cancel_requested: str | None
+        if isinstance(self.cancel_requested, datetime.datetime):
+            cancel_requested = self.cancel_requested.isoformat()
+        else:
+            cancel_requested = self.cancel_requested
+
+        cancel_unavailable = self.cancel_unavailable
+
+        retry_unavailable = self.retry_unavailable
+
+        retry_of: str | None
+        retry_of = str(self.retry_of) if isinstance(self.retry_of, UUID) else self.retry_of
+
         created = self.created.isoformat()
 
         started: str | None
@@ -118,6 +145,7 @@ class Job:
                 "url": url,
                 "fleet": fleet,
                 "kind": kind,
+                "title": title,
                 "arguments": arguments,
                 "created_by": created_by,
                 "state": state,
@@ -130,6 +158,10 @@ class Job:
                 "worker": worker,
                 "heartbeat": heartbeat,
                 "interruption": interruption,
+                "cancel_requested": cancel_requested,
+                "cancel_unavailable": cancel_unavailable,
+                "retry_unavailable": retry_unavailable,
+                "retry_of": retry_of,
                 "created": created,
                 "started": started,
                 "finished": finished,
@@ -149,6 +181,8 @@ class Job:
         fleet = d.pop("fleet")
 
         kind = d.pop("kind")
+
+        title = d.pop("title")
 
         arguments = d.pop("arguments")
 
@@ -186,6 +220,40 @@ class Job:
         heartbeat = _parse_heartbeat(d.pop("heartbeat"))
 
         interruption = d.pop("interruption")
+
+        def _parse_cancel_requested(data: object) -> datetime.datetime | None:
+            if data is None:
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                cancel_requested_type_0 = datetime.datetime.fromisoformat(data)
+
+                return cancel_requested_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(datetime.datetime | None, data)
+
+        cancel_requested = _parse_cancel_requested(d.pop("cancel_requested"))
+
+        cancel_unavailable = d.pop("cancel_unavailable")
+
+        retry_unavailable = d.pop("retry_unavailable")
+
+        def _parse_retry_of(data: object) -> UUID | None:
+            if data is None:
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                retry_of_type_0 = UUID(data)
+
+                return retry_of_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(UUID | None, data)
+
+        retry_of = _parse_retry_of(d.pop("retry_of"))
 
         created = datetime.datetime.fromisoformat(d.pop("created"))
 
@@ -231,6 +299,7 @@ class Job:
             url=url,
             fleet=fleet,
             kind=kind,
+            title=title,
             arguments=arguments,
             created_by=created_by,
             state=state,
@@ -243,6 +312,10 @@ class Job:
             worker=worker,
             heartbeat=heartbeat,
             interruption=interruption,
+            cancel_requested=cancel_requested,
+            cancel_unavailable=cancel_unavailable,
+            retry_unavailable=retry_unavailable,
+            retry_of=retry_of,
             created=created,
             started=started,
             finished=finished,

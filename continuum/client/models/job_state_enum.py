@@ -1,8 +1,9 @@
 from typing import Literal
 
-JobStateEnum = Literal["failed", "pending", "running", "succeeded"]
+JobStateEnum = Literal["cancelled", "failed", "pending", "running", "succeeded"]
 
 JOB_STATE_ENUM_VALUES: set[JobStateEnum] = {
+    "cancelled",
     "failed",
     "pending",
     "running",

@@ -1,8 +1,9 @@
 from typing import Literal
 
-JobsListState = Literal["failed", "pending", "running", "succeeded"]
+JobsListState = Literal["cancelled", "failed", "pending", "running", "succeeded"]
 
 JOBS_LIST_STATE_VALUES: set[JobsListState] = {
+    "cancelled",
     "failed",
     "pending",
     "running",

@@ -84,10 +84,14 @@ def sync_detailed(
     search: str | Unset = UNSET,
     state: JobsListState | Unset = UNSET,
 ) -> Response[PaginatedJobList]:
-    """Every long operation with its state and progress (0-100 and a message).
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         fleet_slug (str | Unset):
@@ -134,10 +138,14 @@ def sync(
     search: str | Unset = UNSET,
     state: JobsListState | Unset = UNSET,
 ) -> PaginatedJobList | None:
-    """Every long operation with its state and progress (0-100 and a message).
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         fleet_slug (str | Unset):
@@ -179,10 +187,14 @@ async def asyncio_detailed(
     search: str | Unset = UNSET,
     state: JobsListState | Unset = UNSET,
 ) -> Response[PaginatedJobList]:
-    """Every long operation with its state and progress (0-100 and a message).
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         fleet_slug (str | Unset):
@@ -227,10 +239,14 @@ async def asyncio(
     search: str | Unset = UNSET,
     state: JobsListState | Unset = UNSET,
 ) -> PaginatedJobList | None:
-    """Every long operation with its state and progress (0-100 and a message).
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         fleet_slug (str | Unset):

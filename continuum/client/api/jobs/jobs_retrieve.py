@@ -7,7 +7,7 @@ import httpx
 
 from ... import errors
 from ...client import AuthenticatedClient, Client
-from ...models.job import Job
+from ...models.job_detail import JobDetail
 from ...types import Response
 
 
@@ -25,9 +25,9 @@ def _get_kwargs(
     return _kwargs
 
 
-def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> Job | None:
+def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> JobDetail | None:
     if response.status_code == 200:
-        response_200 = Job.from_dict(response.json())
+        response_200 = JobDetail.from_dict(response.json())
 
         return response_200
 
@@ -37,7 +37,7 @@ def _parse_response(*, client: AuthenticatedClient | Client, response: httpx.Res
         return None
 
 
-def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> Response[Job]:
+def _build_response(*, client: AuthenticatedClient | Client, response: httpx.Response) -> Response[JobDetail]:
     return Response(
         status_code=HTTPStatus(response.status_code),
         content=response.content,
@@ -50,11 +50,15 @@ def sync_detailed(
     id: UUID,
     *,
     client: AuthenticatedClient,
-) -> Response[Job]:
-    """Every long operation with its state and progress (0-100 and a message).
+) -> Response[JobDetail]:
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         id (UUID):
@@ -64,7 +68,7 @@ def sync_detailed(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Response[Job]
+        Response[JobDetail]
     """
 
     kwargs = _get_kwargs(
@@ -82,11 +86,15 @@ def sync(
     id: UUID,
     *,
     client: AuthenticatedClient,
-) -> Job | None:
-    """Every long operation with its state and progress (0-100 and a message).
+) -> JobDetail | None:
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         id (UUID):
@@ -96,7 +104,7 @@ def sync(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Job
+        JobDetail
     """
 
     return sync_detailed(
@@ -109,11 +117,15 @@ async def asyncio_detailed(
     id: UUID,
     *,
     client: AuthenticatedClient,
-) -> Response[Job]:
-    """Every long operation with its state and progress (0-100 and a message).
+) -> Response[JobDetail]:
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         id (UUID):
@@ -123,7 +135,7 @@ async def asyncio_detailed(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Response[Job]
+        Response[JobDetail]
     """
 
     kwargs = _get_kwargs(
@@ -139,11 +151,15 @@ async def asyncio(
     id: UUID,
     *,
     client: AuthenticatedClient,
-) -> Job | None:
-    """Every long operation with its state and progress (0-100 and a message).
+) -> JobDetail | None:
+    """Every long operation with its state and progress (0-100 and a message); one job also with its log.
 
     A running job whose worker is gone is queued again (or failed) before it is shown, so a reader never
-    waits on a run that cannot end (apps/jobs/liveness.py; the quick start runs no beat that would).
+    waits on a run that cannot end (apps/jobs/liveness.py). ``POST {id}/cancel/`` stops a job (a queued
+    one at
+    once, a running one at its next step); ``POST {id}/retry/`` runs a failed or cancelled job again as
+    a new
+    job with the same arguments.
 
     Args:
         id (UUID):
@@ -153,7 +169,7 @@ async def asyncio(
         httpx.TimeoutException: If the request takes longer than Client.timeout.
 
     Returns:
-        Job
+        JobDetail
     """
 
     return (
