@@ -6,7 +6,9 @@ the scheduler of the pods it creates: each pod names ``settings.CONTINUUM_SCHEDU
 ``schedulerName`` (so kube-scheduler leaves it alone) and is bound to the chosen node through the Binding
 API (``pods/binding``), like the bind phase of a secondary scheduler (spec 03 §4.4). Following spec 02
 §7.3: pods use the host network (ROS nodes talk across machines), carry no CPU limits (CFS quotas would
-override niceness) and are created in decreasing rank order. Everything here is idempotent.
+override niceness) and are created in decreasing rank order (a push has up to
+``CONTINUUM_KUBE_PUSH_CONCURRENCY`` creates and binds in flight, started in that order). Everything here is
+idempotent, call by call: a retried create or bind never makes a second pod or moves one.
 
 Takes engine types (:class:`~continuum.engine.core.schedule.Assignment`) and a :class:`PodSet` (which
 schedule, which application, which namespace) and returns an :class:`Outcome` per assignment; the app that
@@ -28,7 +30,7 @@ from kubernetes.client.exceptions import ApiException
 from continuum.engine.core.schedule import Assignment
 from continuum.engine.heft4k.heft4k import nice_container
 
-from . import nodes
+from . import nodes, parallel
 from .connect import API_ERRORS, REQUEST_TIMEOUT, call, describe
 from .resources import pod_event
 
@@ -283,22 +285,34 @@ def push(
     api_client: client.ApiClient,
     placements: list[tuple[Assignment, str]],
     progress=None,
+    *,
+    workers: int | None = None,
 ) -> tuple[list[Outcome], str | None]:
-    """Place every ``(assignment, pod name)`` in order; returns one Outcome per placement and, when the API
-    went away (or refuses us wholesale), why (every placement not done yet then fails with that reason)."""
+    """Place every ``(assignment, pod name)``, at most ``workers`` (``CONTINUUM_KUBE_PUSH_CONCURRENCY``) at a
+    time, started in the given order (:mod:`apps.kube.parallel`); returns one Outcome per placement, in order,
+    and, when the API went away (or refuses us wholesale), why (every placement not done yet then fails with
+    that reason).
+
+    Safe to repeat and to retry call by call: pod names are deterministic (:func:`pod_name`), a create answered
+    409 adopts the existing pod only if it is this assignment's, a Binding answered 409 is done if the pod is
+    bound to the same node; so a create whose answer was lost and is retried never makes a second pod."""
     progress = progress or (lambda percent, message: None)
-    outcomes: list[Outcome] = []
     pusher = Pusher(pods, api_client)
+    total = len(placements)
     try:
         pusher.ensure_namespace()
         problems = pusher.node_problems()
         existing = pusher.existing_pods()
-        progress(5, f"namespace {pusher.namespace}: {len(existing)} of {len(placements)} pods exist")
-        for i, (assignment, name) in enumerate(placements, 1):
-            outcomes.append(pusher.place(assignment, name, existing.get(name), problems))
-            progress(5 + 90 * i / len(placements), f"placed {i}/{len(placements)} pods")
     except API_ERRORS as exc:
         reason = describe(exc, pusher.server)
-        outcomes += [Outcome(False, reason)] * (len(placements) - len(outcomes))
-        return outcomes, reason
-    return outcomes, None
+        return [Outcome(False, reason)] * total, reason
+    progress(5, f"namespace {pusher.namespace}: {len(existing)} of {total} pods exist")
+    return parallel.run_bounded(
+        placements,
+        lambda work: pusher.place(work[0], work[1], existing.get(work[1]), problems),
+        skipped=lambda reason: Outcome(False, reason),
+        fatal=API_ERRORS,
+        describe=lambda exc: describe(exc, pusher.server),
+        workers=workers,
+        progress=lambda done: progress(5 + 90 * done / total, f"placed {done}/{total} pods"),
+    )
