@@ -66,12 +66,15 @@ class Deployments:
         wanted = body["metadata"]["annotations"][self.hash_annotation]
         if current is None:
             try:
-                call(
-                    self.apps.create_namespaced_deployment,
-                    self.namespace,
-                    body,
-                    what=f"create Deployment {name}",
-                    server=self.server,
+                pods.drain(  # the answer is not used: read raw, not parsed into models
+                    call(
+                        self.apps.create_namespaced_deployment,
+                        self.namespace,
+                        body,
+                        _preload_content=False,
+                        what=f"create Deployment {name}",
+                        server=self.server,
+                    )
                 )
                 return True, "created"
             except ApiException as exc:
@@ -87,13 +90,16 @@ class Deployments:
             replacement = json.loads(json.dumps(body))
             replacement["metadata"]["resourceVersion"] = current.metadata.resource_version
             try:
-                call(
-                    self.apps.replace_namespaced_deployment,
-                    name,
-                    self.namespace,
-                    replacement,
-                    what=f"replace Deployment {name}",
-                    server=self.server,
+                pods.drain(
+                    call(
+                        self.apps.replace_namespaced_deployment,
+                        name,
+                        self.namespace,
+                        replacement,
+                        _preload_content=False,
+                        what=f"replace Deployment {name}",
+                        server=self.server,
+                    )
                 )
                 return True, "updated"
             except ApiException as exc:
