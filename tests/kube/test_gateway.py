@@ -169,7 +169,10 @@ def test_sync_of_an_unreachable_api_fails_the_job_cleanly(kube_admin, api, clust
 # -- push ---------------------------------------------------------------------------------------------------
 
 
-def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube_namespace):
+def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube_namespace, settings):
+    # One call in flight: the pods are then created strictly in rank order (checked below); with more, they are
+    # started in that order (tests/kube/test_push_parallel.py).
+    settings.CONTINUUM_KUBE_PUSH_CONCURRENCY = 1
     schedule = heft_schedule(api, kube_cluster)
     assignments = list(schedule.assignments.all())
     assert len(assignments) == len(DAG["tasks"])
