@@ -2,9 +2,10 @@
 
 A push is many independent create (+ bind) calls, each a round trip to the API server; done one after the
 other, the push waits for the network and the server's etcd write of every pod in turn. Here they run in a
-pool of ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` threads (:func:`concurrency`), started in the caller's order
-(the pool's queue is FIFO, so pods are still *created* in decreasing rank order, spec 02 §7.3, give or take
-the calls in flight), with the results returned in that order. Bounded, so a push of 10,000 pods never
+pool of ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` = N threads (:func:`concurrency`), started in the caller's order
+(the pool's queue is FIFO: when item i starts, every earlier item has started and all but at most N - 1 of them
+have finished; so pods are created in decreasing rank order, spec 02 §7.3, up to a window of N; strictly with
+N = 1), with the results returned in that order. Bounded, so a push of 10,000 pods never
 opens 10,000 connections to the server nor floods its admission (the server's max-in-flight limits).
 
 Work runs in the pool's threads; ``progress`` is called in the caller's thread as each item finishes (it may

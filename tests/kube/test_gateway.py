@@ -9,6 +9,7 @@ import time
 
 import pytest
 from django.conf import settings
+from django.test import override_settings
 
 from tests.kube.conftest import SESSION_NODES
 from tests.kubeapi import free_port, kubeconfig_text
@@ -169,10 +170,10 @@ def test_sync_of_an_unreachable_api_fails_the_job_cleanly(kube_admin, api, clust
 # -- push ---------------------------------------------------------------------------------------------------
 
 
-def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube_namespace, settings):
-    # One call in flight: the pods are then created strictly in rank order (checked below); with more, they are
-    # started in that order (tests/kube/test_push_parallel.py).
-    settings.CONTINUUM_KUBE_PUSH_CONCURRENCY = 1
+# One call in flight: the pods are then created strictly in rank order (checked below); with more, they are
+# started in that order (tests/kube/test_push_parallel.py).
+@override_settings(CONTINUUM_KUBE_PUSH_CONCURRENCY=1)
+def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube_namespace):
     schedule = heft_schedule(api, kube_cluster)
     assignments = list(schedule.assignments.all())
     assert len(assignments) == len(DAG["tasks"])
