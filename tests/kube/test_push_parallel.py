@@ -41,12 +41,20 @@ def pod_set(namespace: str, application: int | None = None):
 
 
 def live_hollow_nodes(api_client) -> list[str]:
-    """The session's hollow nodes that are Ready and free of problems (a kubelet runs what is bound there)."""
+    """The session's hollow nodes that are Ready, schedulable and untainted (a kubelet runs what is bound there,
+    and kube-scheduler may place a Deployment's pod there)."""
     from apps.kube import gateway
 
-    problems = gateway.node_problems(api_client)
-    nodes = sorted(n for n in SESSION_NODES if n != MULTINODE_VICTIM and n in problems and problems[n] is None)
-    assert nodes, f"no healthy hollow node among {sorted(SESSION_NODES)}: {problems}"
+    nodes = sorted(
+        gateway.name_of(obj)
+        for obj in gateway.list_nodes(api_client)
+        if gateway.name_of(obj) in SESSION_NODES
+        and gateway.name_of(obj) != MULTINODE_VICTIM
+        and gateway.node_status(obj) == gateway.READY
+        and not (obj.get("spec") or {}).get("unschedulable")
+        and not gateway.taints_of(obj)
+    )
+    assert nodes, f"no healthy hollow node among {sorted(SESSION_NODES)}"
     return nodes
 
 
