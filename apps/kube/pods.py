@@ -189,6 +189,8 @@ class Pusher:
 
     def place(self, assignment: Assignment, name: str, pod, problems: dict[str, str | None]) -> Outcome:
         node = assignment.processor
+        if pod is not None and (mismatch := self._mismatch(pod, name, assignment)):
+            return Outcome(False, mismatch)  # listed under the application's label, but another task's pod
         if pod is not None and pod.spec.node_name:
             if pod.spec.node_name == node:
                 return Outcome(True, f"bound to {node}")
@@ -224,6 +226,10 @@ class Pusher:
     def _not_ours(self, name: str, assignment: Assignment) -> str | None:
         """Why the existing pod ``name`` is not the pod of ``assignment`` (``None``: it is)."""
         pod = call(self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server)
+        return self._mismatch(pod, name, assignment)
+
+    def _mismatch(self, pod, name: str, assignment: Assignment) -> str | None:
+        """Why the pod object ``pod`` (named ``name``) is not the pod of ``assignment`` (``None``: it is)."""
         annotations = pod.metadata.annotations or {}
         labels = pod.metadata.labels or {}
         if (
