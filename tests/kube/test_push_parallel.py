@@ -233,8 +233,11 @@ class HoldingProxy:
                     s.shutdown(socket.SHUT_RDWR)
 
     def close(self) -> None:
-        self.listener.close()
-        for s in self.sockets:
+        """Stop listening and cut every connection (shutdown first: a bare close() does not wake a thread
+        blocked in accept() or recv(), and the socket would go on serving)."""
+        for s in [self.listener, *self.sockets]:
+            with contextlib.suppress(OSError):
+                s.shutdown(socket.SHUT_RDWR)
             with contextlib.suppress(OSError):
                 s.close()
 
