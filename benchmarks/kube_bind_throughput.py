@@ -174,9 +174,7 @@ def run_gateway(kubeconfig: str, nodes: list[str], args, namespace: str) -> tupl
             raise RuntimeError(f"gateway push failed: {reason or bad[0]} ({len(bad)} failed)")
         began = time.monotonic()
         deployments = gateway.Deployments(api_client, namespace, HASH)
-        deployments.ensure_namespace()
-        deployments.node_problems()
-        current = deployments.existing("continuum.io/group=bench")
+        _, current = deployments.prepare("continuum.io/group=bench")
         results, reason = deployments.apply_all([(b, current.get(b["metadata"]["name"])) for b in bodies])
         deploy_s = time.monotonic() - began
     bad = [message for ok, message in results if not ok]

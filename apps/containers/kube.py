@@ -170,9 +170,7 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
     with api_client:
         pusher = Deployments(api_client, namespace, HASH_ANNOTATION)
         try:
-            pusher.ensure_namespace()
-            problems = pusher.node_problems()
-            current = pusher.existing(f"{PREFIX}/group={group_key(placement)}")
+            problems, current = pusher.prepare(f"{PREFIX}/group={group_key(placement)}")
             progress(5, f"namespace {namespace}: {len(current)} of {len(order)} Deployments exist")
             work: list[str] = []
             for container in order:

@@ -51,6 +51,14 @@ class Deployments:
         ).items
         return {d.metadata.name: d for d in items}
 
+    def prepare(self, label_selector: str) -> tuple[dict[str, str | None], dict[str, Any]]:
+        """Before a push, at once: the namespace made if missing, the nodes' problems
+        (:func:`apps.kube.nodes.node_problems`) and the Deployments matching ``label_selector``."""
+        _, problems, current = parallel.gather(
+            self.ensure_namespace, self.node_problems, lambda: self.existing(label_selector)
+        )
+        return problems, current
+
     def _read(self, name: str):
         return call(
             self.apps.read_namespaced_deployment,

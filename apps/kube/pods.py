@@ -321,9 +321,8 @@ def push(
     pusher = Pusher(pods, api_client)
     total = len(placements)
     try:
-        pusher.ensure_namespace()
-        problems = pusher.node_problems()
-        existing = pusher.existing_pods()
+        # Independent reads at once (listing pods in a namespace not created yet answers an empty list).
+        _, problems, existing = parallel.gather(pusher.ensure_namespace, pusher.node_problems, pusher.existing_pods)
     except API_ERRORS as exc:
         reason = describe(exc, pusher.server)
         return [Outcome(False, reason)] * total, reason
