@@ -456,7 +456,7 @@ def heft_part(api, kubeconfig: str, live_nodes: dict, args) -> list[dict]:
             agree = (models is None) == bool(pending)
             # The model's pod capacity is 160 / 12 per CPU spread by largest remainders (27,27,27,27,26,26); the real
             # scheduler fits pods by their requests, so a node of the model's 26 takes a 27th (162 in all).
-            modelled = (caps_total := sum(caps.values())) and max(0, n - caps_total)
+            modelled = max(0, n - sum(caps.values()))
             verdicts.append(
                 f"  {n} tasks: model {model_txt}; real kube-scheduler left {len(pending)} of {n} pods Pending "
                 f"({'agrees' if agree else 'DISAGREES'} with the model on whether the DAG fits; "
