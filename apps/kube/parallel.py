@@ -16,9 +16,10 @@ are answered ``skipped(reason)``, items in flight finish, and the first such rea
 
 from __future__ import annotations
 
+import queue
 import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any, TypeVar
 
 from django.conf import settings
@@ -70,21 +71,29 @@ def run_bounded(
     results: list[R | None] = [None] * len(items)
     if not items:
         return [], None
+    # Each finished item reports its index on a queue: the caller's thread waits on one queue, not on every
+    # pending future (concurrent.futures.wait registers a waiter on each: quadratic in the items, which a push
+    # of thousands of pods pays in CPU its threads need).
+    finished: queue.SimpleQueue[tuple[int, BaseException | None]] = queue.SimpleQueue()
+
+    def tracked(i: int, item: T) -> None:
+        try:
+            results[i] = one(item)
+        except BaseException as exc:  # a bug: handed to the caller's thread, which raises it
+            finished.put((i, exc))
+            return
+        finished.put((i, None))
+
     with ThreadPoolExecutor(max_workers=min(workers, len(items)), thread_name_prefix="kube-push") as pool:
-        futures: dict[Future, int] = {pool.submit(one, item): i for i, item in enumerate(items)}
-        pending = set(futures)
-        done_count = 0
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for future in done:
-                if future.exception() is not None:
-                    for other in pending:
-                        other.cancel()
-                    raise future.exception()  # type: ignore[misc]
-                results[futures[future]] = future.result()
-                done_count += 1
-                if progress is not None:
-                    progress(done_count)
+        futures = [pool.submit(tracked, i, item) for i, item in enumerate(items)]
+        for done_count in range(1, len(items) + 1):
+            _, error = finished.get()
+            if error is not None:
+                for future in futures:
+                    future.cancel()
+                raise error
+            if progress is not None:
+                progress(done_count)
     return results, (reason[0] if reason else None)  # type: ignore[return-value]
 
 
