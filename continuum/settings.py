@@ -406,3 +406,5 @@ CONTINUUM_KUBECONFIG_MAX_BYTES = int(os.environ.get("CONTINUUM_KUBECONFIG_MAX_BY
 # backoff and jitter from RETRY_BASE_S until RETRY_DEADLINE_S has passed, then fails naming the call.
 CONTINUUM_KUBE_RETRY_DEADLINE_S = float(os.environ.get("CONTINUUM_KUBE_RETRY_DEADLINE_S", "30"))
 CONTINUUM_KUBE_RETRY_BASE_S = float(os.environ.get("CONTINUUM_KUBE_RETRY_BASE_S", "0.2"))
+# A push (a schedule's pods, a placement's Deployments) has at most this many API calls in flight (1..64).
+CONTINUUM_KUBE_PUSH_CONCURRENCY = int(os.environ.get("CONTINUUM_KUBE_PUSH_CONCURRENCY", "8"))

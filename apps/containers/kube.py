@@ -170,11 +170,10 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
     with api_client:
         pusher = Deployments(api_client, namespace, HASH_ANNOTATION)
         try:
-            pusher.ensure_namespace()
-            problems = pusher.node_problems()
-            current = pusher.existing(f"{PREFIX}/group={group_key(placement)}")
+            problems, current = pusher.prepare(f"{PREFIX}/group={group_key(placement)}")
             progress(5, f"namespace {namespace}: {len(current)} of {len(order)} Deployments exist")
-            for i, container in enumerate(order, 1):
+            work: list[str] = []
+            for container in order:
                 node = placed.get(container)
                 if node is None:
                     outcomes[container] = (False, "pending in the plan: no node passed the filters")
@@ -183,11 +182,20 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
                 elif problems[node]:
                     outcomes[container] = (False, problems[node])
                 else:
-                    body = deployment_manifest(placement, specs[container], node, engine, names[container])
-                    outcomes[container] = pusher.apply(body, current.get(names[container]))
-                    if outcomes[container][0]:
-                        counts[outcomes[container][1]] += 1
-                progress(5 + 90 * i / max(len(order), 1), f"applied {i}/{len(order)} Deployments")
+                    work.append(container)
+            bodies = [
+                (deployment_manifest(placement, specs[c], placed[c], engine, names[c]), current.get(names[c]))
+                for c in work
+            ]
+            # Up to CONTINUUM_KUBE_PUSH_CONCURRENCY applies in flight, started in decision (priority) order.
+            results, fatal = pusher.apply_all(
+                bodies,
+                lambda done: progress(5 + 90 * done / max(len(work), 1), f"applied {done}/{len(work)} Deployments"),
+            )
+            for container, result in zip(work, results, strict=True):
+                outcomes[container] = result
+                if result[0]:
+                    counts[result[1]] += 1
         except API_ERRORS as exc:
             fatal = describe(exc, api_client.configuration.host)
             for container in order:

@@ -134,6 +134,10 @@ def configuration_for(target: KubeTarget) -> client.Configuration:
     # Retry refused/reset connections briefly; never re-send a request the server may have acted on. HTTP
     # answers (429/503 with Retry-After included) are left to :func:`call`, which knows what is idempotent:
     # urllib3 would otherwise turn a 429 into an exhausted-retries error without waiting.
+    # One connection per push worker (apps.kube.parallel): a smaller pool would open and discard extra ones.
+    configuration.connection_pool_maxsize = max(
+        configuration.connection_pool_maxsize or 1, settings.CONTINUUM_KUBE_PUSH_CONCURRENCY
+    )
     configuration.retries = urllib3.Retry(
         total=2, connect=2, read=0, status=0, other=0, backoff_factor=0.2, respect_retry_after_header=False
     )

@@ -1,7 +1,12 @@
 """Deployments: create, or replace when their manifest changed (the manifest's hash in an annotation).
 
 The manifests are the caller's domain data (plain dicts, e.g. ``apps.containers.kube.deployment_manifest``);
-this module only talks to the API.
+this module only talks to the API. :meth:`Deployments.apply_all` applies many at once, at most
+``CONTINUUM_KUBE_PUSH_CONCURRENCY`` in flight (:mod:`apps.kube.parallel`). Every call is retried on transient
+failures (:mod:`apps.kube.retry`) and is idempotent: Deployment names are the caller's deterministic names,
+a create answered 409 (our own earlier attempt whose answer was lost, or a re-delivered job) is compared by
+the manifest hash, and a replace answered 409 (the object changed since we read it, possibly by our own
+retried replace) is read again and compared the same way, so a retry never makes a second Deployment.
 """
 
 from __future__ import annotations
@@ -12,8 +17,11 @@ from typing import Any
 from kubernetes import client
 from kubernetes.client.exceptions import ApiException
 
-from . import nodes, pods
-from .connect import REQUEST_TIMEOUT, describe
+from . import nodes, parallel, pods
+from .connect import API_ERRORS, call, describe
+
+#: Replaces answered 409 (changed meanwhile) retried against a fresh read before giving up.
+REPLACE_ATTEMPTS = 5
 
 
 class Deployments:
@@ -34,30 +42,100 @@ class Deployments:
 
     def existing(self, label_selector: str) -> dict[str, Any]:
         """The namespace's Deployments matching ``label_selector``, by name."""
-        items = self.apps.list_namespaced_deployment(
-            self.namespace, label_selector=label_selector, _request_timeout=REQUEST_TIMEOUT
+        items = call(
+            self.apps.list_namespaced_deployment,
+            self.namespace,
+            label_selector=label_selector,
+            what=f"list Deployments in namespace {self.namespace}",
+            server=self.server,
         ).items
         return {d.metadata.name: d for d in items}
+
+    def prepare(self, label_selector: str) -> tuple[dict[str, str | None], dict[str, Any]]:
+        """Before a push, at once: the namespace made if missing, the nodes' problems
+        (:func:`apps.kube.nodes.node_problems`) and the Deployments matching ``label_selector``."""
+        _, problems, current = parallel.gather(
+            self.ensure_namespace, self.node_problems, lambda: self.existing(label_selector)
+        )
+        return problems, current
+
+    def _read(self, name: str):
+        return call(
+            self.apps.read_namespaced_deployment,
+            name,
+            self.namespace,
+            what=f"read Deployment {name}",
+            server=self.server,
+        )
 
     def apply(self, body: dict[str, Any], current) -> tuple[bool, str]:
         """(ok, what happened): created, updated or unchanged, or why the API refused."""
         name = body["metadata"]["name"]
+        wanted = body["metadata"]["annotations"][self.hash_annotation]
         if current is None:
             try:
-                self.apps.create_namespaced_deployment(self.namespace, body, _request_timeout=REQUEST_TIMEOUT)
+                pods.drain(  # the answer is not used: read raw, not parsed into models
+                    call(
+                        self.apps.create_namespaced_deployment,
+                        self.namespace,
+                        body,
+                        _preload_content=False,
+                        what=f"create Deployment {name}",
+                        server=self.server,
+                    )
+                )
                 return True, "created"
             except ApiException as exc:
                 if exc.status != 409:
                     return False, f"Deployment {name} refused: {describe(exc)}"
-                # Created meanwhile (a re-delivered job running twice): compare with what is there.
-                current = self.apps.read_namespaced_deployment(name, self.namespace, _request_timeout=REQUEST_TIMEOUT)
-        annotations = current.metadata.annotations or {}
-        if annotations.get(self.hash_annotation) == body["metadata"]["annotations"][self.hash_annotation]:
-            return True, "unchanged"
-        replacement = json.loads(json.dumps(body))
-        replacement["metadata"]["resourceVersion"] = current.metadata.resource_version
-        try:
-            self.apps.replace_namespaced_deployment(name, self.namespace, replacement, _request_timeout=REQUEST_TIMEOUT)
-        except ApiException as exc:
-            return False, f"Deployment {name} not updated: {describe(exc)}"
-        return True, "updated"
+                # Created meanwhile (a re-delivered job, or our own create whose answer was lost and was
+                # retried): compare with what is there.
+                current = self._read(name)
+        for _ in range(REPLACE_ATTEMPTS):
+            annotations = current.metadata.annotations or {}
+            if annotations.get(self.hash_annotation) == wanted:
+                return True, "unchanged"
+            replacement = json.loads(json.dumps(body))
+            replacement["metadata"]["resourceVersion"] = current.metadata.resource_version
+            try:
+                pods.drain(
+                    call(
+                        self.apps.replace_namespaced_deployment,
+                        name,
+                        self.namespace,
+                        replacement,
+                        _preload_content=False,
+                        what=f"replace Deployment {name}",
+                        server=self.server,
+                    )
+                )
+                return True, "updated"
+            except ApiException as exc:
+                if exc.status != 409:
+                    return False, f"Deployment {name} not updated: {describe(exc)}"
+                # Changed since we read it: the Deployment controller's status writes bump the resourceVersion,
+                # and so does a retried replace of ours the server had done. Read again: done if the hash is ours.
+                current = self._read(name)
+                if (current.metadata.annotations or {}).get(self.hash_annotation) == wanted:
+                    return True, "updated"
+        return False, f"Deployment {name} not updated: it kept changing while we wrote it"
+
+    def apply_all(
+        self,
+        work: list[tuple[dict[str, Any], Any]],
+        progress=None,
+        *,
+        workers: int | None = None,
+    ) -> tuple[list[tuple[bool, str]], str | None]:
+        """:meth:`apply` every ``(body, current)`` with at most ``workers`` (``CONTINUUM_KUBE_PUSH_CONCURRENCY``)
+        in flight, started in the given order; returns the results in that order and, when the API went away,
+        why (the bodies not applied yet then fail with that reason). ``progress(done)`` runs in this thread."""
+        return parallel.run_bounded(
+            work,
+            lambda item: self.apply(item[0], item[1]),
+            skipped=lambda reason: (False, reason),
+            fatal=API_ERRORS,
+            describe=lambda exc: describe(exc, self.server),
+            workers=workers,
+            progress=progress,
+        )

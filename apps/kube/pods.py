@@ -6,7 +6,9 @@ the scheduler of the pods it creates: each pod names ``settings.CONTINUUM_SCHEDU
 ``schedulerName`` (so kube-scheduler leaves it alone) and is bound to the chosen node through the Binding
 API (``pods/binding``), like the bind phase of a secondary scheduler (spec 03 §4.4). Following spec 02
 §7.3: pods use the host network (ROS nodes talk across machines), carry no CPU limits (CFS quotas would
-override niceness) and are created in decreasing rank order. Everything here is idempotent.
+override niceness) and are created in decreasing rank order (a push has up to
+``CONTINUUM_KUBE_PUSH_CONCURRENCY`` creates and binds in flight, started in that order). Everything here is
+idempotent, call by call: a retried create or bind never makes a second pod or moves one.
 
 Takes engine types (:class:`~continuum.engine.core.schedule.Assignment`) and a :class:`PodSet` (which
 schedule, which application, which namespace) and returns an :class:`Outcome` per assignment; the app that
@@ -28,7 +30,7 @@ from kubernetes.client.exceptions import ApiException
 from continuum.engine.core.schedule import Assignment
 from continuum.engine.heft4k.heft4k import nice_container
 
-from . import nodes
+from . import nodes, parallel
 from .connect import API_ERRORS, REQUEST_TIMEOUT, call, describe
 from .resources import pod_event
 
@@ -147,6 +149,13 @@ def ensure_namespace(api_client: client.ApiClient, namespace: str) -> None:
             raise
 
 
+def drain(response) -> bytes:
+    """Read a raw answer (``_preload_content=False``) to its end and give its connection back to the pool."""
+    data = response.data
+    response.release_conn()
+    return data
+
+
 class Pusher:
     """Places the pods of one :class:`PodSet`; one instance per push. Each placement returns an Outcome."""
 
@@ -180,6 +189,8 @@ class Pusher:
 
     def place(self, assignment: Assignment, name: str, pod, problems: dict[str, str | None]) -> Outcome:
         node = assignment.processor
+        if pod is not None and (mismatch := self._mismatch(pod, name, assignment)):
+            return Outcome(False, mismatch)  # listed under the application's label, but another task's pod
         if pod is not None and pod.spec.node_name:
             if pod.spec.node_name == node:
                 return Outcome(True, f"bound to {node}")
@@ -190,12 +201,17 @@ class Pusher:
             return Outcome(False, problems[node])
         if pod is None:
             try:
-                call(
-                    self.api.create_namespaced_pod,
-                    self.namespace,
-                    pod_manifest(self.pods, assignment, name),
-                    what=f"create pod {name}",
-                    server=self.server,
+                # The answer (the pod) is not used: read raw, not parsed into models (a V1Pod costs about as
+                # much CPU to build as the round trip takes, and the push's threads share one interpreter).
+                drain(
+                    call(
+                        self.api.create_namespaced_pod,
+                        self.namespace,
+                        pod_manifest(self.pods, assignment, name),
+                        _preload_content=False,
+                        what=f"create pod {name}",
+                        server=self.server,
+                    )
                 )
             except ApiException as exc:
                 if exc.status != 409:
@@ -210,6 +226,10 @@ class Pusher:
     def _not_ours(self, name: str, assignment: Assignment) -> str | None:
         """Why the existing pod ``name`` is not the pod of ``assignment`` (``None``: it is)."""
         pod = call(self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server)
+        return self._mismatch(pod, name, assignment)
+
+    def _mismatch(self, pod, name: str, assignment: Assignment) -> str | None:
+        """Why the pod object ``pod`` (named ``name``) is not the pod of ``assignment`` (``None``: it is)."""
         annotations = pod.metadata.annotations or {}
         labels = pod.metadata.labels or {}
         if (
@@ -248,8 +268,7 @@ class Pusher:
                     return Outcome(True, f"bound to {node}")
                 return Outcome(False, f"binding refused: {describe(exc)}")
             return Outcome(False, f"binding refused: {describe(exc)}")
-        answer = response.data  # read it all, so the connection goes back to the pool
-        response.release_conn()
+        answer = drain(response)
         if response.status != 201:
             return Outcome(False, f"binding refused: HTTP {response.status} {answer[:200]!r}")
         self.scheduled_event(name, node)
@@ -261,7 +280,11 @@ class Pusher:
         message = f"Successfully assigned {self.namespace}/{name} to {node}"
         body = pod_event(self.namespace, name, "Scheduled", message, settings.CONTINUUM_SCHEDULER_NAME)
         try:
-            self.api.create_namespaced_event(self.namespace, body, _request_timeout=REQUEST_TIMEOUT)
+            drain(
+                self.api.create_namespaced_event(
+                    self.namespace, body, _request_timeout=REQUEST_TIMEOUT, _preload_content=False
+                )
+            )
         except API_ERRORS as exc:
             log.warning("pod %s bound to %s, but its Scheduled event was refused: %s", name, node, describe(exc))
 
@@ -283,22 +306,33 @@ def push(
     api_client: client.ApiClient,
     placements: list[tuple[Assignment, str]],
     progress=None,
+    *,
+    workers: int | None = None,
 ) -> tuple[list[Outcome], str | None]:
-    """Place every ``(assignment, pod name)`` in order; returns one Outcome per placement and, when the API
-    went away (or refuses us wholesale), why (every placement not done yet then fails with that reason)."""
+    """Place every ``(assignment, pod name)``, at most ``workers`` (``CONTINUUM_KUBE_PUSH_CONCURRENCY``) at a
+    time, started in the given order (:mod:`apps.kube.parallel`); returns one Outcome per placement, in order,
+    and, when the API went away (or refuses us wholesale), why (every placement not done yet then fails with
+    that reason).
+
+    Safe to repeat and to retry call by call: pod names are deterministic (:func:`pod_name`), a create answered
+    409 adopts the existing pod only if it is this assignment's, a Binding answered 409 is done if the pod is
+    bound to the same node; so a create whose answer was lost and is retried never makes a second pod."""
     progress = progress or (lambda percent, message: None)
-    outcomes: list[Outcome] = []
     pusher = Pusher(pods, api_client)
+    total = len(placements)
     try:
-        pusher.ensure_namespace()
-        problems = pusher.node_problems()
-        existing = pusher.existing_pods()
-        progress(5, f"namespace {pusher.namespace}: {len(existing)} of {len(placements)} pods exist")
-        for i, (assignment, name) in enumerate(placements, 1):
-            outcomes.append(pusher.place(assignment, name, existing.get(name), problems))
-            progress(5 + 90 * i / len(placements), f"placed {i}/{len(placements)} pods")
+        # Independent reads at once (listing pods in a namespace not created yet answers an empty list).
+        _, problems, existing = parallel.gather(pusher.ensure_namespace, pusher.node_problems, pusher.existing_pods)
     except API_ERRORS as exc:
         reason = describe(exc, pusher.server)
-        outcomes += [Outcome(False, reason)] * (len(placements) - len(outcomes))
-        return outcomes, reason
-    return outcomes, None
+        return [Outcome(False, reason)] * total, reason
+    progress(5, f"namespace {pusher.namespace}: {len(existing)} of {total} pods exist")
+    return parallel.run_bounded(
+        placements,
+        lambda work: pusher.place(work[0], work[1], existing.get(work[1]), problems),
+        skipped=lambda reason: Outcome(False, reason),
+        fatal=API_ERRORS,
+        describe=lambda exc: describe(exc, pusher.server),
+        workers=workers,
+        progress=lambda done: progress(5 + 90 * done / total, f"placed {done}/{total} pods"),
+    )

@@ -11,6 +11,7 @@ import time
 
 import pytest
 from django.conf import settings
+from django.test import override_settings
 
 from tests.kube.conftest import SESSION_NODES, running_on
 from tests.kube.conftest import wait_for as wait_until
@@ -183,6 +184,9 @@ def hollow_edge(hollow_cluster):
     return hollow_cluster([{"name": n, "cpu": 4, "memory_mib": 8192} for n in HOLLOW_EDGE], name="edge")
 
 
+# One call in flight: the pods are then created strictly in rank order (checked below); with more, they are
+# started in that order (tests/kube/test_push_parallel.py).
+@override_settings(CONTINUUM_KUBE_PUSH_CONCURRENCY=1)
 def test_push_creates_one_bound_pod_per_assignment(api, kube, kube_cluster, kube_namespace):
     schedule = heft_schedule(api, kube_cluster)
     assignments = list(schedule.assignments.all())
