@@ -4,8 +4,7 @@ import dataclasses
 from collections.abc import Sequence
 
 from django.db import connection, models
-from django.db.models import Count, F, Func, IntegerField, OuterRef, Subquery, Value
-from django.db.models.functions import Coalesce
+from django.db.models import F, Func, IntegerField, Value
 
 from apps.tenancy.models import FleetOwned
 from continuum.engine.core.platform import Platform
@@ -43,22 +42,18 @@ class JSONArrayLength(Func):
 class ScheduleQuerySet(models.QuerySet):
     def for_list(self) -> "ScheduleQuerySet":
         """Schedules for a list page: only the small columns of the schedule and its application, fleet and
-        cluster (never a DAG, platform, ranks, metrics or kubeconfig), ``task_count`` from a correlated
-        subquery (no GROUP BY over the joined rows, which SQLite does with every column, DAG JSON included:
-        issue 13) and ``processor_count`` read inside the database from the platform JSON."""
-        tasks = (
-            Assignment.objects.filter(schedule=OuterRef("pk"))
-            .order_by()
-            .values("schedule")
-            .annotate(n=Count("pk"))
-            .values("n")
-        )
+        cluster (never a DAG, platform, ranks, metrics or kubeconfig). ``task_count`` and ``time_unit`` are
+        stored with the schedule: counting 10,000 assignment rows per listed schedule kept the list at 0.4 s
+        with 100 large schedules, and the unit would otherwise come from the DAG JSON (issue 13).
+        ``processor_count`` is read inside the database from the platform JSON."""
         return (
             self.select_related("fleet", "application", "cluster")
             .only(
                 "id",
                 "algorithm",
                 "makespan",
+                "task_count",
+                "time_unit",
                 "created",
                 "fleet__id",
                 "fleet__name",
@@ -67,10 +62,7 @@ class ScheduleQuerySet(models.QuerySet):
                 "cluster__id",
                 "cluster__name",
             )
-            .annotate(
-                task_count=Coalesce(Subquery(tasks, output_field=IntegerField()), 0),
-                processor_count=JSONArrayLength(F("platform"), "processors"),
-            )
+            .annotate(processor_count=JSONArrayLength(F("platform"), "processors"))
         )
 
 
@@ -92,6 +84,9 @@ class Schedule(FleetOwned):
     algorithm = models.CharField(max_length=50)
     params = models.JSONField(default=dict, blank=True)
     makespan = models.FloatField()
+    #: Stored with the assignments (``store``) so that list pages read neither the rows nor the DAG.
+    task_count = models.PositiveIntegerField(default=0, editable=False, help_text="assignments stored")
+    time_unit = models.CharField(max_length=16, default="ms", editable=False, help_text="the DAG's time unit")
     ranks = models.JSONField(default=dict, blank=True)
     metrics = models.JSONField(default=dict, blank=True)
     created = models.DateTimeField(auto_now_add=True)
@@ -121,6 +116,8 @@ class Schedule(FleetOwned):
             algorithm=result.algorithm,
             params=result.params,
             makespan=result.makespan,
+            task_count=len(result.assignments),
+            time_unit=str((application.dag or {}).get("time_unit", "ms"))[:16],
             ranks=result.ranks,
             metrics=result.metrics,
         )

@@ -14,6 +14,9 @@ from apps.clusters.models import Cluster
 from apps.scheduling.models import Assignment, Schedule
 from apps.tenancy.models import Fleet
 from apps.workloads.models import Application
+from continuum.engine.core.platform import Platform
+from continuum.engine.core.schedule import Assignment as EngineAssignment
+from continuum.engine.core.schedule import Schedule as EngineSchedule
 from tests.conftest import make_application
 
 pytestmark = pytest.mark.django_db
@@ -33,20 +36,13 @@ def large_columns() -> set[str]:
 
 
 def make_schedules(app, cluster, n: int, tasks: int = 4) -> None:
+    """``n`` schedules stored as a job stores them; schedule ``i`` has ``tasks + i`` assignments (so its
+    makespan is ``tasks + i``) on ``i % 3 + 1`` processors."""
     for i in range(n):
-        platform = {"processors": [{"id": f"p{k}"} for k in range(i % 3 + 1)], "links": []}
-        s = Schedule.objects.create(
-            fleet=app.fleet,
-            application=app,
-            cluster=cluster if i % 2 else None,
-            platform=platform,
-            algorithm="heft",
-            makespan=10.0 + i,
-            metrics={"padding": "x" * 1000},
-        )
-        Assignment.objects.bulk_create(
-            Assignment(schedule=s, task=f"t{k}", processor="p0", start=k, finish=k + 1) for k in range(tasks + i)
-        )
+        platform = Platform.from_dict({"processors": [{"id": f"p{k}"} for k in range(i % 3 + 1)], "links": []})
+        rows = [EngineAssignment(f"t{k}", "p0", k, k + 1) for k in range(tasks + i)]
+        engine = EngineSchedule("heft", rows, metrics={"padding": "x" * 1000})
+        Schedule.store(engine, application=app, platform=platform, cluster=cluster if i % 2 else None)
 
 
 def list_page(client):
@@ -76,7 +72,7 @@ def test_the_schedule_list_reads_no_large_column_and_a_constant_number_of_querie
 
     page = response.content.decode()
     for s in response.context["page"]:  # the counts are right
-        i = round(s.makespan - 10)
+        i = round(s.makespan - 4)
         assert s.task_count == Assignment.objects.filter(schedule=s).count() == 4 + i
         assert s.processor_count == i % 3 + 1
         if s.cluster_id is None:
@@ -88,5 +84,18 @@ def test_a_platform_without_a_processor_list_shows_zero(member, fleet):
     Schedule.objects.create(fleet=fleet, application=app, platform={"processors": 3}, algorithm="heft", makespan=1)
     response, _ = list_page(member)
     [s] = response.context["page"]
-    assert not s.processor_count and s.task_count == 0  # NULL on PostgreSQL, 0 on SQLite
+    assert not s.processor_count and s.task_count == 0  # processor_count: NULL on PostgreSQL, 0 on SQLite
     assert "0 processors" in response.content.decode()
+
+
+def test_the_list_shows_each_schedules_stored_count_and_time_unit(member, fleet):
+    """The count and the unit are stored with the schedule (no row count or DAG read per listed schedule)."""
+    app = make_application(fleet)
+    app.dag = {**app.dag, "time_unit": "us"}
+    app.save(update_fields=["dag"])
+    make_schedules(app, None, 1, tasks=7)
+    response, sql = list_page(member)
+    [s] = response.context["page"]
+    assert (s.task_count, s.time_unit) == (7, "us")
+    assert "7 us" in response.content.decode()
+    assert not any('"scheduling_assignment"' in q for q in sql)
