@@ -25,6 +25,14 @@ affinity and taint scores), ties broken at random with a seed, like kube-schedul
 
 Every decision keeps a :class:`~continuum.engine.core.placement.NodeVerdict` per node: the filter that rejected it
 with a reason, or each policy's score and the total.
+
+Speed (``benchmarks/superclustering_scale.py``; the previous code is the oracle of
+``tests/engine/containers/test_superclustering_fast.py``): each run first indexes the workload (every
+container's neighbours with the bandwidth :meth:`Workload.bw` returns, its total bandwidth) and the cluster
+(capacities as arrays; the arch, taint and affinity filters and the static scores once per distinct container
+requirement). A decision is then numpy over the nodes plus the container's own neighbours, in the same float
+operations as the per-node code, so the same plans. The per-node verdicts are rebuilt from the bind log when
+first read (:class:`_LazyVerdicts`): building 2.5 million of them was most of a 5,000 x 500 run.
 """
 
 from __future__ import annotations
