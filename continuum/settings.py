@@ -278,6 +278,11 @@ CONTINUUM_POD_COMMAND = shlex.split(os.environ.get("CONTINUUM_POD_COMMAND", "/pa
 CONTINUUM_NICE_BINARY = os.environ.get("CONTINUUM_NICE_BINARY", "nice")
 # HEFT4K remapping (Algorithm 2): total remap when the lost HEFT-rank share exceeds this fraction.
 CONTINUUM_REMAP_THRESHOLD = float(os.environ.get("CONTINUUM_REMAP_THRESHOLD", "0.2"))
+# Placement of ROS containers (thesis Table 4.26, continuum/engine/containers/robot_pinning.py): containers holding
+# driver-level ROS nodes stay on the nodes labelled CONTINUUM_ROBOT_LABEL unless the operator unpins them
+# (a placement request's drivers_on_robot/robot_label override these defaults).
+CONTINUUM_DRIVERS_ON_ROBOT = os.environ.get("CONTINUUM_DRIVERS_ON_ROBOT", "1").lower() not in ("0", "false", "off")
+CONTINUUM_ROBOT_LABEL = os.environ.get("CONTINUUM_ROBOT_LABEL", "zone=robot")
 # ---- Limits (continuum/engine/core/limits.py; README "Limits"; CONTINUUM_MAX_<NAME> overrides) -----------
 from continuum.engine.core import limits as _limits  # noqa: E402
 

@@ -19,6 +19,8 @@ import plotly.graph_objects as go
 from plotly.colors import qualitative
 
 from apps.ui.charts import EDGE_COLOUR, base_layout, cycle_colours, esc, escs
+from continuum.engine.containers.resource_model import NodeProfile
+from continuum.engine.containers.resource_model import profiles as resource_profiles
 from continuum.engine.containers.rosgraph import LEVELS, RosGraph, natural_key
 
 PALETTE = [*qualitative.T10, *qualitative.Pastel, *qualitative.Dark24]
@@ -141,8 +143,10 @@ def rosgraph_figure(
     top = max(weights.values(), default=0.0)
     fig = go.Figure(_edge_traces(_rosgraph_segments(graph, groups, pos, weights), top))
     labelled = len(graph.nodes) <= MAX_LABELLED
+    requests = resource_profiles(graph)  # what placement reserves (resource_model), not only the profile
     for container, members in groups.items():
-        fig.add_trace(_ros_nodes_trace(graph, levels, container, members, pos, palette[container], labelled))
+        trace = _ros_nodes_trace(graph, levels, requests, container, members, pos, palette[container], labelled)
+        fig.add_trace(trace)
     _rosgraph_layout_axes(fig, pos)
     return fig
 
@@ -168,6 +172,7 @@ def _rosgraph_segments(
 def _ros_nodes_trace(
     graph: RosGraph,
     levels: Mapping[str, str],
+    requests: Mapping[str, NodeProfile],
     container: str,
     members: Sequence[str],
     pos: Mapping[str, tuple[float, float]],
@@ -182,9 +187,10 @@ def _ros_nodes_trace(
         node = graph.nodes[n]
         level = LEVEL_LABELS[levels[n]] + ("" if given[n] else " (proposed)")
         extra = f"<br>packages: {', '.join(escs(node.packages))}" if node.packages else ""
+        req = requests[n]
         hover.append(
             f"<b>{esc(n)}</b><br>container: {esc(container)}<br>level: {level}"
-            f"<br>CPU {node.cpu:.3g} cores, memory {node.memory_mib:.4g} MiB{extra}"
+            f"<br>requests CPU {req.cpu:.3g} cores (work {node.cpu:.3g}), memory {req.memory_mib:.4g} MiB{extra}"
         )
     return go.Scatter(
         x=[pos[n][0] for n in names],

@@ -5,7 +5,10 @@ message and start the same job."""
 
 from __future__ import annotations
 
+import re
+
 from django import forms
+from django.conf import settings
 
 from apps.clusters.models import Cluster
 from apps.ui.forms import FleetSerializerForm, SerializerForm, contract_field, json_object
@@ -15,7 +18,14 @@ from . import services
 from .charts import LEVEL_LABELS
 from .models import Clustering
 from .models import RosGraph as RosGraphRow
-from .serializers import ClusterRequestSerializer, PlaceRequestSerializer, RosGraphImportSerializer
+from .serializers import (
+    ClusterRequestSerializer,
+    PlaceRequestSerializer,
+    RosGraphEditSerializer,
+    RosGraphImportSerializer,
+    RosNodeEditSerializer,
+    TopicEditSerializer,
+)
 
 FORMAT_LABELS = dict(RosGraphRow.Format.choices)
 PLATFORMS = [("amd64", "amd64"), ("arm64", "arm64"), ("riscv64", "riscv64")]
@@ -59,6 +69,83 @@ class LevelsForm(forms.Form):
 
     def levels(self) -> dict[str, str | None]:
         return {f.ros_node: self.cleaned_data.get(key) or None for key, f in self.fields.items()}
+
+
+class _GraphEditForm(SerializerForm):
+    """One row of the ROS graph page (a ROS node or a topic): the API's PATCH contract
+    (:class:`~.serializers.RosGraphEditSerializer`) for that one item, so the page and PATCH refuse the same
+    values with the same messages. ``auto_id`` is per row: the page holds one form per row."""
+
+    serializer_class = RosGraphEditSerializer
+    kind = ""
+
+    def __init__(self, *args, rosgraph: RosGraphRow, item: str, **kwargs):
+        slug = re.sub(r"[^A-Za-z0-9_-]", "_", item)
+        kwargs.setdefault("auto_id", f"id_{self.kind}_{slug}_%s")
+        super().__init__(*args, **kwargs)
+        self.rosgraph, self.item = rosgraph, item
+        # The row's inputs sit in table cells, outside the <form>: HTML's form attribute ties them to it.
+        self.form_id = f"{self.kind}-form-{slug}"
+        for field in self.fields.values():
+            field.widget.attrs["form"] = self.form_id
+            # Table cells are narrow: keep each value and each choice readable.
+            width = "min-width: 9em" if isinstance(field, forms.ChoiceField) else "width: 8em"
+            field.widget.attrs.setdefault("style", width)
+
+    def serializer_context(self) -> dict:
+        return {"rosgraph": self.rosgraph}
+
+    def changes(self, data: dict) -> dict:
+        raise NotImplementedError
+
+    def serializer_data(self, data: dict) -> dict:
+        return {f"{self.kind}s": {self.item: self.changes(data)}}
+
+    def graph(self) -> RosGraph:
+        return self.serializer.validated_data["graph"]
+
+
+class TopicEditForm(_GraphEditForm):
+    """A topic's publishing rate (every publisher) and message size."""
+
+    kind = "topic"
+    rate_hz = contract_field(TopicEditSerializer, "rate_hz", label="Rate (Hz)")
+    msg_bytes = contract_field(TopicEditSerializer, "msg_bytes", label="Message (bytes)")
+
+    def changes(self, data: dict) -> dict:
+        # An empty rate keeps the current per-publisher rates (they may differ between publishers).
+        return {k: data[k] for k in ("rate_hz", "msg_bytes") if data.get(k) is not None}
+
+
+class RosNodeEditForm(_GraphEditForm):
+    """A ROS node's level (Fig. 3.19), its pin to the robot, and its profile (CPU work, memory)."""
+
+    kind = "node"
+    level = forms.ChoiceField(required=False, label="Level")
+    pin = contract_field(
+        RosNodeEditSerializer,
+        "pin",
+        label="Pin",
+        choices=[("", "by level"), ("robot", "on the robot"), ("free", "free (unpinned)")],
+        help_text="",
+    )
+    cpu = contract_field(RosNodeEditSerializer, "cpu", label="CPU work (cores)")
+    memory_mib = contract_field(RosNodeEditSerializer, "memory_mib", label="Profiled memory (MiB)")
+
+    def __init__(self, *args, proposed: str, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.fields["level"].choices = [
+            ("", f"proposed: {LEVEL_LABELS[proposed]}"),
+            *((lv, LEVEL_LABELS[lv]) for lv in LEVELS),
+        ]
+
+    def changes(self, data: dict) -> dict:
+        return {
+            "level": data.get("level") or None,
+            "pin": data.get("pin") or None,
+            "cpu": data.get("cpu") or 0.0,
+            "memory_mib": data.get("memory_mib") or 0.0,
+        }
 
 
 class ClusterForm(SerializerForm):
@@ -106,6 +193,12 @@ class PlaceForm(SerializerForm):
     overhead_mib = forms.FloatField(min_value=0, initial=0, label="Runtime memory per container (MiB)")
     seed = forms.IntegerField(initial=0, help_text="tie-break seed of the default-Kubernetes policy")
     compare = forms.BooleanField(required=False, initial=True, label="Also run the other policy for comparison")
+    drivers_on_robot = forms.BooleanField(
+        required=False,
+        label="Keep driver-level ROS nodes on the robot",
+        help_text="containers holding drivers (or ROS nodes pinned to the robot) only go to the robot's boards",
+    )
+    robot_label = contract_field(PlaceRequestSerializer, "robot_label", label="Robot boards' label")
     overrides = forms.CharField(
         required=False,
         widget=forms.Textarea(attrs={"rows": 3, "placeholder": '{"BehaviorPlanner": {"cpu": 1.5, "priority": 1}}'}),
@@ -117,6 +210,8 @@ class PlaceForm(SerializerForm):
         self.clustering = clustering
         self.request = request
         self.fields["cluster"].queryset = Cluster.objects.filter(fleet_id=clustering.fleet_id).order_by("name")
+        self.fields["drivers_on_robot"].initial = settings.CONTINUUM_DRIVERS_ON_ROBOT
+        self.fields["robot_label"].initial = settings.CONTINUUM_ROBOT_LABEL
 
     def clean_overrides(self) -> dict:
         return json_object(self.cleaned_data.get("overrides"), "a JSON object: container name -> changes")
@@ -136,4 +231,6 @@ class PlaceForm(SerializerForm):
             "overhead_mib": data["overhead_mib"],
             "seed": data["seed"],
             "compare": data.get("compare", False),
+            "drivers_on_robot": data.get("drivers_on_robot", False),
+            "robot_label": data.get("robot_label") or settings.CONTINUUM_ROBOT_LABEL,
         }

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from django.conf import settings
 from django.db import transaction
 from django.urls import reverse
 
@@ -104,6 +105,9 @@ def placement_params(args: dict) -> dict[str, Any]:
     }
     if args.get("weights"):
         params["weights"] = dict(args["weights"])
+    # The robot constraint (robot_pinning): the request's choice, else the settings' defaults.
+    params["drivers_on_robot"] = bool(args.get("drivers_on_robot", settings.CONTINUUM_DRIVERS_ON_ROBOT))
+    params["robot_label"] = args.get("robot_label") or settings.CONTINUUM_ROBOT_LABEL
     return params
 
 
@@ -111,7 +115,8 @@ def placement_params(args: dict) -> dict[str, Any]:
 def place_job(job, progress) -> tuple[dict, str]:
     """Arguments: ``cluster`` (id), ``policy``; ``clustering`` (id, with optional ``overrides`` and
     ``archs``) or ``containers`` (a continuum.containers/v1 document, with an optional ``rosgraph`` id for
-    Definition 3.2.1 bandwidth); ``weights``, ``seed``, ``overhead_mib``; ``compare`` (default true)."""
+    Definition 3.2.1 bandwidth); ``weights``, ``seed``, ``overhead_mib``; ``compare`` (default true);
+    ``drivers_on_robot``, ``robot_label`` (defaults: the settings). Off-robot drivers are in ``warnings``."""
     args = job.arguments or {}
     cluster = owned_row(job, Cluster.objects, "cluster")
     clustering = rosgraph = None
@@ -174,6 +179,9 @@ def place_job(job, progress) -> tuple[dict, str]:
     }
     if baseline:
         summary["baseline"] = {"policy": baseline["policy"], "inter_node_bandwidth": baseline["inter_node_bandwidth"]}
+    warnings = services.placement_warnings(row)
+    if warnings:
+        summary["warnings"] = [w["message"] for w in warnings]
     return summary, f"/api/v1/placements/{row.pk}/"
 
 

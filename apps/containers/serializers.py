@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+from django.conf import settings
 from rest_framework import serializers
 
 from apps.clusters.serializers import VisibleClusterField
@@ -12,8 +13,9 @@ from apps.tenancy.api import (
     VisibleRelatedField,
 )
 from apps.tenancy.bounds import BoundedFileField, at_most
+from continuum.engine.containers.robot_pinning import parse_label
 from continuum.engine.containers.ros_clustering import max_containers
-from continuum.engine.containers.rosgraph import MODES, READERS
+from continuum.engine.containers.rosgraph import LEVELS, MODES, PINS, READERS
 from continuum.engine.containers.superclustering import ALIASES, POLICIES, SCORERS
 from continuum.engine.core import artifact_names, limits
 from continuum.engine.core.cluster import normalize_arch
@@ -28,6 +30,100 @@ def input_error(exc: InputError, default: str) -> serializers.ValidationError:
 
 
 # ---- ROS graphs -------------------------------------------------------------------------------------------
+def _bounded(name: str, unit: str, maximum: float, **kwargs) -> serializers.FloatField:
+    """A non-negative number bounded by the limit; messages and help text carry the unit."""
+    shown = f"{int(maximum):,}" if float(maximum).is_integer() else f"{maximum:g}"
+    return serializers.FloatField(
+        min_value=0,
+        max_value=maximum,
+        required=False,
+        error_messages={
+            "max_value": f"{name}: at most {shown} {unit}",
+            "min_value": f"{name}: must be at least 0 {unit}",
+        },
+        help_text=f"{unit}, 0 to {shown}",
+        **kwargs,
+    )
+
+
+class _StrictSerializer(ScopedSerializer):
+    """Refuses keys it does not know (a plain Serializer drops them silently: a typo would be a no-op)."""
+
+    def to_internal_value(self, data):
+        if isinstance(data, dict):
+            unknown = sorted(set(data) - set(self.fields))
+            if unknown:
+                raise serializers.ValidationError(
+                    {unknown[0]: [f"cannot change {unknown[0]!r} (one of {', '.join(self.fields)})"]}
+                )
+        return super().to_internal_value(data)
+
+
+class RosNodeEditSerializer(_StrictSerializer):
+    """What PATCH (and the ROS graph page's node rows) may change about one ROS node. ``null`` level: the level
+    proposed from the graph's structure; ``null`` pin: the level decides (drivers stay on the robot)."""
+
+    level = serializers.CharField(
+        required=False, allow_null=True, allow_blank=True, max_length=40,
+        help_text=f"Fig. 3.19 level: {', '.join(LEVELS)} (null: proposed from the structure)",
+    )  # fmt: skip
+    context = serializers.CharField(required=False, allow_blank=True, max_length=200)
+    origin = serializers.CharField(required=False, allow_blank=True, max_length=64)
+    cpu = _bounded("cpu", "cores", limits.get().cores, allow_null=True)
+    memory_mib = _bounded("memory_mib", "MiB", limits.get().memory_mib, allow_null=True)
+    packages = serializers.ListField(child=serializers.CharField(max_length=214), required=False, max_length=1000)
+    pin = serializers.ChoiceField(
+        choices=PINS, required=False, allow_null=True, allow_blank=True,
+        help_text="robot: keep on the robot's boards; free: the placement may move it; null: drivers stay on the robot",
+    )  # fmt: skip
+
+    def validate(self, attrs):
+        # "" means "not set" in a form; the engine's documents use null.
+        return {k: (None if v == "" and k in ("level", "pin") else v) for k, v in attrs.items()}
+
+
+class TopicEditSerializer(_StrictSerializer):
+    """What PATCH (and the ROS graph page's topic rows) may change about one topic: one of the rate forms
+    (replaces the rate of every publisher), the message size and type."""
+
+    rate_hz = _bounded("rate_hz", "Hz", limits.get().rate_hz)
+    period_ms = serializers.FloatField(
+        min_value=1000 / limits.get().rate_hz,  # the rate limit, as a period
+        max_value=86_400_000,
+        required=False,
+        help_text="ms between messages (instead of rate_hz)",
+    )
+    publisher_rates_hz = serializers.DictField(
+        child=serializers.FloatField(min_value=0, max_value=limits.get().rate_hz, error_messages=at_most("rate_hz")),
+        required=False,
+        help_text="publisher -> Hz",
+    )
+    msg_bytes = _bounded("msg_bytes", "bytes", limits.get().msg_bytes)
+    msg_type = serializers.CharField(required=False, allow_blank=True, max_length=200)
+
+
+class RosGraphEditSerializer(ScopedSerializer):
+    """One edit of a ROS graph (context ``rosgraph``): the request contract of PATCH and of the page's forms."""
+
+    levels = serializers.DictField(
+        child=serializers.CharField(allow_null=True, allow_blank=True),
+        required=False,
+        help_text="ROS node -> level (null: proposed)",
+    )
+    topics = serializers.DictField(child=TopicEditSerializer(), required=False, help_text="topic -> changes")
+    nodes = serializers.DictField(child=RosNodeEditSerializer(), required=False, help_text="ROS node -> changes")
+    packages = serializers.DictField(required=False, help_text="package -> size_mib or object")
+
+    def validate(self, attrs):
+        edits = {key: attrs[key] for key in ("levels", "topics", "nodes", "packages") if key in attrs}
+        if edits:
+            try:
+                attrs["graph"] = services.edit_graph(self.context["rosgraph"].document, **edits)
+            except InputError as exc:
+                raise input_error(exc, "document") from exc
+        return attrs
+
+
 class RosGraphSerializer(ScopedModelSerializer):
     """A ROS graph; PATCH edits levels, topic rates and message sizes, node profiles and package sizes.
 
@@ -37,9 +133,18 @@ class RosGraphSerializer(ScopedModelSerializer):
     """
 
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
-    levels = serializers.DictField(required=False, write_only=True, help_text="ROS node -> level (null: proposed)")
-    topics = serializers.DictField(required=False, write_only=True, help_text="topic -> {rate_hz, msg_bytes, ...}")
-    nodes = serializers.DictField(required=False, write_only=True, help_text="ROS node -> {cpu, memory_mib, ...}")
+    levels = serializers.DictField(
+        child=serializers.CharField(allow_null=True, allow_blank=True),
+        required=False,
+        write_only=True,
+        help_text="ROS node -> level (null: proposed)",
+    )
+    topics = serializers.DictField(
+        child=TopicEditSerializer(), required=False, write_only=True, help_text="topic -> {rate_hz, msg_bytes, ...}"
+    )
+    nodes = serializers.DictField(
+        child=RosNodeEditSerializer(), required=False, write_only=True, help_text="ROS node -> {cpu, pin, ...}"
+    )
     packages = serializers.DictField(required=False, write_only=True, help_text="package -> size_mib or object")
     effective_levels = serializers.SerializerMethodField(help_text="each ROS node's level, given or proposed")
 
@@ -71,10 +176,8 @@ class RosGraphSerializer(ScopedModelSerializer):
         attrs = super().validate(attrs)
         edits = {key: attrs.pop(key) for key in ("levels", "topics", "nodes", "packages") if key in attrs}
         if edits:
-            try:
-                attrs["graph"] = services.edit_graph(self.instance.document, **edits)
-            except InputError as exc:
-                raise input_error(exc, "document") from exc
+            edit = RosGraphEditSerializer(context={"rosgraph": self.instance})
+            attrs["graph"] = edit.validate(edits)["graph"]
         return attrs
 
     def update(self, instance, validated):
@@ -290,6 +393,21 @@ class PlaceRequestSerializer(ScopedSerializer):
     seed = serializers.IntegerField(default=0, help_text="tie-break seed of the default-Kubernetes policy")
     overhead_mib = serializers.FloatField(min_value=0, default=0.0, help_text="runtime memory per container")
     compare = serializers.BooleanField(default=True, help_text="also run the other policy for comparison")
+    drivers_on_robot = serializers.BooleanField(
+        default=lambda: settings.CONTINUUM_DRIVERS_ON_ROBOT,
+        help_text="keep containers holding driver-level (or robot-pinned) ROS nodes on the robot's boards",
+    )
+    robot_label = serializers.CharField(
+        default=lambda: settings.CONTINUUM_ROBOT_LABEL,
+        max_length=317,
+        help_text="key=value label of the robot's boards (default zone=robot)",
+    )
+
+    def validate_robot_label(self, value):
+        try:
+            return "=".join(parse_label(value))
+        except InputError as exc:
+            raise serializers.ValidationError(str(exc)) from exc
 
     def validate_weights(self, value):
         unknown = sorted(set(value) - set(SCORERS))
@@ -333,7 +451,7 @@ class PlaceRequestSerializer(ScopedSerializer):
             args["containers"] = data["containers"]
             if data.get("rosgraph") is not None:
                 args["rosgraph"] = data["rosgraph"].pk
-        for key in ("weights", "seed", "overhead_mib", "compare"):
+        for key in ("weights", "seed", "overhead_mib", "compare", "drivers_on_robot", "robot_label"):
             if data.get(key) is not None:
                 args[key] = data[key]
         return args
@@ -355,6 +473,9 @@ class PlacementSerializer(ScopedModelSerializer):
     fleet = serializers.SlugRelatedField(slug_field="slug", read_only=True)
     node_traffic = serializers.SerializerMethodField(help_text="bytes/s between each pair of nodes")
     deployments = ContainerDeploymentSerializer(many=True, read_only=True)
+    warnings = serializers.SerializerMethodField(
+        help_text="what the operator should know: driver-level ROS nodes placed off the robot"
+    )
 
     class Meta:
         model = Placement
@@ -372,6 +493,7 @@ class PlacementSerializer(ScopedModelSerializer):
             "inter_node_bandwidth",
             "baseline",
             "node_traffic",
+            "warnings",
             "plan",
             "containers",
             "cluster_document",
@@ -382,6 +504,9 @@ class PlacementSerializer(ScopedModelSerializer):
 
     def get_node_traffic(self, obj) -> list[dict]:
         return services.node_traffic(obj)
+
+    def get_warnings(self, obj) -> list[dict]:
+        return services.placement_warnings(obj)
 
 
 class PlacementListSerializer(PlacementSerializer):

@@ -71,7 +71,7 @@ def read_graph(content: bytes | str, fmt: str | None = None, name: str = "") -> 
 # ---- edits --------------------------------------------------------------------------------------------
 _RATE_KEYS = ("rate_hz", "period_ms", "publisher_rates_hz", "messages", "window_s")
 _TOPIC_EDIT_KEYS = {"rate_hz", "period_ms", "publisher_rates_hz", "msg_bytes", "msg_type"}
-_NODE_EDIT_KEYS = {"level", "context", "origin", "cpu", "memory_mib", "packages"}
+_NODE_EDIT_KEYS = {"level", "context", "origin", "cpu", "memory_mib", "packages", "pin"}
 
 
 def normal_level(raw: Any, where: str) -> str | None:
@@ -207,12 +207,29 @@ def dockerfiles_archive(clustering: Clustering, kind: str) -> tuple[bytes, str, 
     """
     if kind not in ARCHIVES:
         raise InputError(f"unknown archive {kind!r} (one of {', '.join(ARCHIVES)})", "archive")
-    if not clustering.images:
-        raise InputError("this clustering has no image plan: its ROS nodes list no packages", "archive")
-    plan = image_plan(clustering.graph, clustering.groups(), clustering.params.get("images") or {})
+    plan = stored_plan(clustering)
     data = plan.archive("zip") if kind == "zip" else gzip.compress(plan.archive("tar"), mtime=0)
     content_type, suffix = ARCHIVES[kind]
     return data, content_type, f"{_file_stem(clustering)}-dockerfiles.{suffix}"
+
+
+def stored_plan(clustering: Clustering) -> ImagePlan:
+    """The clustering's image plan computed again from its graph snapshot and options: the one generator of
+    the Dockerfiles that the archive (API, page) and the page's preview show."""
+    if not clustering.images:
+        raise InputError("this clustering has no image plan: its ROS nodes list no packages", "archive")
+    return image_plan(clustering.graph, clustering.groups(), clustering.params.get("images") or {})
+
+
+def dockerfile_previews(clustering: Clustering) -> list[dict[str, Any]]:
+    """Each image's Dockerfile as the archive holds it (``<image>/Dockerfile``), parents first, with the
+    containers built from it; an error string instead when the stored names no longer pass their grammar."""
+    plan = stored_plan(clustering)
+    return [
+        {"image": im.name, "kind": im.kind, "owners": list(im.owners), "reference": plan.reference(im.name),
+         "dockerfile": plan.dockerfiles[im.name]}
+        for im in plan.images
+    ]  # fmt: skip
 
 
 def _file_stem(clustering: Clustering) -> str:
@@ -335,3 +352,15 @@ def node_traffic(placement: Placement) -> list[dict[str, Any]]:
         {"a": a, "b": b, "bytes_per_s": w}
         for (a, b), w in sorted(totals.items(), key=lambda kv: (natural_key(kv[0][0]), natural_key(kv[0][1])))
     ]
+
+
+def placement_warnings(placement: Placement) -> list[dict[str, Any]]:
+    """Driver-level ROS nodes the placement put off the robot (the plan's ``off_robot_drivers`` metric,
+    :func:`continuum.engine.containers.robot_pinning.off_robot`), with a message each."""
+    plan = placement.plan or {}  # PlacementPlan.to_dict() writes the metrics at the top level
+    out = [dict(w) for w in plan.get("off_robot_drivers") or [] if isinstance(w, Mapping)]
+    if out and not plan.get("robot_nodes"):
+        label = (placement.params or {}).get("robot_label", "zone=robot")
+        for w in out:
+            w["message"] += f"; the cluster has no node labelled {label}"
+    return out

@@ -9,6 +9,7 @@ from django.db import transaction
 from django.db.models import Count
 from django.http import Http404, HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
+from django.urls import reverse
 from django.views.decorators.http import require_POST
 
 from apps.containers.kinds import ContainersJob
@@ -17,11 +18,14 @@ from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
 from apps.ui.charts import to_html
 from apps.ui.helpers import paginate, scoped
+from continuum.engine.containers import robot_pinning
+from continuum.engine.containers.resource_model import profiles as resource_profiles
+from continuum.engine.containers.rosgraph import propose_levels
 from continuum.engine.containers.superclustering import container_bandwidth
 from continuum.engine.core.errors import InputError
 
 from . import charts, services
-from .forms import ClusterForm, LevelsForm, PlaceForm, RosGraphUploadForm
+from .forms import ClusterForm, LevelsForm, PlaceForm, RosGraphUploadForm, RosNodeEditForm, TopicEditForm
 from .models import Clustering, ContainerDeployment, Placement, RosGraph
 
 NAV = "ros"
@@ -53,7 +57,10 @@ def rosgraph_list(request: HttpRequest) -> HttpResponse:
     )
 
 
-def _graph_page(request, row: RosGraph, *, cluster_form=None, levels_form=None, status: int = 200) -> HttpResponse:
+def _graph_page(
+    request, row: RosGraph, *, cluster_form=None, levels_form=None, edit_form=None, status: int = 200
+) -> HttpResponse:
+    """``edit_form``: a bound node or topic row form that was refused, shown in its row with its errors."""
     graph = row.graph
     clusterings = list(row.clusterings.order_by("-created", "-pk")[:20])
     shown = None
@@ -64,12 +71,49 @@ def _graph_page(request, row: RosGraph, *, cluster_form=None, levels_form=None, 
         shown = clusterings[0]
     # The stored snapshot may predate an edit that changed nothing structural; colour only if it still fits.
     groups = shown.groups() if shown and set(graph.nodes) == {n for ms in shown.groups().values() for n in ms} else None
-    proposed = graph.levels()
-    level_rows = [
-        {"name": n, "level": proposed[n], "given": bool(node.level), "cpu": node.cpu, "memory_mib": node.memory_mib}
+    levels = graph.levels()
+    proposed = propose_levels(graph)
+    profiles = resource_profiles(graph)
+    on_robot = robot_pinning.pinned(levels, {n: node.pin for n, node in graph.nodes.items()})
+
+    def row_form(form_class, kind: str, item: str, initial: dict, **extra):
+        if edit_form is not None and edit_form.kind == kind and edit_form.item == item:
+            return edit_form
+        return form_class(rosgraph=row, item=item, initial=initial, **extra)
+
+    node_rows = [
+        {
+            "name": n,
+            "level": levels[n],
+            "given": bool(node.level),
+            "pinned": n in on_robot,
+            "profile": profiles[n],
+            "form": row_form(
+                RosNodeEditForm,
+                "node",
+                n,
+                {"level": node.level or "", "pin": node.pin or "", "cpu": node.cpu, "memory_mib": node.memory_mib},
+                proposed=proposed[n],
+            ),
+        }
         for n, node in sorted(graph.nodes.items())
     ]
-    topics = sorted(graph.topics.values(), key=lambda t: t.name)
+    topic_rows = []
+    for t in sorted(graph.topics.values(), key=lambda t: t.name):
+        rates = sorted(set(t.rates.values()))
+        # One rate for every publisher is the field's value; differing ones are shown beside an empty field.
+        initial = {"rate_hz": rates[0] if len(rates) == 1 else None, "msg_bytes": t.msg_bytes}
+        topic_rows.append(
+            {
+                "name": t.name,
+                "publishers": t.publishers,
+                "subscribers": t.subscribers,
+                "rates": rates,
+                "msg_bytes": t.msg_bytes,
+                "bps": sum(t.rate(p) for p in t.publishers) * t.msg_bytes * len(t.subscribers),
+                "form": row_form(TopicEditForm, "topic", t.name, initial),
+            }
+        )
     levels_form = levels_form or LevelsForm(graph=graph)
     return render(
         request,
@@ -80,18 +124,9 @@ def _graph_page(request, row: RosGraph, *, cluster_form=None, levels_form=None, 
             "figure": to_html(charts.rosgraph_figure(graph, groups), div_id="rosgraph-chart"),
             "shown": shown if groups else None,
             "clusterings": clusterings,
-            "level_fields": [(levels_form[f"level:{r['name']}"], r) for r in level_rows],
-            "topics": [
-                {
-                    "name": t.name,
-                    "publishers": t.publishers,
-                    "subscribers": t.subscribers,
-                    "rates": sorted(set(t.rates.values())),
-                    "msg_bytes": t.msg_bytes,
-                    "bps": sum(t.rate(p) for p in t.publishers) * t.msg_bytes * len(t.subscribers),
-                }
-                for t in topics
-            ],
+            "node_rows": node_rows,
+            "edit_error": edit_form,
+            "topics": topic_rows,
             "cluster_form": cluster_form or ClusterForm(initial={"containers": min(4, max(1, len(graph.nodes)))}),
             "levels_form": levels_form,
             "nav": NAV,
@@ -125,6 +160,40 @@ def rosgraph_levels(request: HttpRequest, pk: int) -> HttpResponse:
     return redirect("containers:rosgraph", pk=row.pk)
 
 
+def _edit(request: HttpRequest, pk: int, form_class, key: str, what: str) -> HttpResponse:
+    """Save one row's edit (a ROS node or a topic) through the PATCH contract; a refused one re-renders the
+    page (400) with the row's errors next to its fields and summarised at the top of its table."""
+    item = request.POST.get(key, "")
+    # Read, check and write under the row's lock: two rows saved at once must not undo each other.
+    with transaction.atomic():
+        row = get_object_or_404(scoped(request, RosGraph.objects.select_for_update(of=("self",))), pk=pk)
+        graph = row.graph
+        table = graph.nodes if key == "node" else graph.topics
+        if item not in table:
+            raise Http404(f"no {what} {item!r} in this graph")
+        extra = {"proposed": propose_levels(graph)[item]} if key == "node" else {}
+        form = form_class(request.POST, rosgraph=row, item=item, **extra)
+        if form.is_valid():
+            row.set_graph(form.graph())
+            row.save()
+    if not form.is_valid():
+        return _graph_page(request, row, edit_form=form, status=400)
+    messages.success(request, f"Saved {what} {item}.")
+    return redirect(f"{reverse('containers:rosgraph', args=[row.pk])}#{key}s")
+
+
+@login_required
+@require_POST
+def rosgraph_node(request: HttpRequest, pk: int) -> HttpResponse:
+    return _edit(request, pk, RosNodeEditForm, "node", "ROS node")
+
+
+@login_required
+@require_POST
+def rosgraph_topic(request: HttpRequest, pk: int) -> HttpResponse:
+    return _edit(request, pk, TopicEditForm, "topic", "topic")
+
+
 @login_required
 @require_POST
 def rosgraph_cluster(request: HttpRequest, pk: int) -> HttpResponse:
@@ -145,19 +214,27 @@ def _clustering_page(request, clustering: Clustering, form: PlaceForm | None = N
         {"a": a, "b": b, "bytes_per_s": w} for (a, b), w in sorted(container_bandwidth(graph, groups, mode).items())
     ]
     levels = graph.levels()
+    profiles = resource_profiles(graph)
     rows = []
     for c in clustering.containers:
         rows.append(
             {
                 "name": c["name"],
                 "nodes": c["nodes"],
-                "cpu": sum(graph.nodes[n].cpu for n in c["nodes"]),
-                "memory_mib": sum(graph.nodes[n].memory_mib for n in c["nodes"]),
+                # The requests the placement uses (resource_model): work + middleware, process + queues.
+                "cpu": sum(profiles[n].cpu for n in c["nodes"]),
+                "memory_mib": sum(profiles[n].memory_mib for n in c["nodes"]),
                 "levels": sorted({levels[n] for n in c["nodes"]}, key=lambda lv: charts.LEVELS.index(lv)),
                 "out_bps": sum(b["bytes_per_s"] for b in bandwidth if c["name"] in (b["a"], b["b"])),
             }
         )
     images = clustering.images
+    previews, preview_error = [], None
+    if images:
+        try:
+            previews = services.dockerfile_previews(clustering)
+        except InputError as exc:  # stored before names were checked: the archive refuses it too
+            preview_error = str(exc)
     total = clustering.inter_container_bandwidth + clustering.intra_container_bandwidth
     return render(
         request,
@@ -174,6 +251,8 @@ def _clustering_page(request, clustering: Clustering, form: PlaceForm | None = N
             "disk_figure": to_html(charts.disk_figure(images), div_id="disk-chart") if images else None,
             "saved_pct": images["saved"] * 100 if images else None,
             "archives": list(services.ARCHIVES),
+            "dockerfiles": previews,
+            "dockerfile_error": preview_error,
             "form": form or PlaceForm(clustering=clustering, request=request),
             "placements": clustering.placements.select_related("cluster").order_by("-created", "-pk")[:20],
             "nav": NAV,
@@ -250,6 +329,7 @@ def placement_detail(request: HttpRequest, pk: int) -> HttpResponse:
         saved = (1 - placement.inter_node_bandwidth / baseline["inter_node_bandwidth"]) * 100
     figure = charts.placement_figure(placement.cluster_document, placement.plan, traffic, names)
     can_push = bool(placement.cluster and placement.cluster.kubeconfig)
+    warnings = services.placement_warnings(placement)
     return render(
         request,
         "containers/placement_detail.html",
@@ -263,6 +343,8 @@ def placement_detail(request: HttpRequest, pk: int) -> HttpResponse:
             "baseline": baseline,
             "saved": saved,
             "can_push": can_push,
+            "warnings": warnings,
+            "off_robot": {w["container"] for w in warnings},
             "deploy_states": [
                 (value, label, sum(1 for d in deployments.values() if d.state == value))
                 for value, label in ContainerDeployment.State.choices

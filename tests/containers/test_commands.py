@@ -150,3 +150,32 @@ def test_place_bad_cluster_exits_2(tmp_path, capsys):
         )  # fmt: skip
     assert exc.value.code == 2
     assert "node 'x': unknown architecture 'sparc'" in capsys.readouterr().err
+
+
+def test_place_holds_drivers_on_the_robot_unless_freed(tmp_path, capsys):
+    graph = str(DATA / "autoware_reference_system.json")
+    _, clustered = run(cluster_ros, graph, "--containers", "4")
+    containers = tmp_path / "containers.json"
+    containers.write_text(json.dumps({"containers": clustered["containers"]}))
+    cluster = tmp_path / "cluster.json"
+    cluster.write_text(
+        json.dumps(
+            {"nodes": [{"name": "mcb", "cpu": 4, "labels": {"zone": "robot"}},
+                       {"name": "vm", "cpu": 32, "labels": {"zone": "cloud"}}]}
+        )
+    )  # fmt: skip
+    owner = {n: c["name"] for c in clustered["containers"] for n in c["nodes"]}
+    _, held = run(place, str(containers), "--cluster", str(cluster), "--graph", graph)
+    hosts = {p["container"]: p["node"] for p in held["placements"]}
+    assert hosts[owner["FrontLidarDriver"]] == hosts[owner["VehicleDBWSystem"]] == "mcb"
+    assert held["off_robot_drivers"] == []
+    cmd, freed = run(place, str(containers), "--cluster", str(cluster), "--graph", graph, "--free-drivers")
+    hosts = {p["container"]: p["node"] for p in freed["placements"]}
+    assert hosts[owner["FrontLidarDriver"]] == "vm"
+    assert "warning: driver-level ROS nodes" in cmd.summary(freed)
+    with pytest.raises(SystemExit) as exc:
+        place.Command().run_from_argv(
+            ["manage.py", "place", str(containers), "--cluster", str(cluster), "--robot-label", "robot",
+             "--skip-checks"]
+        )  # fmt: skip
+    assert exc.value.code == 2 and "robot label must be key=value" in capsys.readouterr().err

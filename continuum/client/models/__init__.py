@@ -127,6 +127,7 @@ from .patched_ros_graph_request_nodes import PatchedRosGraphRequestNodes
 from .patched_ros_graph_request_packages import PatchedRosGraphRequestPackages
 from .patched_ros_graph_request_topics import PatchedRosGraphRequestTopics
 from .patched_rt_policy_request import PatchedRTPolicyRequest
+from .pin_enum import PinEnum
 from .place_request_request import PlaceRequestRequest
 from .place_request_request_overrides import PlaceRequestRequestOverrides
 from .place_request_request_weights import PlaceRequestRequestWeights
@@ -134,6 +135,7 @@ from .placement import Placement
 from .placement_enum import PlacementEnum
 from .placement_list import PlacementList
 from .placement_node_traffic_item import PlacementNodeTrafficItem
+from .placement_warnings_item import PlacementWarningsItem
 from .placements_why_retrieve_response_200 import PlacementsWhyRetrieveResponse200
 from .policy_enum import PolicyEnum
 from .rank_mode_enum import RankModeEnum
@@ -164,6 +166,8 @@ from .ros_graph_request_levels import RosGraphRequestLevels
 from .ros_graph_request_nodes import RosGraphRequestNodes
 from .ros_graph_request_packages import RosGraphRequestPackages
 from .ros_graph_request_topics import RosGraphRequestTopics
+from .ros_node_edit import RosNodeEdit
+from .ros_node_edit_request import RosNodeEditRequest
 from .rosgraphs_list_source_format import RosgraphsListSourceFormat
 from .rt_decision import RTDecision
 from .rt_decisions_list_outcome import RtDecisionsListOutcome
@@ -188,6 +192,10 @@ from .sort_tiebreak_enum import SortTiebreakEnum
 from .source_format_enum import SourceFormatEnum
 from .sync_state_enum import SyncStateEnum
 from .thresholds_request_request import ThresholdsRequestRequest
+from .topic_edit import TopicEdit
+from .topic_edit_publisher_rates_hz import TopicEditPublisherRatesHz
+from .topic_edit_request import TopicEditRequest
+from .topic_edit_request_publisher_rates_hz import TopicEditRequestPublisherRatesHz
 from .trigger_enum import TriggerEnum
 from .verdict_enum import VerdictEnum
 from .verdicts_list_verdict import VerdictsListVerdict
@@ -325,6 +333,7 @@ __all__ = (
     "PatchedRosGraphRequestNodes",
     "PatchedRosGraphRequestPackages",
     "PatchedRosGraphRequestTopics",
+    "PinEnum",
     "PlaceRequestRequest",
     "PlaceRequestRequestOverrides",
     "PlaceRequestRequestWeights",
@@ -332,6 +341,7 @@ __all__ = (
     "PlacementEnum",
     "PlacementList",
     "PlacementNodeTrafficItem",
+    "PlacementWarningsItem",
     "PlacementsWhyRetrieveResponse200",
     "PolicyEnum",
     "RTDecision",
@@ -370,6 +380,8 @@ __all__ = (
     "RosGraphRequestNodes",
     "RosGraphRequestPackages",
     "RosGraphRequestTopics",
+    "RosNodeEdit",
+    "RosNodeEditRequest",
     "RosgraphsListSourceFormat",
     "RtDecisionsListOutcome",
     "RtEventsListKind",
@@ -386,6 +398,10 @@ __all__ = (
     "SourceFormatEnum",
     "SyncStateEnum",
     "ThresholdsRequestRequest",
+    "TopicEdit",
+    "TopicEditPublisherRatesHz",
+    "TopicEditRequest",
+    "TopicEditRequestPublisherRatesHz",
     "TriggerEnum",
     "VerdictEnum",
     "VerdictsListVerdict",

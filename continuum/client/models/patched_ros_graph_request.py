@@ -31,7 +31,7 @@ class PatchedRosGraphRequest:
             description (str | Unset):
             levels (PatchedRosGraphRequestLevels | Unset): ROS node -> level (null: proposed)
             topics (PatchedRosGraphRequestTopics | Unset): topic -> {rate_hz, msg_bytes, ...}
-            nodes (PatchedRosGraphRequestNodes | Unset): ROS node -> {cpu, memory_mib, ...}
+            nodes (PatchedRosGraphRequestNodes | Unset): ROS node -> {cpu, pin, ...}
             packages (PatchedRosGraphRequestPackages | Unset): package -> size_mib or object
     """
 

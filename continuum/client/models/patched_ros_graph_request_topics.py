@@ -1,10 +1,14 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from attrs import define as _attrs_define
 from attrs import field as _attrs_field
+
+if TYPE_CHECKING:
+    from ..models.topic_edit_request import TopicEditRequest
+
 
 T = TypeVar("T", bound="PatchedRosGraphRequestTopics")
 
@@ -13,31 +17,40 @@ T = TypeVar("T", bound="PatchedRosGraphRequestTopics")
 class PatchedRosGraphRequestTopics:
     """topic -> {rate_hz, msg_bytes, ...}"""
 
-    additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
+    additional_properties: dict[str, TopicEditRequest] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
 
         field_dict: dict[str, Any] = {}
-        field_dict.update(self.additional_properties)
+        for prop_name, prop in self.additional_properties.items():
+            field_dict[prop_name] = prop.to_dict()
 
         return field_dict
 
     @classmethod
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
+        from ..models.topic_edit_request import TopicEditRequest
+
         d = dict(src_dict)
         patched_ros_graph_request_topics = cls()
 
-        patched_ros_graph_request_topics.additional_properties = d
+        additional_properties = {}
+        for prop_name, prop_dict in d.items():
+            additional_property = TopicEditRequest.from_dict(prop_dict)
+
+            additional_properties[prop_name] = additional_property
+
+        patched_ros_graph_request_topics.additional_properties = additional_properties
         return patched_ros_graph_request_topics
 
     @property
     def additional_keys(self) -> list[str]:
         return list(self.additional_properties.keys())
 
-    def __getitem__(self, key: str) -> Any:
+    def __getitem__(self, key: str) -> TopicEditRequest:
         return self.additional_properties[key]
 
-    def __setitem__(self, key: str, value: Any) -> None:
+    def __setitem__(self, key: str, value: TopicEditRequest) -> None:
         self.additional_properties[key] = value
 
     def __delitem__(self, key: str) -> None:

@@ -39,6 +39,9 @@ class PlaceRequestRequest:
             seed (int | Unset): tie-break seed of the default-Kubernetes policy Default: 0.
             overhead_mib (float | Unset): runtime memory per container Default: 0.0.
             compare (bool | Unset): also run the other policy for comparison Default: True.
+            drivers_on_robot (bool | Unset): keep containers holding driver-level (or robot-pinned) ROS nodes on the robot's
+                boards
+            robot_label (str | Unset): key=value label of the robot's boards (default zone=robot)
     """
 
     cluster: int
@@ -52,6 +55,8 @@ class PlaceRequestRequest:
     seed: int | Unset = 0
     overhead_mib: float | Unset = 0.0
     compare: bool | Unset = True
+    drivers_on_robot: bool | Unset = UNSET
+    robot_label: str | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
@@ -85,6 +90,10 @@ class PlaceRequestRequest:
 
         compare = self.compare
 
+        drivers_on_robot = self.drivers_on_robot
+
+        robot_label = self.robot_label
+
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update(
@@ -112,6 +121,10 @@ class PlaceRequestRequest:
             field_dict["overhead_mib"] = overhead_mib
         if compare is not UNSET:
             field_dict["compare"] = compare
+        if drivers_on_robot is not UNSET:
+            field_dict["drivers_on_robot"] = drivers_on_robot
+        if robot_label is not UNSET:
+            field_dict["robot_label"] = robot_label
 
         return field_dict
 
@@ -149,6 +162,10 @@ class PlaceRequestRequest:
 
         compare = d.pop("compare", UNSET)
 
+        drivers_on_robot = d.pop("drivers_on_robot", UNSET)
+
+        robot_label = d.pop("robot_label", UNSET)
+
         place_request_request = cls(
             cluster=cluster,
             policy=policy,
@@ -161,6 +178,8 @@ class PlaceRequestRequest:
             seed=seed,
             overhead_mib=overhead_mib,
             compare=compare,
+            drivers_on_robot=drivers_on_robot,
+            robot_label=robot_label,
         )
 
         place_request_request.additional_properties = d

@@ -11,6 +11,7 @@ from attrs import field as _attrs_field
 if TYPE_CHECKING:
     from ..models.container_deployment import ContainerDeployment
     from ..models.placement_node_traffic_item import PlacementNodeTrafficItem
+    from ..models.placement_warnings_item import PlacementWarningsItem
 
 
 T = TypeVar("T", bound="Placement")
@@ -34,6 +35,8 @@ class Placement:
         inter_node_bandwidth (float): bytes/s between containers on different nodes
         baseline (Any): the other policy on the same input: policy, inter_node_bandwidth, placements
         node_traffic (list[PlacementNodeTrafficItem]): bytes/s between each pair of nodes
+        warnings (list[PlacementWarningsItem]): what the operator should know: driver-level ROS nodes placed off the
+            robot
         plan (Any): PlacementPlan.to_dict(): placements, pending, every node's verdict, metrics
         containers (Any): the resolved continuum.containers/v1 workload that was placed
         cluster_document (Any): the nodes and links placed on (continuum.cluster/v1 snapshot)
@@ -54,6 +57,7 @@ class Placement:
     inter_node_bandwidth: float
     baseline: Any
     node_traffic: list[PlacementNodeTrafficItem]
+    warnings: list[PlacementWarningsItem]
     plan: Any
     containers: Any
     cluster_document: Any
@@ -95,6 +99,11 @@ class Placement:
             node_traffic_item = node_traffic_item_data.to_dict()
             node_traffic.append(node_traffic_item)
 
+        warnings = []
+        for warnings_item_data in self.warnings:
+            warnings_item = warnings_item_data.to_dict()
+            warnings.append(warnings_item)
+
         plan = self.plan
 
         containers = self.containers
@@ -125,6 +134,7 @@ class Placement:
                 "inter_node_bandwidth": inter_node_bandwidth,
                 "baseline": baseline,
                 "node_traffic": node_traffic,
+                "warnings": warnings,
                 "plan": plan,
                 "containers": containers,
                 "cluster_document": cluster_document,
@@ -139,6 +149,7 @@ class Placement:
     def from_dict(cls: type[T], src_dict: Mapping[str, Any]) -> T:
         from ..models.container_deployment import ContainerDeployment
         from ..models.placement_node_traffic_item import PlacementNodeTrafficItem
+        from ..models.placement_warnings_item import PlacementWarningsItem
 
         d = dict(src_dict)
         id = d.pop("id")
@@ -200,6 +211,13 @@ class Placement:
 
             node_traffic.append(node_traffic_item)
 
+        warnings = []
+        _warnings = d.pop("warnings")
+        for warnings_item_data in _warnings:
+            warnings_item = PlacementWarningsItem.from_dict(warnings_item_data)
+
+            warnings.append(warnings_item)
+
         plan = d.pop("plan")
 
         containers = d.pop("containers")
@@ -229,6 +247,7 @@ class Placement:
             inter_node_bandwidth=inter_node_bandwidth,
             baseline=baseline,
             node_traffic=node_traffic,
+            warnings=warnings,
             plan=plan,
             containers=containers,
             cluster_document=cluster_document,

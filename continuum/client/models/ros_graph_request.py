@@ -31,7 +31,7 @@ class RosGraphRequest:
             description (str | Unset):
             levels (RosGraphRequestLevels | Unset): ROS node -> level (null: proposed)
             topics (RosGraphRequestTopics | Unset): topic -> {rate_hz, msg_bytes, ...}
-            nodes (RosGraphRequestNodes | Unset): ROS node -> {cpu, memory_mib, ...}
+            nodes (RosGraphRequestNodes | Unset): ROS node -> {cpu, pin, ...}
             packages (RosGraphRequestPackages | Unset): package -> size_mib or object
     """
 

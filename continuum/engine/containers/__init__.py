@@ -2,4 +2,4 @@
 nodes into containers, images by inheritance, and super-clustering onto cluster nodes.
 """
 
-__all__ = ["image_inheritance", "ros_clustering", "rosgraph", "superclustering"]
+__all__ = ["image_inheritance", "resource_model", "robot_pinning", "ros_clustering", "rosgraph", "superclustering"]

@@ -44,6 +44,7 @@ __all__ = [
     "LEVELS",
     "LEVEL_ALIASES",
     "MODES",
+    "PINS",
     "READERS",
     "RosGraph",
     "RosNode",
@@ -73,6 +74,12 @@ LEVEL_ALIASES = {
     "drivers": "driver",
 }
 MODES = ("per_topic", "literal")
+#: A ROS node's pin: ``robot`` keeps it on the robot's boards, ``free`` lets the placement move it anywhere
+#: (how an operator unpins a driver); no pin: drivers stay on the robot, the rest is free
+#: (:mod:`continuum.engine.containers.robot_pinning`).
+PINS = ("robot", "free")
+#: Autoware reference-system node types that talk to hardware: its sensors (timer sources) and command sinks.
+AUTOWARE_DRIVER_TYPES = ("sensor", "command")
 
 
 # ---- natural ordering ---------------------------------------------------------------------------
@@ -111,6 +118,8 @@ class RosNode:
     cpu: float = 0.0
     memory_mib: float = 0.0
     packages: tuple[str, ...] = ()
+    #: One of :data:`PINS`, or ``None`` (the level decides).
+    pin: str | None = None
 
 
 @dataclass(frozen=True)
@@ -164,6 +173,8 @@ class RosGraph:
         for node in self.nodes.values():
             if node.level is not None and node.level not in LEVELS:
                 raise InputError(f"ROS node {node.name!r} has unknown level {node.level!r}", "nodes")
+            if node.pin is not None and node.pin not in PINS:
+                raise InputError(f"ROS node {node.name!r} has unknown pin {node.pin!r}", "nodes")
             for what, value in (("cpu", node.cpu), ("memory_mib", node.memory_mib)):
                 if not _finite_nonneg(value):
                     raise InputError(f"ROS node {node.name!r} has invalid {what} {value!r}", "nodes")
@@ -223,6 +234,8 @@ class RosGraph:
                 item["memory_mib"] = n.memory_mib
             if n.packages:
                 item["packages"] = list(n.packages)
+            if n.pin:
+                item["pin"] = n.pin
             nodes.append(item)
         topics = []
         for t in self.topics.values():
@@ -415,7 +428,10 @@ def from_autoware(doc: Mapping[str, Any]) -> RosGraph:
     Publishing rates follow the reference system's node semantics: a timer callback publishes every
     ``period_ms``; a subscription callback publishes at its input topic's rate; a fusion callback ("publishes
     only when both inputs present") publishes at the rate of its slowest input. Rates propagate along the
-    dataflow until they settle. A node's CPU demand is the sum over callbacks of ``runtime_ms * rate``.
+    dataflow until they settle. A node's CPU demand is the sum over callbacks of ``runtime_ms * rate`` (its
+    callbacks' own work; :mod:`~.resource_model` adds the middleware's share). Nodes of type ``sensor`` or
+    ``command`` (the dataset's hardware-facing nodes: lidar and map sensors, the vehicle's drive-by-wire sink)
+    get the level ``driver``; the other levels are proposed from the structure.
     """
     raw_nodes = doc.get("nodes")
     if not isinstance(raw_nodes, list) or not raw_nodes:
@@ -460,7 +476,9 @@ def from_autoware(doc: Mapping[str, Any]) -> RosGraph:
             if not _finite_nonneg(rt):
                 raise InputError(f"node {n!r} has invalid runtime_ms {rt!r:.40}", "nodes")
             cpu += float(rt) * _trigger_rate(cb, rates) / 1000.0
-        nodes.append(RosNode(n, cpu=cpu))
+        # The dataset marks the nodes that talk to hardware by type (sensors, vehicle commands): drivers.
+        level = "driver" if spec.get("type") in AUTOWARE_DRIVER_TYPES else None
+        nodes.append(RosNode(n, level=level, cpu=cpu))
     meta = {
         "source": doc.get("source"),
         "reader": "autoware",
@@ -981,8 +999,14 @@ def _parse_node(index: int, raw: Any) -> RosNode:
         raise InputError(f"{where}: 'packages' must be a list of package names", "nodes")
     for p in packages:  # they are written into Dockerfiles (image_inheritance): the grammar, checked here
         check_package(p, "nodes", f"{where}: package")
+    pin = raw.get("pin")
+    if pin in ("", None):
+        pin = None
+    elif pin not in PINS:
+        raise InputError(f"{where} has unknown pin {pin!r} (one of {', '.join(PINS)}, or none)", "nodes")
     return RosNode(
         name,
+        pin=pin,
         level=_parse_level(where, raw.get("level")),
         context=str(raw.get("context", "") or ""),
         origin=str(raw.get("origin", "") or ""),

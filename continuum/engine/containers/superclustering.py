@@ -6,7 +6,9 @@ The four phases of Fig. 3.27, as a Kubernetes scheduler plugin chain:
    bandwidth, descending, then natural name order).
 2. **Filter** the nodes: image architecture (spec 02 section 4: a container never lands on a node whose arch
    its image lacks), taints and tolerations, required node affinity / node selector, then CPU cores, memory
-   and storage still free. No node left: the container stays pending, each node's rejection reason kept.
+   and storage still free, then RobotBoard: a container holding a driver-level (or robot-pinned) ROS node only
+   on the robot's boards (Table 4.26's required "MCB; drivers" affinity, :mod:`.robot_pinning`). No node
+   left: the container stays pending, each node's rejection reason kept.
 3. **Score** the remaining nodes. The bandwidth rank (Eq. 3.14) of node ``n`` for container ``L`` is the
    traffic that would stay local, ``sum over containers c already bound to n of bandwidth(L, c)``;
    Eq. (3.15) normalises it to 0-100 by the best node (all 0 when every rank is 0). Other weighted policies
@@ -46,6 +48,8 @@ from typing import Any, TypeGuard, overload
 
 import numpy as np
 
+from continuum.engine.containers import robot_pinning
+from continuum.engine.containers.resource_model import profiles as resource_profiles
 from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
 from continuum.engine.core.cluster import Cluster, ClusterNode, normalize_arch
 from continuum.engine.core.errors import InputError
@@ -132,6 +136,10 @@ class ContainerSpec:
     tolerations: tuple[Toleration, ...] = ()
     #: ROS nodes inside (informational here; bandwidth comes from the workload).
     nodes: tuple[str, ...] = ()
+    #: Driver-level ROS nodes inside: reported when the container lands off the robot (robot_pinning).
+    drivers: tuple[str, ...] = ()
+    #: ROS nodes inside pinned to the robot's boards: the container may only go to a robot node.
+    on_robot: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """This container as a ``continuum.containers/v1`` entry with every value resolved (CPU and memory
@@ -148,6 +156,9 @@ class ContainerSpec:
         }
         if self.node_selector:
             doc["node_selector"] = dict(self.node_selector)
+        for key in ("drivers", "on_robot"):
+            if getattr(self, key):
+                doc[key] = list(getattr(self, key))
         affinity: dict[str, Any] = {}
         if self.required:
             affinity["required"] = [_expression_dict(r) for r in self.required]
@@ -253,7 +264,8 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
         isinstance(v, (int, float)) and not isinstance(v, bool) for v in classes.values()
     ):
         raise InputError("'priority_classes' must map class names to numbers", "priority_classes")
-    containers = [_parse_container(i, c, default_archs, graph, classes) for i, c in enumerate(raw)]
+    derived = _derived(graph) if graph is not None else None
+    containers = [_parse_container(i, c, default_archs, graph, classes, derived) for i, c in enumerate(raw)]
     bandwidth: dict[tuple[str, str], float] = {}
     if graph is not None:
         groups = {c.name: c.nodes for c in containers if c.nodes}
@@ -275,6 +287,33 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
             raise InputError(f"bandwidth[{i}] joins container {item['a']!r} to itself", "bandwidth")
         bandwidth[pair(str(item["a"]), str(item["b"]))] = float(value)
     return Workload(containers, bandwidth)
+
+
+@dataclass(frozen=True)
+class _Derived:
+    """What a container takes from the ROS graph: its ROS nodes' requests, drivers and pins."""
+
+    cpu: Mapping[str, float]
+    memory_mib: Mapping[str, float]
+    drivers: set[str]
+    on_robot: set[str]
+
+
+def _derived(graph: RosGraph) -> _Derived:
+    profiles = resource_profiles(graph)
+    levels = graph.levels()
+    return _Derived(
+        cpu={n: p.cpu for n, p in profiles.items()},
+        memory_mib={n: p.memory_mib for n, p in profiles.items()},
+        drivers=robot_pinning.drivers(levels),
+        on_robot=robot_pinning.pinned(levels, {n: node.pin for n, node in graph.nodes.items()}),
+    )
+
+
+def _names_list(raw: Any, where: str, key: str) -> tuple[str, ...]:
+    if not isinstance(raw, list) or not all(isinstance(n, str) for n in raw):
+        raise InputError(f"{where}: '{key}' must be a list of ROS node names", "containers")
+    return tuple(raw)
 
 
 def _number(x: Any) -> TypeGuard[int | float]:
@@ -318,6 +357,7 @@ def _parse_container(
     default_archs: tuple[str, ...],
     graph: RosGraph | None,
     classes: Mapping[str, float],
+    derived: _Derived | None = None,
 ) -> ContainerSpec:
     if not isinstance(raw, Mapping):
         raise InputError(f"containers[{index}] must be an object", "containers")
@@ -338,8 +378,8 @@ def _parse_container(
             if not _number(raw[key]):
                 raise InputError(f"{where} has invalid {key} {raw[key]!r}", "containers")
             values[key] = float(raw[key])
-        elif graph is not None and attr is not None:
-            values[key] = sum(getattr(graph.nodes[n], attr) for n in nodes)
+        elif derived is not None and attr is not None:  # the ROS nodes' requests (resource_model)
+            values[key] = sum(getattr(derived, attr)[n] for n in nodes)
         else:
             values[key] = 0.0
     priority = raw.get("priority", 0)
@@ -368,6 +408,14 @@ def _parse_container(
     tolerations = []
     for i, t in enumerate(raw.get("tolerations", []) or []):
         tolerations.append(Toleration.parse(t, f"{where} tolerations[{i}]"))
+    pins: dict[str, tuple[str, ...]] = {}
+    for key in ("drivers", "on_robot"):
+        if key in raw:
+            pins[key] = _names_list(raw[key], where, key)
+        elif derived is not None:
+            pins[key] = tuple(n for n in nodes if n in getattr(derived, key))
+        else:
+            pins[key] = ()
     return ContainerSpec(
         name=name,
         cpu=values["cpu"],
@@ -380,6 +428,8 @@ def _parse_container(
         preferred=tuple(preferred),
         tolerations=tuple(tolerations),
         nodes=tuple(nodes),
+        drivers=pins["drivers"],
+        on_robot=pins["on_robot"],
     )
 
 
@@ -522,10 +572,15 @@ class _Index:
     bandwidth, the node capacities as arrays, and the static filters and scores per distinct container
     requirement (containers of one deployment share them)."""
 
-    def __init__(self, workload: Workload, cluster: Cluster, overhead: float) -> None:
+    def __init__(
+        self, workload: Workload, cluster: Cluster, overhead: float, robot: tuple[str, str] | None = None
+    ) -> None:
         self.nodes = list(cluster.nodes.values())
         self.names = [n.name for n in self.nodes]
         self.overhead = overhead
+        self.label = robot or robot_pinning.ROBOT_LABEL
+        self.hold = robot is not None and bool(robot_pinning.robot_nodes(cluster, self.label))
+        self._robot: dict[tuple[str, ...], tuple[np.ndarray, list[str | None]]] = {}
         # ``bw(a, b)`` reads only the canonical key ``pair(a, b)``; a key stored the other way round is never
         # read, so it stays out of the neighbour lists too (same values as before, not "fixed").
         self.adj: dict[str, dict[str, float]] = {}
@@ -566,6 +621,17 @@ class _Index:
                 else:
                     reasons.append(None)
             hit = self._static[key] = (np.array([r is None for r in reasons]), reasons)
+        return hit
+
+    def robot(self, c: ContainerSpec) -> tuple[np.ndarray, list[str | None]]:
+        """(mask of nodes the RobotBoard filter lets ``c`` onto, per node its reason when not): static too,
+        but it runs after the resource filter, so a full node reports resources first."""
+        hit = self._robot.get(c.on_robot)
+        if hit is None:
+            reasons = [
+                robot_pinning.reject_reason(c.on_robot, node, self.label) if self.hold else None for node in self.nodes
+            ]
+            hit = self._robot[c.on_robot] = (np.array([r is None for r in reasons]), reasons)
         return hit
 
     def affinity(self, c: ContainerSpec) -> np.ndarray:
@@ -635,6 +701,7 @@ class _Run:
         mask, _ = index.static(c)
         mask = (
             mask
+            & index.robot(c)[0]
             & ~(c.cpu > free["cpu"] + eps)
             & ~(c.memory_mib + index.overhead > free["memory_mib"] + eps)
             & ~(c.storage_mib > free["storage_mib"] + eps)
@@ -739,8 +806,11 @@ class _Run:
                 fname, reason = static[k]  # type: ignore[misc]
                 out.append(NodeVerdict(name, rejected_by=fname, reason=reason))
             else:
-                reason = _filter_resources(c, self.state(k, used), self.index.overhead) or ""
-                out.append(NodeVerdict(name, rejected_by="NodeResourcesFit", reason=reason))
+                reason = _filter_resources(c, self.state(k, used), self.index.overhead)
+                if reason is not None:
+                    out.append(NodeVerdict(name, rejected_by="NodeResourcesFit", reason=reason))
+                else:
+                    out.append(NodeVerdict(name, rejected_by="RobotBoard", reason=self.index.robot(c)[1][k] or ""))
         return tuple(out)
 
 
@@ -793,9 +863,14 @@ def _schedule(
     tie_break: Callable[[_Run, np.ndarray], int],
     overhead_mib: float,
     params: dict[str, Any],
+    robot: tuple[str, str] | None = robot_pinning.ROBOT_LABEL,
     index: _Index | None = None,
 ) -> PlacementPlan:
-    index = index or _Index(workload, cluster, overhead_mib)
+    """``robot``: the label of the robot's boards, to which containers holding pinned ROS nodes are held (the
+    RobotBoard filter, :mod:`.robot_pinning`); ``None`` turns the constraint off. A cluster without a robot
+    node cannot honour it: it is then not applied (and the off-robot drivers are reported)."""
+    index = index or _Index(workload, cluster, overhead_mib, robot)
+    label = index.label
     run = _Run(policy_name, index, order, weights)
     decisions: list[Decision] = []
     for i, c in enumerate(order):
@@ -818,6 +893,10 @@ def _schedule(
     plan = PlacementPlan(policy_name, decisions, params=params)
     states = {s.node.name: s for s in run.states}
     plan.metrics.update(plan_metrics(plan, workload, cluster, states))
+    plan.metrics["robot_nodes"] = robot_pinning.robot_nodes(cluster, label)
+    plan.metrics["off_robot_drivers"] = robot_pinning.off_robot(
+        plan.placed(), {c.name: c.drivers for c in workload.containers}, cluster, label
+    )
     return plan
 
 
@@ -827,15 +906,20 @@ def superclustering(
     *,
     weights: Mapping[str, float] | None = None,
     overhead_mib: float = 0.0,
+    drivers_on_robot: bool = True,
+    robot_label: str | tuple[str, str] | None = None,
 ) -> PlacementPlan:
     """Place containers by super-clustering (Fig. 3.27, Eqs. 3.14-3.15) with the free-resource tie-break.
 
     ``overhead_mib`` is the runtime's memory cost per container (e.g. 39 MiB for K3s, Table 4.17), reserved
-    on top of each container's request.
+    on top of each container's request. ``drivers_on_robot`` holds containers with pinned (driver-level)
+    ROS nodes on the nodes labelled ``robot_label`` (default ``zone=robot``; Table 4.26, :mod:`.robot_pinning`).
     """
     w = _check_weights(SUPERCLUSTERING_WEIGHTS if weights is None else weights)
     _check_overhead(overhead_mib)
-    index = _Index(workload, cluster, overhead_mib)
+    label = robot_pinning.parse_label(robot_label)
+    robot = label if drivers_on_robot else None
+    index = _Index(workload, cluster, overhead_mib, robot)
     order = sorted(workload.containers, key=lambda c: (-c.priority, -index.total.get(c.name, 0), natural_key(c.name)))
 
     def freest(run: _Run, best: np.ndarray) -> int:
@@ -845,8 +929,9 @@ def superclustering(
             best = best[free == free.max()]
         return int(best[np.argmin(run.index.nat[best])])
 
-    params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib}
-    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params, index)
+    params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib,
+              "drivers_on_robot": bool(drivers_on_robot), "robot_label": "=".join(label)}  # fmt: skip
+    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params, robot, index)
 
 
 def default_kubernetes(
@@ -856,8 +941,11 @@ def default_kubernetes(
     seed: int = 0,
     weights: Mapping[str, float] | None = None,
     overhead_mib: float = 0.0,
+    drivers_on_robot: bool = True,
+    robot_label: str | tuple[str, str] | None = None,
 ) -> PlacementPlan:
-    """The default-Kubernetes-like baseline: least allocated + balanced allocation, random ties (seeded)."""
+    """The default-Kubernetes-like baseline: least allocated + balanced allocation, random ties (seeded).
+    The robot constraint is an operator's constraint (like a required affinity), so it applies here too."""
     w = _check_weights(KUBERNETES_WEIGHTS if weights is None else weights)
     _check_overhead(overhead_mib)
     order = sorted(workload.containers, key=lambda c: -c.priority)  # stable: FIFO within a priority
@@ -866,8 +954,11 @@ def default_kubernetes(
     def pick(run: _Run, best: np.ndarray) -> int:
         return int(best[rng.randrange(len(best))])
 
-    params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib}
-    return _schedule("default-kubernetes", workload, cluster, order, w, pick, overhead_mib, params)
+    label = robot_pinning.parse_label(robot_label)
+    params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib,
+              "drivers_on_robot": bool(drivers_on_robot), "robot_label": "=".join(label)}  # fmt: skip
+    robot = label if drivers_on_robot else None
+    return _schedule("default-kubernetes", workload, cluster, order, w, pick, overhead_mib, params, robot)
 
 
 def _check_overhead(overhead: float) -> None:

@@ -60,6 +60,12 @@ class Limits:
     stl_length: int = 10_000
     #: The most rows one list page returns (``?limit=``).
     page_size: int = 1000
+    #: Publishing rate of one ROS topic or publisher, in Hz (``rate_hz``).
+    rate_hz: float = 100_000.0
+    #: Size of one ROS message, in bytes (``msg_bytes``): 1 GiB.
+    msg_bytes: int = 1 << 30
+    #: Memory of one ROS node's profile, in MiB (``memory_mib``): 1 TiB.
+    memory_mib: int = 1 << 20
 
     @classmethod
     def from_env(cls, environ: Mapping[str, str] | None = None) -> Limits:

@@ -1,6 +1,6 @@
-"""Today's super-clustering (main at 036b87c), kept verbatim as the oracle for the fast one: the tests compare
-plans on random instances and ``benchmarks/superclustering_scale.py`` times it side by side. Its own uncached
-``natural_key``/``pair`` so the reference pays what it paid before."""
+"""Super-clustering as it was before the fast version (main at 0836843), kept verbatim as the oracle: the
+tests compare plans on random instances and ``benchmarks/superclustering_scale.py`` times it side by side. Its
+own uncached ``natural_key``/``pair`` so the reference pays what it paid before."""
 # ruff: noqa
 # mypy: ignore-errors
 
@@ -13,6 +13,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeGuard
 
+from continuum.engine.containers import robot_pinning
+from continuum.engine.containers.resource_model import profiles as resource_profiles
 import re
 
 from continuum.engine.containers.rosgraph import RosGraph
@@ -193,8 +195,14 @@ def _schedule(
     tie_break: Callable[[list[_NodeState]], _NodeState],
     overhead_mib: float,
     params: dict[str, Any],
+    robot: tuple[str, str] | None = robot_pinning.ROBOT_LABEL,
 ) -> PlacementPlan:
+    """``robot``: the label of the robot's boards, to which containers holding pinned ROS nodes are held (the
+    RobotBoard filter, :mod:`.robot_pinning`); ``None`` turns the constraint off. A cluster without a robot
+    node cannot honour it: it is then not applied (and the off-robot drivers are reported)."""
     states = {name: _NodeState(node) for name, node in cluster.nodes.items()}
+    label = robot or robot_pinning.ROBOT_LABEL
+    hold = robot is not None and bool(robot_pinning.robot_nodes(cluster, label))
     decisions: list[Decision] = []
     for c in order:
         rejected: dict[str, NodeVerdict] = {}
@@ -206,7 +214,11 @@ def _schedule(
                     rejected[name] = NodeVerdict(name, rejected_by=fname, reason=reason)
                     break
             else:
-                feasible.append(s)
+                reason = robot_pinning.reject_reason(c.on_robot, s.node, label) if hold else None
+                if reason is not None:
+                    rejected[name] = NodeVerdict(name, rejected_by="RobotBoard", reason=reason)
+                else:
+                    feasible.append(s)
         if not feasible:
             decisions.append(Decision(c.name, None, None, tuple(rejected[n] for n in states)))
             continue
@@ -232,6 +244,10 @@ def _schedule(
         decisions.append(Decision(c.name, chosen.node.name, round(totals[chosen.node.name], 6), tuple(verdicts)))
     plan = PlacementPlan(policy_name, decisions, params=params)
     plan.metrics.update(plan_metrics(plan, workload, cluster, states))
+    plan.metrics["robot_nodes"] = robot_pinning.robot_nodes(cluster, label)
+    plan.metrics["off_robot_drivers"] = robot_pinning.off_robot(
+        plan.placed(), {c.name: c.drivers for c in workload.containers}, cluster, label
+    )
     return plan
 
 
@@ -241,11 +257,14 @@ def superclustering(
     *,
     weights: Mapping[str, float] | None = None,
     overhead_mib: float = 0.0,
+    drivers_on_robot: bool = True,
+    robot_label: str | tuple[str, str] | None = None,
 ) -> PlacementPlan:
     """Place containers by super-clustering (Fig. 3.27, Eqs. 3.14-3.15) with the free-resource tie-break.
 
     ``overhead_mib`` is the runtime's memory cost per container (e.g. 39 MiB for K3s, Table 4.17), reserved
-    on top of each container's request.
+    on top of each container's request. ``drivers_on_robot`` holds containers with pinned (driver-level)
+    ROS nodes on the nodes labelled ``robot_label`` (default ``zone=robot``; Table 4.26, :mod:`.robot_pinning`).
     """
     w = _check_weights(SUPERCLUSTERING_WEIGHTS if weights is None else weights)
     _check_overhead(overhead_mib)
@@ -256,8 +275,11 @@ def superclustering(
     def freest(best: list[_NodeState]) -> _NodeState:
         return min(best, key=lambda s: (-s.free("cpu"), -s.free("memory_mib"), natural_key(s.node.name)))
 
-    params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib}
-    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params)
+    label = robot_pinning.parse_label(robot_label)
+    params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib,
+              "drivers_on_robot": bool(drivers_on_robot), "robot_label": "=".join(label)}  # fmt: skip
+    robot = label if drivers_on_robot else None
+    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params, robot)
 
 
 def default_kubernetes(
@@ -267,8 +289,11 @@ def default_kubernetes(
     seed: int = 0,
     weights: Mapping[str, float] | None = None,
     overhead_mib: float = 0.0,
+    drivers_on_robot: bool = True,
+    robot_label: str | tuple[str, str] | None = None,
 ) -> PlacementPlan:
-    """The default-Kubernetes-like baseline: least allocated + balanced allocation, random ties (seeded)."""
+    """The default-Kubernetes-like baseline: least allocated + balanced allocation, random ties (seeded).
+    The robot constraint is an operator's constraint (like a required affinity), so it applies here too."""
     w = _check_weights(KUBERNETES_WEIGHTS if weights is None else weights)
     _check_overhead(overhead_mib)
     order = sorted(workload.containers, key=lambda c: -c.priority)  # stable: FIFO within a priority
@@ -277,8 +302,11 @@ def default_kubernetes(
     def pick(best: list[_NodeState]) -> _NodeState:
         return best[rng.randrange(len(best))]
 
-    params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib}
-    return _schedule("default-kubernetes", workload, cluster, order, w, pick, overhead_mib, params)
+    label = robot_pinning.parse_label(robot_label)
+    params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib,
+              "drivers_on_robot": bool(drivers_on_robot), "robot_label": "=".join(label)}  # fmt: skip
+    robot = label if drivers_on_robot else None
+    return _schedule("default-kubernetes", workload, cluster, order, w, pick, overhead_mib, params, robot)
 
 
 def _check_overhead(overhead: float) -> None:
@@ -366,7 +394,7 @@ def random_instance(n_containers: int, n_nodes: int, seed: int, degree: int = 4,
     from continuum.engine.core.taints import Taint
 
     rng = random.Random(seed)
-    zones = ["a", "b", "c"]
+    zones = ["a", "b", "c", "robot"]  # zone=robot: the robot's boards (RobotBoard filter)
     nodes = {}
     for k in range(n_nodes):
         name = f"node-{k}" if rng.random() < 0.8 else f"Node{k}x{rng.randrange(3)}"
@@ -409,6 +437,8 @@ def random_instance(n_containers: int, n_nodes: int, seed: int, degree: int = 4,
                 required=req,
                 preferred=pref,
                 tolerations=tol,
+                on_robot=(f"drv{i}",) if rng.random() < 0.15 else (),
+                drivers=(f"drv{i}",) if rng.random() < 0.2 else (),
             )
         )
     bandwidth: dict[tuple[str, str], float] = {}

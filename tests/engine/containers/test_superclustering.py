@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from continuum.engine import InputError
+from continuum.engine.containers.resource_model import profiles
 from continuum.engine.containers.rosgraph import RosGraph
 from continuum.engine.containers.superclustering import (
     Workload,
@@ -209,7 +210,10 @@ def test_container_bandwidth_from_a_ros_graph():
     )
     assert container_bandwidth(g, {"X": ["a", "b"], "Y": ["c"]}) == {("X", "Y"): 100 + 200}
     wl = load_workload({"containers": [{"name": "X", "nodes": ["a", "b"]}, {"name": "Y", "nodes": ["c"]}]}, g)
-    assert wl.containers[0].cpu == 1.0 and wl.containers[0].memory_mib == 200
+    # Profiled memory is taken as is; CPU is the nodes' work plus the middleware's share (resource_model).
+    prof = profiles(g)
+    assert wl.containers[0].cpu == pytest.approx(prof["a"].cpu + prof["b"].cpu) and wl.containers[0].cpu > 1.0
+    assert wl.containers[0].memory_mib == 200
     assert wl.bw("Y", "X") == 300
     with pytest.raises(InputError, match="ROS node 'a' is in two containers"):
         container_bandwidth(g, {"X": ["a"], "Y": ["a"]})
@@ -368,7 +372,8 @@ def test_resolved_workload_round_trips_without_the_graph():
     }
     wl = load_workload(doc, g)
     resolved = wl.to_dict()
-    assert resolved["containers"][0]["cpu"] == 1.0 and resolved["containers"][0]["memory_mib"] == 200
+    assert resolved["containers"][0]["cpu"] == pytest.approx(sum(profiles(g)[n].cpu for n in "ab"))
+    assert resolved["containers"][0]["memory_mib"] == 200
     assert resolved["containers"][0]["affinity"]["required"] == [
         {"key": "kubernetes.io/hostname", "operator": "In", "values": ["mcb"]}
     ]

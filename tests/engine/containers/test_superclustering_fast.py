@@ -64,3 +64,13 @@ def test_a_larger_run_with_links_and_pending_containers():
     again = fast.superclustering(wl, cl)
     for d, e in zip(reversed(again.decisions), reversed(b.decisions), strict=True):
         assert tuple(d.verdicts) == tuple(e.verdicts)
+
+
+@pytest.mark.parametrize("robot", [{}, {"drivers_on_robot": False}, {"robot_label": "zone=a"}])
+def test_the_robot_board_filter_equals_the_reference(robot):
+    wl, cl = ref.random_instance(150, 20, 11)
+    a, b = fast.superclustering(wl, cl, **robot), ref.superclustering(wl, cl, **robot)
+    if not robot:
+        assert any(v.rejected_by == "RobotBoard" for d in a.decisions for v in d.verdicts)
+    same_plan(a, b)
+    same_plan(fast.default_kubernetes(wl, cl, seed=2, **robot), ref.default_kubernetes(wl, cl, seed=2, **robot))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from django.conf import settings
+
 from continuum.commands import EngineCommand
 from continuum.engine.containers.rosgraph import load_rosgraph
 from continuum.engine.containers.superclustering import ALIASES, POLICIES, load_workload, place
@@ -24,12 +26,23 @@ class Command(EngineCommand):
         parser.add_argument("--seed", type=int, default=0, help="tie-break seed of the default-Kubernetes policy")
         parser.add_argument("--overhead-mib", type=float, default=0.0, help="runtime memory per container")
         parser.add_argument("--compare", action="store_true", help="also report the other policy's traffic")
+        parser.add_argument(
+            "--free-drivers",
+            action="store_true",
+            help="let driver-level ROS nodes leave the robot's boards (default: CONTINUUM_DRIVERS_ON_ROBOT)",
+        )
+        parser.add_argument("--robot-label", default=None, help="key=value of the robot's boards (default zone=robot)")
 
     def run(self, **options: Any) -> dict:
         graph = load_rosgraph(self.read_text(options["graph"])) if options.get("graph") else None
         workload = load_workload(self.read_json(options["containers"]), graph)
         cluster = Cluster.from_dict(self.read_json(options["cluster"]))
-        params: dict[str, Any] = {"overhead_mib": options.get("overhead_mib") or 0.0, "seed": options.get("seed", 0)}
+        params: dict[str, Any] = {
+            "overhead_mib": options.get("overhead_mib") or 0.0,
+            "seed": options.get("seed", 0),
+            "drivers_on_robot": settings.CONTINUUM_DRIVERS_ON_ROBOT and not options.get("free_drivers"),
+            "robot_label": options.get("robot_label") or settings.CONTINUUM_ROBOT_LABEL,
+        }
         if options.get("weights"):
             params["weights"] = parse_weights(options["weights"])
         policy = options.get("policy") or "superclustering"
@@ -61,6 +74,8 @@ class Command(EngineCommand):
         lines.append(f"  inter-node bandwidth: {inter:.1f} B/s ({inter * 8 / 1e6:.3f} Mbps)")
         for name, alt in result.get("comparison", {}).items():
             lines.append(f"  {name} would leave {alt['inter_node_bandwidth']:.1f} B/s between nodes")
+        for warning in result.get("off_robot_drivers", []):
+            lines.append(f"  warning: {warning['message']}")
         return "\n".join(lines)
 
 
