@@ -30,6 +30,7 @@ import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any, TypeGuard
 
 from continuum.engine.core import limits
@@ -82,6 +83,7 @@ AUTOWARE_DRIVER_TYPES = ("sensor", "command")
 
 
 # ---- natural ordering ---------------------------------------------------------------------------
+@lru_cache(maxsize=1 << 16)  # a pure function of the name; pair() calls it twice per lookup, sorts once per item
 def natural_key(name: str) -> tuple:
     """Sort key where ``v2 < v10`` (spec 2.5: "lexicographic" must be natural order)."""
     parts = re.split(r"(\d+)", name)

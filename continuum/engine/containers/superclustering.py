@@ -27,6 +27,14 @@ affinity and taint scores), ties broken at random with a seed, like kube-schedul
 
 Every decision keeps a :class:`~continuum.engine.core.placement.NodeVerdict` per node: the filter that rejected it
 with a reason, or each policy's score and the total.
+
+Speed (``benchmarks/superclustering_scale.py``; the previous code is the oracle of
+``tests/engine/containers/test_superclustering_fast.py``): each run first indexes the workload (every
+container's neighbours with the bandwidth :meth:`Workload.bw` returns, its total bandwidth) and the cluster
+(capacities as arrays; the arch, taint and affinity filters and the static scores once per distinct container
+requirement). A decision is then numpy over the nodes plus the container's own neighbours, in the same float
+operations as the per-node code, so the same plans. The per-node verdicts are rebuilt from the bind log when
+first read (:class:`_LazyVerdicts`): building 2.5 million of them was most of a 5,000 x 500 run.
 """
 
 from __future__ import annotations
@@ -34,9 +42,11 @@ from __future__ import annotations
 import itertools
 import math
 import random
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, TypeGuard
+from typing import Any, TypeGuard, overload
+
+import numpy as np
 
 from continuum.engine.containers import robot_pinning
 from continuum.engine.containers.resource_model import profiles as resource_profiles
@@ -556,63 +566,332 @@ def _check_weights(weights: Mapping[str, float]) -> dict[str, float]:
     return out
 
 
+class _Index:
+    """What every decision of one run reads, computed once (the old loop recomputed it per container pair):
+    each container's neighbours with the bandwidth :meth:`Workload.bw` would return, each container's total
+    bandwidth, the node capacities as arrays, and the static filters and scores per distinct container
+    requirement (containers of one deployment share them)."""
+
+    def __init__(
+        self, workload: Workload, cluster: Cluster, overhead: float, robot: tuple[str, str] | None = None
+    ) -> None:
+        self.nodes = list(cluster.nodes.values())
+        self.names = [n.name for n in self.nodes]
+        self.overhead = overhead
+        self.label = robot or robot_pinning.ROBOT_LABEL
+        self.hold = robot is not None and bool(robot_pinning.robot_nodes(cluster, self.label))
+        self._robot: dict[tuple[str, ...], tuple[np.ndarray, list[str | None]]] = {}
+        # ``bw(a, b)`` reads only the canonical key ``pair(a, b)``; a key stored the other way round is never
+        # read, so it stays out of the neighbour lists too (same values as before, not "fixed").
+        self.adj: dict[str, dict[str, float]] = {}
+        self.total: dict[str, float] = {}
+        for (a, b), w in workload.bandwidth.items():
+            if a != b:
+                self.total[a] = self.total.get(a, 0) + w
+                self.total[b] = self.total.get(b, 0) + w
+                if pair(a, b) == (a, b):
+                    self.adj.setdefault(a, {})[b] = w
+                    self.adj.setdefault(b, {})[a] = w
+        inf = math.inf
+        self.cap = {
+            what: np.array([inf if getattr(n, what) is None else getattr(n, what) for n in self.nodes], dtype=float)
+            for what in _RESOURCES
+        }
+        self.cpu_known = np.array([n.cpu is not None for n in self.nodes])
+        self.nat = np.empty(len(self.names), dtype=np.int64)  # each node's rank in natural name order
+        self.nat[sorted(range(len(self.names)), key=lambda k: natural_key(self.names[k]))] = np.arange(len(self.names))
+        self._static: dict[tuple, tuple[np.ndarray, list[tuple[str, str] | None]]] = {}
+        self._affinity: dict[tuple, np.ndarray] = {}
+        self._taint: dict[tuple, np.ndarray] = {}
+
+    def static(self, c: ContainerSpec) -> tuple[np.ndarray, list[tuple[str, str] | None]]:
+        """(mask of nodes passing the arch, taint and affinity filters, per node the (filter, reason) that
+        rejected it): these filters read only the node's fixed attributes."""
+        key = (c.archs, c.tolerations, tuple(c.node_selector.items()), c.required)
+        hit = self._static.get(key)
+        if hit is None:
+            reasons: list[tuple[str, str] | None] = []
+            for node in self.nodes:
+                s = _NodeState(node)
+                for fname, fn in FILTERS[:3]:
+                    reason = fn(c, s, self.overhead)
+                    if reason is not None:
+                        reasons.append((fname, reason))
+                        break
+                else:
+                    reasons.append(None)
+            hit = self._static[key] = (np.array([r is None for r in reasons]), reasons)
+        return hit
+
+    def robot(self, c: ContainerSpec) -> tuple[np.ndarray, list[str | None]]:
+        """(mask of nodes the RobotBoard filter lets ``c`` onto, per node its reason when not): static too,
+        but it runs after the resource filter, so a full node reports resources first."""
+        hit = self._robot.get(c.on_robot)
+        if hit is None:
+            reasons = [
+                robot_pinning.reject_reason(c.on_robot, node, self.label) if self.hold else None for node in self.nodes
+            ]
+            hit = self._robot[c.on_robot] = (np.array([r is None for r in reasons]), reasons)
+        return hit
+
+    def affinity(self, c: ContainerSpec) -> np.ndarray:
+        hit = self._affinity.get(c.preferred)
+        if hit is None:
+            raw = []
+            for node in self.nodes:
+                labels = node.all_labels()
+                raw.append(sum(w for w, exprs in c.preferred if all(e.matches(labels) for e in exprs)))
+            hit = self._affinity[c.preferred] = np.array(raw, dtype=float)
+        return hit
+
+    def taint(self, c: ContainerSpec) -> np.ndarray:
+        hit = self._taint.get(c.tolerations)
+        if hit is None:
+            raw = [
+                sum(
+                    1
+                    for t in node.taints
+                    if t.effect == "PreferNoSchedule" and not any(tol.tolerates(t) for tol in c.tolerations)
+                )
+                for node in self.nodes
+            ]
+            hit = self._taint[c.tolerations] = np.array(raw, dtype=float)
+        return hit
+
+
+_RESOURCES = ("cpu", "memory_mib", "storage_mib")
+
+
+def _normalise_array(raw: np.ndarray, reverse: bool = False) -> np.ndarray:
+    """:func:`_normalise` over an array (the same float operations, so the same values)."""
+    top = raw.max() if len(raw) else 0.0
+    if top <= 0:
+        return np.full(len(raw), 100.0 if reverse else 0.0)
+    return 100.0 - raw / top * 100.0 if reverse else raw / top * 100.0
+
+
+@dataclass
+class _Evaluation:
+    feasible: np.ndarray  # node indices, in cluster order
+    totals: np.ndarray  # per feasible node
+    shown: dict[str, np.ndarray]  # policy -> score per feasible node
+
+
+class _Run:
+    """One scheduling run: the live node state as Python floats (the stored values) mirrored in numpy arrays
+    of free capacity (the filter), and the bind log the explanations are rebuilt from."""
+
+    #: A copy of the committed resources every this many decisions, so one explanation replays at most
+    #: this many binds.
+    CHECKPOINT = 64
+
+    def __init__(self, policy: str, index: _Index, order: list[ContainerSpec], weights: Mapping[str, float]) -> None:
+        self.policy, self.index, self.order, self.weights = policy, index, order, weights
+        self.states = [_NodeState(n) for n in index.nodes]
+        self.free = {what: index.cap[what].copy() for what in _RESOURCES}
+        self.used = {what: np.zeros(len(index.nodes)) for what in _RESOURCES}
+        self.chosen: list[int | None] = []
+        self.placed_at: dict[str, tuple[int, int]] = {}  # container -> (decision number, node index)
+        self.checkpoints: list[dict[str, np.ndarray]] = []
+
+    def evaluate(self, i: int, used: Mapping[str, np.ndarray], free: Mapping[str, np.ndarray]) -> _Evaluation:
+        """Phases 2-3 for decision ``i`` on the given state: the feasible nodes, their scores and totals."""
+        c, index = self.order[i], self.index
+        eps = 1e-9
+        mask, _ = index.static(c)
+        mask = (
+            mask
+            & index.robot(c)[0]
+            & ~(c.cpu > free["cpu"] + eps)
+            & ~(c.memory_mib + index.overhead > free["memory_mib"] + eps)
+            & ~(c.storage_mib > free["storage_mib"] + eps)
+        )
+        feasible = np.flatnonzero(mask)
+        scores: dict[str, np.ndarray] = {}
+        for p in self.weights:
+            scores[p] = self._score(p, i, c, feasible, used)
+        shown = dict(scores)
+        if self.policy == "superclustering":
+            raw = np.where(index.cpu_known, free["cpu"], 0.0)[feasible]
+            shown["free_resources"] = _normalise_array(raw)
+        totals: Any = 0
+        for p, w in self.weights.items():
+            totals = totals + w * scores[p]
+        if not isinstance(totals, np.ndarray):
+            totals = np.zeros(len(feasible), dtype=int)
+        return _Evaluation(feasible, totals, shown)
+
+    def _score(
+        self,
+        p: str,
+        i: int,
+        c: ContainerSpec,
+        feasible: np.ndarray,
+        used: Mapping[str, np.ndarray],
+    ) -> np.ndarray:
+        index = self.index
+        if p == "bandwidth":  # Eq. (3.14): summed in bind order, as the old per-node sum over ``bound`` did
+            raw = np.zeros(len(index.nodes))
+            hits = []
+            for other, w in index.adj.get(c.name, {}).items():
+                at = self.placed_at.get(other)
+                if at is not None and at[0] < i:
+                    hits.append((at[0], at[1], w))
+            for _, node, w in sorted(hits):
+                raw[node] += w
+            return _normalise_array(raw[feasible])  # Eq. (3.15)
+        if p == "node_affinity":
+            return _normalise_array(index.affinity(c)[feasible])
+        if p == "taint_toleration":
+            return _normalise_array(index.taint(c)[feasible], reverse=True)
+        # Resource-shaped policies of the baseline: the per-node code itself, on the feasible nodes only.
+        feasible_states = [self.state(k, used) for k in feasible]
+        out = _score(p, c, feasible_states, Workload([]), index.overhead)
+        return np.array([out[s.node.name] for s in feasible_states], dtype=float)
+
+    def bind(self, i: int, k: int | None) -> None:
+        if i % self.CHECKPOINT == 0:
+            self.checkpoints.append({what: u.copy() for what, u in self.used.items()})
+        self.chosen.append(k)
+        if k is None:
+            return
+        c, s = self.order[i], self.states[k]
+        s.cpu += c.cpu  # phase 4: bind
+        s.memory_mib += c.memory_mib + self.index.overhead
+        s.storage_mib += c.storage_mib
+        s.bound.append(c.name)
+        for what in _RESOURCES:
+            self.used[what][k] = getattr(s, what)
+            cap = getattr(s.node, what)
+            if cap is not None:
+                self.free[what][k] = cap - getattr(s, what)
+        self.placed_at[c.name] = (i, k)
+
+    def state(self, k: int, used: Mapping[str, np.ndarray]) -> _NodeState:
+        """Node ``k`` with the committed resources ``used`` (float64 holds the Python floats exactly)."""
+        cpu, mem, sto = (float(used[what][k]) for what in _RESOURCES)
+        return _NodeState(self.index.nodes[k], cpu, mem, sto)
+
+    def state_at(self, i: int) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+        """(committed, free) resources per node as decision ``i`` saw them: the checkpoint before it, then the
+        binds since, replayed with the same additions in the same order (so the same floats)."""
+        base = i - i % self.CHECKPOINT
+        used = {what: u.copy() for what, u in self.checkpoints[base // self.CHECKPOINT].items()}
+        for j in range(base, i):
+            k = self.chosen[j]
+            if k is not None:
+                c = self.order[j]
+                used["cpu"][k] += c.cpu
+                used["memory_mib"][k] += c.memory_mib + self.index.overhead
+                used["storage_mib"][k] += c.storage_mib
+        free = {what: self.index.cap[what] - used[what] for what in _RESOURCES}  # inf - x = inf: no limit
+        return used, free
+
+    def verdicts(self, i: int) -> tuple[NodeVerdict, ...]:
+        """Every node's verdict on decision ``i``, rebuilt on demand from the bind log."""
+        used, free = self.state_at(i)
+        ev = self.evaluate(i, used, free)
+        c = self.order[i]
+        _, static = self.index.static(c)
+        at = dict(zip(ev.feasible.tolist(), range(len(ev.feasible)), strict=True))
+        shown = [(p, v.tolist()) for p, v in ev.shown.items()]
+        totals = ev.totals.tolist()
+        out = []
+        for k, name in enumerate(self.index.names):
+            j = at.get(k)
+            if j is not None:
+                per = {p: round(v[j], 6) for p, v in shown}
+                out.append(NodeVerdict(name, scores=per, total=round(totals[j], 6)))
+            elif static[k] is not None:
+                fname, reason = static[k]  # type: ignore[misc]
+                out.append(NodeVerdict(name, rejected_by=fname, reason=reason))
+            else:
+                reason = _filter_resources(c, self.state(k, used), self.index.overhead)
+                if reason is not None:
+                    out.append(NodeVerdict(name, rejected_by="NodeResourcesFit", reason=reason))
+                else:
+                    out.append(NodeVerdict(name, rejected_by="RobotBoard", reason=self.index.robot(c)[1][k] or ""))
+        return tuple(out)
+
+
+class _LazyVerdicts(Sequence[NodeVerdict]):
+    """A decision's per-node verdicts, built the first time they are read: building them for every node of
+    every decision was most of a large run's time and memory, and most callers read only where things went."""
+
+    def __init__(self, run: _Run, i: int) -> None:
+        self._run: _Run | None = run
+        self._i = i
+        self._items: tuple[NodeVerdict, ...] | None = None
+
+    def _get(self) -> tuple[NodeVerdict, ...]:
+        if self._items is None:
+            assert self._run is not None
+            self._items = self._run.verdicts(self._i)
+            self._run = None
+        return self._items
+
+    def __len__(self) -> int:
+        return len(self._run.index.nodes) if self._items is None and self._run is not None else len(self._get())
+
+    @overload
+    def __getitem__(self, k: int) -> NodeVerdict: ...
+    @overload
+    def __getitem__(self, k: slice) -> tuple[NodeVerdict, ...]: ...
+    def __getitem__(self, k: int | slice) -> NodeVerdict | tuple[NodeVerdict, ...]:
+        return self._get()[k]
+
+    def __iter__(self) -> Iterator[NodeVerdict]:
+        return iter(self._get())
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, (tuple, _LazyVerdicts)):
+            return self._get() == tuple(other)
+        return NotImplemented
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return repr(self._get())
+
+
 def _schedule(
     policy_name: str,
     workload: Workload,
     cluster: Cluster,
     order: list[ContainerSpec],
     weights: Mapping[str, float],
-    tie_break: Callable[[list[_NodeState]], _NodeState],
+    tie_break: Callable[[_Run, np.ndarray], int],
     overhead_mib: float,
     params: dict[str, Any],
     robot: tuple[str, str] | None = robot_pinning.ROBOT_LABEL,
+    index: _Index | None = None,
 ) -> PlacementPlan:
     """``robot``: the label of the robot's boards, to which containers holding pinned ROS nodes are held (the
     RobotBoard filter, :mod:`.robot_pinning`); ``None`` turns the constraint off. A cluster without a robot
     node cannot honour it: it is then not applied (and the off-robot drivers are reported)."""
-    states = {name: _NodeState(node) for name, node in cluster.nodes.items()}
-    label = robot or robot_pinning.ROBOT_LABEL
-    hold = robot is not None and bool(robot_pinning.robot_nodes(cluster, label))
+    index = index or _Index(workload, cluster, overhead_mib, robot)
+    label = index.label
+    run = _Run(policy_name, index, order, weights)
     decisions: list[Decision] = []
-    for c in order:
-        rejected: dict[str, NodeVerdict] = {}
-        feasible: list[_NodeState] = []
-        for name, s in states.items():  # phase 2: filter
-            for fname, fn in FILTERS:
-                reason = fn(c, s, overhead_mib)
-                if reason is not None:
-                    rejected[name] = NodeVerdict(name, rejected_by=fname, reason=reason)
-                    break
-            else:
-                reason = robot_pinning.reject_reason(c.on_robot, s.node, label) if hold else None
-                if reason is not None:
-                    rejected[name] = NodeVerdict(name, rejected_by="RobotBoard", reason=reason)
-                else:
-                    feasible.append(s)
-        if not feasible:
-            decisions.append(Decision(c.name, None, None, tuple(rejected[n] for n in states)))
+    for i, c in enumerate(order):
+        ev = run.evaluate(i, run.used, run.free)  # phases 2-3: filter, score
+        if not len(ev.feasible):
+            run.bind(i, None)
+            decisions.append(Decision(c.name, None, None, _LazyVerdicts(run, i)))
             continue
-        scores = {p: _score(p, c, feasible, workload, overhead_mib) for p in weights}  # phase 3: score
-        shown = dict(scores)
-        if policy_name == "superclustering":
-            shown["free_resources"] = _score("free_resources", c, feasible, workload, overhead_mib)
-        totals = {s.node.name: sum(w * scores[p][s.node.name] for p, w in weights.items()) for s in feasible}
-        top = max(totals.values())
-        best = [s for s in feasible if math.isclose(totals[s.node.name], top, rel_tol=1e-12, abs_tol=1e-9)]
-        chosen = tie_break(best)
-        chosen.cpu += c.cpu  # phase 4: bind
-        chosen.memory_mib += c.memory_mib + overhead_mib
-        chosen.storage_mib += c.storage_mib
-        chosen.bound.append(c.name)
-        verdicts = []
-        for name in states:
-            if name in rejected:
-                verdicts.append(rejected[name])
-            else:
-                per = {p: round(v[name], 6) for p, v in shown.items()}
-                verdicts.append(NodeVerdict(name, scores=per, total=round(totals[name], 6)))
-        decisions.append(Decision(c.name, chosen.node.name, round(totals[chosen.node.name], 6), tuple(verdicts)))
+        totals = ev.totals
+        top = totals.max()
+        # math.isclose(total, top, rel_tol=1e-12, abs_tol=1e-9), elementwise
+        close = (totals == top) | (
+            np.abs(totals - top) <= np.maximum(1e-12 * np.maximum(np.abs(totals), abs(top)), 1e-9)
+        )
+        best = ev.feasible[close]
+        k = tie_break(run, best)
+        score = round(totals[int(np.searchsorted(ev.feasible, k))].item(), 6)
+        run.bind(i, k)
+        decisions.append(Decision(c.name, index.names[k], score, _LazyVerdicts(run, i)))
     plan = PlacementPlan(policy_name, decisions, params=params)
+    states = {s.node.name: s for s in run.states}
     plan.metrics.update(plan_metrics(plan, workload, cluster, states))
     plan.metrics["robot_nodes"] = robot_pinning.robot_nodes(cluster, label)
     plan.metrics["off_robot_drivers"] = robot_pinning.off_robot(
@@ -638,18 +917,21 @@ def superclustering(
     """
     w = _check_weights(SUPERCLUSTERING_WEIGHTS if weights is None else weights)
     _check_overhead(overhead_mib)
-    order = sorted(
-        workload.containers, key=lambda c: (-c.priority, -workload.total_bandwidth(c.name), natural_key(c.name))
-    )
-
-    def freest(best: list[_NodeState]) -> _NodeState:
-        return min(best, key=lambda s: (-s.free("cpu"), -s.free("memory_mib"), natural_key(s.node.name)))
-
     label = robot_pinning.parse_label(robot_label)
+    robot = label if drivers_on_robot else None
+    index = _Index(workload, cluster, overhead_mib, robot)
+    order = sorted(workload.containers, key=lambda c: (-c.priority, -index.total.get(c.name, 0), natural_key(c.name)))
+
+    def freest(run: _Run, best: np.ndarray) -> int:
+        # min over (-free CPU, -free memory, natural name order), on arrays
+        for what in ("cpu", "memory_mib"):
+            free = run.free[what][best]
+            best = best[free == free.max()]
+        return int(best[np.argmin(run.index.nat[best])])
+
     params = {"weights": w, "tie_break": "free_resources", "overhead_mib": overhead_mib,
               "drivers_on_robot": bool(drivers_on_robot), "robot_label": "=".join(label)}  # fmt: skip
-    robot = label if drivers_on_robot else None
-    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params, robot)
+    return _schedule("superclustering", workload, cluster, order, w, freest, overhead_mib, params, robot, index)
 
 
 def default_kubernetes(
@@ -669,8 +951,8 @@ def default_kubernetes(
     order = sorted(workload.containers, key=lambda c: -c.priority)  # stable: FIFO within a priority
     rng = random.Random(seed)
 
-    def pick(best: list[_NodeState]) -> _NodeState:
-        return best[rng.randrange(len(best))]
+    def pick(run: _Run, best: np.ndarray) -> int:
+        return int(best[rng.randrange(len(best))])
 
     label = robot_pinning.parse_label(robot_label)
     params = {"weights": w, "tie_break": "random", "seed": seed, "overhead_mib": overhead_mib,
@@ -716,6 +998,7 @@ def plan_metrics(
     node_traffic = dict.fromkeys(cluster.nodes, 0.0)
     link_load: dict[tuple[str, str], float] = {}
     intra = pending_bw = 0.0
+    paths: dict[str, dict[str, list[str]]] = {}
     for (a, b), w in workload.bandwidth.items():
         if a not in placed or b not in placed:
             pending_bw += w
@@ -727,7 +1010,9 @@ def plan_metrics(
         node_traffic[na] += w
         node_traffic[nb] += w
         # Without a path (no links given) the pair itself stands for the link between the two nodes.
-        hops = list(itertools.pairwise(cluster.path(na, nb))) or [(na, nb)]
+        if na not in paths:  # one shortest-path search per source node, not one graph per pair
+            paths[na] = cluster.paths_from(na)
+        hops = list(itertools.pairwise(paths[na].get(nb, []))) or [(na, nb)]
         for x, y in hops:
             key = pair(x, y)
             link_load[key] = link_load.get(key, 0.0) + w

@@ -282,16 +282,19 @@ class Cluster:
 
     def path(self, a: str, b: str) -> list[str]:
         """The nodes on the least-latency path from ``a`` to ``b`` (empty when not connected)."""
+        return self.paths_from(a).get(b, [])
+
+    def paths_from(self, a: str) -> dict[str, list[str]]:
+        """The least-latency path from ``a`` to every node it reaches. One Dijkstra run from ``a``: the path it
+        settles for ``b`` is the one a search stopped at ``b`` returns (networkx fixes a node's path when the
+        node is settled), so callers asking for many pairs reuse it."""
         import networkx as nx
 
         g = nx.Graph()
         g.add_nodes_from(self.nodes)
         for lk in self.links:
             g.add_edge(lk.src, lk.dst, latency=lk.latency_ms)
-        try:
-            return nx.dijkstra_path(g, a, b, weight="latency")
-        except nx.NetworkXNoPath:
-            return []
+        return nx.single_source_dijkstra_path(g, a, weight="latency")
 
     def ready(self) -> Cluster:
         """This cluster without the nodes that are not Ready (those carrying a taint of

@@ -8,7 +8,7 @@ DAG schedules with start and finish times use :class:`~continuum.engine.core.sch
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -56,7 +56,8 @@ class Decision:
     item: str
     node: str | None
     score: float | None = None
-    verdicts: tuple[NodeVerdict, ...] = ()
+    #: A tuple, or a sequence that builds its verdicts when first read (super-clustering).
+    verdicts: Sequence[NodeVerdict] = ()
     #: Filter name -> how many nodes it rejected, when ``verdicts`` is a bounded sample of the nodes (the
     #: vectorised RT-Kube keeps the top candidates and a few examples per filter); empty when every node is in
     #: ``verdicts``.

@@ -149,7 +149,10 @@ class Scenario:
     navigation: Navigation | None = None
     noise: float = 0.0  # uniform ± % on the background, seeded
     seed: int = 0
-    time_limit: float = 0.9  # MILP time budget per period
+    time_limit: float = 0.9  # MILP wall-clock budget per period, used only when work_limit is None
+    #: MILP budget per solve in branch-and-bound nodes: the run is reproducible from its seed (a wall-clock
+    #: budget stopped the solver at a different point on a loaded machine).
+    work_limit: int | None = 2000
 
     def node(self, name: str) -> SimNode:
         return next(n for n in self.nodes if n.name == name)
@@ -299,7 +302,12 @@ def simulate(scenario: Scenario, progress: Callable[[float, str], None] | None =
     topics = {t.name: t for t in scenario.topics}
     monitors = {m.name: m for m in scenario.monitors}
     where = {m.name: m.node for m in scenario.monitors}
-    allocator = MonitorAllocator(window=scenario.window, time_limit=scenario.time_limit)
+    budget: dict[str, Any] = (
+        {"time_limit": scenario.time_limit}
+        if scenario.work_limit is None
+        else {"time_limit": math.inf, "work_limit": scenario.work_limit}
+    )
+    allocator = MonitorAllocator(window=scenario.window, **budget)
     periods: list[Period] = []
     migrations: list[Migration] = []
     moving: list[Migration] = []  # ordered at the end of the previous period: they cost CPU in this one

@@ -699,11 +699,21 @@ class _Solved:
     message: str
 
 
-def _solve(model: _Model, start: np.ndarray | None, time_limit: float, gap: float) -> _Solved:
-    """Solve with HiGHS (highspy), passing ``start`` as the incumbent when it is a feasible allocation."""
+def _solve(
+    model: _Model, start: np.ndarray | None, time_limit: float, gap: float, work_limit: int | None = None
+) -> _Solved:
+    """Solve with HiGHS (highspy), passing ``start`` as the incumbent when it is a feasible allocation.
+
+    ``work_limit`` caps the branch-and-bound nodes (``mip_max_nodes``): with one thread and HiGHS's fixed
+    random seed the search is deterministic, so a budget in nodes gives the same allocation whatever the
+    machine's load, where a wall-clock limit stops at a different point on every run."""
     h = highspy.Highs()
     h.setOptionValue("output_flag", False)
-    h.setOptionValue("time_limit", float(time_limit))
+    if math.isfinite(time_limit):
+        h.setOptionValue("time_limit", float(time_limit))
+    if work_limit is not None:
+        h.setOptionValue("mip_max_nodes", int(work_limit))
+        h.setOptionValue("random_seed", 0)
     h.setOptionValue("mip_rel_gap", float(gap))
     h.setOptionValue("threads", 1)
     for name, value in HIGHS_OPTIONS.items():
@@ -754,6 +764,7 @@ def allocate(
     mip_rel_gap: float = 1e-4,
     max_candidates: int | None = None,
     decompose: bool = True,
+    work_limit: int | None = None,
 ) -> Allocation:
     """Solve Eqs. 3.21-3.22 for one set of statistics; fall back to the minimum-overload allocation.
 
@@ -764,6 +775,11 @@ def allocate(
     ``max_candidates`` (default None: every unit) is a size reduction for large fleets, not part of the
     thesis: each monitor may then only go to its current unit or to one of the ``max_candidates`` units
     where its topics arrive soonest, and "optimal" means optimal over those candidates.
+
+    ``work_limit`` is a budget in work instead: at most that many branch-and-bound nodes per solve, the
+    same allocation on a loaded machine as on an idle one (reproducible simulations). ``status`` is then
+    ``"time_limit"`` when the budget stopped the search (the status names are part of the API). Give
+    ``time_limit=math.inf`` with it so that the clock never decides.
     """
     if not isinstance(stats, MonitorStats):
         stats = MonitorStats.from_dict(stats)
@@ -778,7 +794,7 @@ def allocate(
 
     cl = _classes(stats, cpu, lit)
     if decompose and not lit:
-        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap)
+        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap, work_limit)
         if split is not None and split[0] != "infeasible":
             status, gap, placement, blocks = split
             result = _result(stats, cpu, placement, True, status, gap, started, lit)
@@ -788,7 +804,7 @@ def allocate(
         cl.allowed = _candidates(stats, cl, max_candidates)
     greedy, fits = _greedy(stats, cl)
     model = _build(stats, cl, epsilon, slack=False)
-    res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap)
+    res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
         return _result(stats, cpu, _placement(stats, cl, res.x), True, res.status, res.gap, started, lit)
     if res.status == "error":
@@ -796,12 +812,12 @@ def allocate(
     # Infeasible, or no allocation found in time: minimise the total excess first, then the delay among
     # minimum-excess allocations (the slack model always has a solution: the greedy one).
     phase1 = _build(stats, cl, 0.0, slack=True, delay_weight=0.0)
-    r1 = _solve(phase1, _vector(phase1, stats, cl, greedy), left(), mip_rel_gap)
+    r1 = _solve(phase1, _vector(phase1, stats, cl, greedy), left(), mip_rel_gap, work_limit)
     if r1.x is None:
         return _result(stats, cpu, greedy, fits, "time_limit", 1.0, started, lit)
     excess = float(r1.x[phase1.s0 : phase1.w0].sum())
     phase2 = _build(stats, cl, epsilon, slack=True, max_excess=excess * (1 + 1e-7) + 1e-7)
-    r2 = _solve(phase2, r1.x, left(), mip_rel_gap)
+    r2 = _solve(phase2, r1.x, left(), mip_rel_gap, work_limit)
     best = r2 if r2.x is not None else r1
     placement = _placement(stats, cl, r2.x if r2.x is not None else r1.x)
     if excess <= 1e-7:  # the first solve only ran out of time: this allocation fits
@@ -884,6 +900,7 @@ def _decomposed(
     max_candidates: int | None,
     left: Callable[[], float],
     gap: float,
+    work_limit: int | None = None,
 ) -> tuple[str, float, dict[str, str], int] | None:
     """Solve independent blocks separately; exact, or None to fall back to the whole model.
 
@@ -912,7 +929,7 @@ def _decomposed(
                 sub_cl.allowed = _candidates(sub, sub_cl, max_candidates)
             greedy, fits = _greedy(sub, sub_cl)
             model = _build(sub, sub_cl, epsilon, slack=False)
-            res = _solve(model, _vector(model, sub, sub_cl, greedy) if fits else None, left(), gap)
+            res = _solve(model, _vector(model, sub, sub_cl, greedy) if fits else None, left(), gap, work_limit)
             if res.status == "infeasible":
                 return "infeasible", 0.0, {}, 0
             if res.x is None:
