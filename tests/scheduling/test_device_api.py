@@ -237,29 +237,24 @@ def test_compare_stores_every_schedule_and_the_figures(api):
     assert Schedule.objects.count() == 3
 
 
+class _ProgressLog:
+    """The (percent, message) lines the jobs' logs hold, read when iterated (after the job ran)."""
+
+    def __iter__(self):
+        from apps.jobs.models import JobLogLine
+
+        rows = JobLogLine.objects.filter(progress__isnull=False).order_by("id").values_list("progress", "text")
+        return iter(list(rows))
+
+
 @pytest.fixture
 def progress_log(monkeypatch):
-    """Every (percent, message) a job reports, none dropped by the write throttle."""
+    """Every (percent, message) a job reports, none dropped by the write throttle: each new message is a line
+    of the job's log (apps.jobs.joblog)."""
     from apps.jobs import tasks
 
     monkeypatch.setattr(tasks, "PROGRESS_INTERVAL", 0)
-    messages = []
-    original = Job.objects.filter
-
-    def spy(*args, **kwargs):
-        qs = original(*args, **kwargs)
-        update = qs.update
-
-        def recording_update(**fields):
-            if "message" in fields and fields.get("progress") is not None:
-                messages.append((fields["progress"], fields["message"]))
-            return update(**fields)
-
-        qs.update = recording_update
-        return qs
-
-    monkeypatch.setattr(Job.objects, "filter", spy)
-    return messages
+    return _ProgressLog()
 
 
 def test_schedule_job_reports_progress_over_every_frame(api, progress_log):
