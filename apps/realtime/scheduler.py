@@ -38,7 +38,8 @@ from django.utils import timezone
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube import gateway
-from apps.kube.gateway import node_fields
+from apps.kube.gateway import API_ERRORS, KubeError, node_fields
+from apps.kube.parallel import run_bounded
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision
@@ -317,7 +318,8 @@ class RTScheduler:
             [v.container for v in schedulable], nodes, policy.scheduler_params(), ledger, now=time.time(), full="auto"
         )
         by_key = {v.key: v for v in pending}
-        outcomes = []
+        binds, stopped = self._bind_all(kube, [(by_key[d.item], d) for d in plan.decisions if d.node is not None])
+        outcomes, bound_rows = [], {}
         for d in plan.decisions:
             v = by_key[d.item]
             if d.node is None:
@@ -325,18 +327,19 @@ class RTScheduler:
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, message))
                 result.pending[v.key] = message
                 continue
-            meta = v.pod["metadata"]
-            ok, message = kube.bind(meta["namespace"], meta["name"], d.node, meta.get("uid"))
+            ok, message = binds[d.item]
+            if ok is None:  # not attempted: the API went away during this cycle's binds (raised below)
+                continue
             if ok:
                 result.bound.append((v.key, d.node))
                 outcomes.append((v, d, RTDecision.Outcome.BOUND, message))
-                RTPod.objects.filter(cluster=cluster, namespace=meta["namespace"], name=meta["name"]).update(
-                    node=d.node, bound_at=timezone.now(), utilization=v.container.utilization(d.node)
-                )
+                meta = v.pod["metadata"]
+                bound_rows[(meta["namespace"], meta["name"])] = (d.node, v.container.utilization(d.node))
             else:
                 ledger.release(d.item)
                 result.failed[v.key] = message
                 outcomes.append((v, d, RTDecision.Outcome.FAILED, message))
+        self._record_bound(cluster, bound_rows)
         for v in pending:
             if v.container is None:
                 d = Decision(v.key, None)
@@ -344,7 +347,38 @@ class RTScheduler:
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, v.problem))
         self._store(cluster, plan, outcomes)
         self._explain(kube, outcomes)
+        if stopped:  # the pods bound before it are recorded; the cycle fails and is retried with back-off
+            raise KubeError(stopped)
         return result
+
+    def _bind_all(self, kube: Kube, placed: list[tuple[PodView, Decision]]) -> tuple[dict, str | None]:
+        """The bind phase of every placed pod, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` Bindings in flight
+        (the decisions are all made: binds are independent round trips). {pod key: (ok, message)} with
+        ``ok=None`` for the binds not attempted after the API failed (the reason is returned)."""
+
+        def one(item: tuple[PodView, Decision]) -> tuple[bool | None, str]:
+            meta = item[0].pod["metadata"]
+            return kube.bind(meta["namespace"], meta["name"], item[1].node, meta.get("uid"))
+
+        results, stopped = run_bounded(placed, one, skipped=lambda reason: (None, reason), fatal=API_ERRORS,
+                                       describe=problem)  # fmt: skip
+        return {d.item: r for (_, d), r in zip(placed, results, strict=True)}, stopped
+
+    def _record_bound(self, cluster: Cluster, bound: dict[tuple[str, str], tuple[str, float]]) -> None:
+        """The ledger rows of the pods just bound: node, time and utilisation (one UPDATE, not one per pod)."""
+        if not bound:
+            return
+        now = timezone.now()
+        rows = list(
+            RTPod.objects.filter(cluster=cluster, namespace__in={ns for ns, _ in bound}, name__in={n for _, n in bound})
+        )
+        changed = []
+        for row in rows:
+            hit = bound.get((row.namespace, row.name))
+            if hit is not None:
+                row.node, row.utilization, row.bound_at = hit[0], hit[1], now
+                changed.append(row)
+        RTPod.objects.bulk_update(changed, ["node", "bound_at", "utilization"], batch_size=1000)
 
     # ---- bookkeeping ---------------------------------------------------------------------------------------
     def _record_pods(self, cluster: Cluster, views: list[PodView]) -> None:
@@ -446,23 +480,33 @@ class RTScheduler:
             )
 
     def _explain(self, kube: Kube, outcomes: list) -> None:
-        for v, _d, outcome, message in outcomes:
-            if outcome == RTDecision.Outcome.BOUND:
-                uid = v.pod["metadata"].get("uid", "")
-                self.explained.pop(uid, None)
-                try:
-                    kube.event(v.pod, "Scheduled", f"Successfully assigned {v.key} to {_d.node}")
-                except KUBE_ERRORS as exc:
-                    log.info("no Scheduled event for %s: %s", v.key, exc)
-                continue
+        """A ``Scheduled`` Event per bound pod, the reason on each pod left pending (when it changed); the
+        calls overlap, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` in flight (one round trip each)."""
+        calls = []
+        for v, d, outcome, message in outcomes:
             uid = v.pod["metadata"].get("uid", "")
-            if self.explained.get(uid) == message:
-                continue
+            if outcome == RTDecision.Outcome.BOUND:
+                self.explained.pop(uid, None)
+                calls.append((v, "Scheduled", f"Successfully assigned {v.key} to {d.node}"))
+            elif self.explained.get(uid) != message:
+                calls.append((v, "", message))
+
+        def one(item: tuple[PodView, str, str]) -> bool:
+            v, reason, message = item
             try:
-                kube.explain_pending(v.pod, message)
-                self.explained[uid] = message
+                if reason:
+                    kube.event(v.pod, reason, message)
+                else:
+                    kube.explain_pending(v.pod, message)
             except KUBE_ERRORS as exc:
-                log.info("cannot explain %s: %s", v.key, exc)
+                log.info("%s for %s: %s", "no Scheduled event" if reason else "cannot explain", v.key, exc)
+                return False
+            return True
+
+        done, _ = run_bounded(calls, one, skipped=lambda reason: False, fatal=(), describe=problem)
+        for (v, reason, message), ok in zip(calls, done, strict=True):
+            if ok and not reason:
+                self.explained[v.pod["metadata"].get("uid", "")] = message
 
     # ---- watches ----------------------------------------------------------------------------------------------
     def _start_watches(self, stop: threading.Event) -> None:
