@@ -30,6 +30,7 @@ import cProfile
 import io
 import os
 import pstats
+import signal
 import statistics
 import subprocess
 import sys
@@ -197,43 +198,62 @@ def create_pods(kube, bodies: list[dict], threads: int) -> float:
 
 
 class RTRun:
-    """The RT scheduler in a thread, as ``manage.py rt_scheduler`` runs it, profiled."""
+    """The RT scheduler in its own process, as ``manage.py rt_scheduler`` runs it (this script with
+    ``--serve-scheduler``), its thread profiled; started and idle (a cycle done, watches connected) before the
+    first pod is created, stopped with SIGTERM after the run."""
 
     def __init__(self, cluster_id: int) -> None:
-        from apps.realtime.scheduler import RTScheduler
+        self.profile_path = tempfile.mktemp(prefix="rt-scheduler-", suffix=".prof")
+        self.proc = subprocess.Popen(
+            [sys.executable, __file__, "--serve-scheduler", str(cluster_id), "--profile", self.profile_path],
+            cwd=ROOT, stdout=subprocess.PIPE, text=True,
+        )  # fmt: skip
+        line = self.proc.stdout.readline() if self.proc.stdout else ""
+        if not line.startswith("ready"):
+            self.proc.kill()
+            raise RuntimeError(f"the RT scheduler did not start: {line!r}")
 
-        self.idle = threading.Event()
-        self.scheduler = RTScheduler(cluster_id, on_cycle=lambda result: self.idle.set())
-        self.stop = threading.Event()
-        self.profile = cProfile.Profile()
-        self.thread = threading.Thread(target=self._run, daemon=True, name="rt-scheduler")
-
-    def _run(self) -> None:
-        self.profile.enable()
-        try:
-            self.scheduler.run(self.stop)
-        finally:
-            self.profile.disable()
-
-    def start(self) -> None:
-        self.thread.start()
-        if not self.idle.wait(timeout=300):
-            raise RuntimeError(f"the RT scheduler did not complete a cycle: {self.scheduler.last_error}")
-        time.sleep(1.0)  # its watches connected
-
-    def end(self) -> None:
-        self.stop.set()
-        self.scheduler.wake.set()
-        self.thread.join(timeout=120)
+    def end(self) -> tuple[pstats.Stats, str]:
+        """(its profile, its last line: cycles and failures)."""
+        self.proc.send_signal(signal.SIGTERM)
+        out, _ = self.proc.communicate(timeout=120)
+        stats = pstats.Stats(self.profile_path, stream=io.StringIO())
+        os.unlink(self.profile_path)
+        return stats, out.strip().splitlines()[-1] if out.strip() else ""
 
 
-def one_run(label: str, args, cluster, kube, observer: Observer) -> tuple[float, float, float, RTRun | None]:
-    """(seconds to all bound, seconds to all Running, seconds creating) from the first create."""
+def serve_scheduler(cluster_id: int, profile_path: str) -> None:
+    """The child: RTScheduler.run (default periods, watch on) profiled, until SIGTERM."""
+    import django
+
+    django.setup()
+    from apps.realtime.scheduler import RTScheduler
+
+    ready = threading.Event()
+    scheduler = RTScheduler(cluster_id, on_cycle=lambda result: ready.set())
+    stop = threading.Event()
+    signal.signal(signal.SIGTERM, lambda *_: (stop.set(), scheduler.wake.set()))
+    profile = cProfile.Profile()
+
+    def announce() -> None:
+        if ready.wait(timeout=300):
+            time.sleep(1.0)  # its watches connected
+            print("ready", flush=True)
+
+    threading.Thread(target=announce, daemon=True).start()
+    profile.enable()
+    scheduler.run(stop)
+    profile.disable()
+    profile.dump_stats(profile_path)
+    print(f"{scheduler.cycles} cycles, {scheduler.errors} failed (last: {scheduler.last_error or '-'})", flush=True)
+
+
+def one_run(label: str, args, kube, observer: Observer, cluster_id: int) -> tuple:
+    """(seconds to all bound, seconds to all Running, seconds creating, the RT scheduler's profile and summary)
+    from the first create."""
     bodies = [pod_body(i, args.realtimes, label == "rt") for i in range(args.pods)]
-    run = None
-    if label == "rt":
-        run = RTRun(cluster.pk)
-        run.start()
+    run = RTRun(cluster_id) if label == "rt" else None
+    profile = None
     observer.start()
     try:
         t0 = time.monotonic()
@@ -241,21 +261,19 @@ def one_run(label: str, args, cluster, kube, observer: Observer) -> tuple[float,
         last_bound, last_running = observer.wait(args.pods, args.timeout)
     finally:
         if run is not None:
-            run.end()
-    if run is not None and run.scheduler.errors:
-        print(f"    RT scheduler: {run.scheduler.errors} failing cycle(s), last: {run.scheduler.last_error}")
-    return last_bound - t0, last_running - t0, create_s, run
+            profile = run.end()
+    return last_bound - t0, last_running - t0, create_s, profile
 
 
-def print_profile(run: RTRun) -> None:
+def print_profile(stats: pstats.Stats, summary: str) -> None:
     for order in ("tottime", "cumulative"):
         out = io.StringIO()
-        pstats.Stats(run.profile, stream=out).sort_stats(order).print_stats(15)
+        stats.stream = out
+        stats.sort_stats(order).print_stats(15)
         lines = [line for line in out.getvalue().splitlines() if line.strip()]
         start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
-        print(f"\ncProfile of the RT scheduler's thread over its last run, top 15 by {order} "
-              f"({run.scheduler.cycles} cycles):")  # fmt: skip
-        print("\n".join(lines[start - 1 : start + 16]))
+        print(f"\ncProfile of the RT scheduler's loop (its process, its last run: {summary}), top 15 by {order}:")
+        print("\n".join(lines[start : start + 16]))
 
 
 def main() -> None:
@@ -267,7 +285,12 @@ def main() -> None:
     p.add_argument("--threads", type=int, default=8, help="pod creates in flight (both sides)")
     p.add_argument("--timeout", type=float, default=900, help="seconds to wait for all pods to run")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
+    p.add_argument("--serve-scheduler", type=int, help=argparse.SUPPRESS)  # the child process: a cluster id
+    p.add_argument("--profile", help=argparse.SUPPRESS)
     args = p.parse_args()
+    if args.serve_scheduler:
+        serve_scheduler(args.serve_scheduler, args.profile)
+        return
     per_node = int(0.95 * PERIOD_MS / WCET_MS)
     if min(args.nodes, args.pods, args.realtimes, args.rounds, args.threads) < 1:
         sys.exit("--nodes, --pods, --realtimes, --rounds and --threads must be positive")
@@ -304,8 +327,8 @@ def main() -> None:
         rows, last_rt = [], None
         for r in range(args.rounds):
             for label in ("rt", "kube") if r % 2 == 0 else ("kube", "rt"):
-                bound_s, running_s, create_s, run = one_run(label, args, cluster, kube, observer)
-                last_rt = run or last_rt
+                bound_s, running_s, create_s, profile = one_run(label, args, kube, observer, cluster.pk)
+                last_rt = profile or last_rt
                 measured[label].append((bound_s, running_s))
                 rows.append([r + 1, label, args.pods / bound_s, bound_s, running_s, create_s])
                 print(f"  round {r + 1} {label}: {args.pods} pods bound in {bound_s:.2f} s "
@@ -322,7 +345,7 @@ def main() -> None:
         print(f"rt / kube-scheduler, pods/s to bound: {med['kube'][0] / med['rt'][0]:.2f}x (goal >= 1); "
               f"time to all Running: {med['kube'][1] / med['rt'][1]:.2f}x")  # fmt: skip
         if last_rt is not None:
-            print_profile(last_rt)
+            print_profile(*last_rt)
         after = os.getloadavg()
         print(f"\nload average: {load_before[0]:.2f} {load_before[1]:.2f} {load_before[2]:.2f} before, "
               f"{after[0]:.2f} {after[1]:.2f} {after[2]:.2f} after (1/5/15 min; 2 cores)")  # fmt: skip

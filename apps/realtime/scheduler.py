@@ -28,6 +28,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from typing import Any
@@ -39,7 +40,7 @@ from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube import gateway
 from apps.kube.gateway import API_ERRORS, KubeError, node_fields
-from apps.kube.parallel import run_bounded
+from apps.kube.parallel import gather, run_bounded
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision
@@ -228,6 +229,10 @@ class RTScheduler:
         self.threads: list[threading.Thread] = []
         self._watches = gateway.Watches()
         self.ingested = 0
+        #: While run() loops: the Events and pending explanations of a cycle are sent from this one thread
+        #: (each batch with its calls overlapping) while the next cycle already decides and binds, as
+        #: kube-scheduler's event broadcaster does. A cycle called on its own sends them before returning.
+        self._explainer: ThreadPoolExecutor | None = None
 
     # ---- the loop --------------------------------------------------------------------------------------------
     def run(self, stop: threading.Event | None = None, max_cycles: int | None = None) -> int:
@@ -236,6 +241,7 @@ class RTScheduler:
         failures = 0
         if self.use_watch:
             self._start_watches(stop)
+        self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
         try:
             while not stop.is_set():
                 wait = self.period
@@ -263,6 +269,8 @@ class RTScheduler:
         finally:
             stop.set()
             self.stopping.set()
+            self._explainer.shutdown(wait=True)  # the explanations of the last cycle are sent
+            self._explainer = None
             self._close_watches()
             deadline = time.monotonic() + 10
             for t in self.threads:
@@ -289,8 +297,8 @@ class RTScheduler:
             }
             self.last_sync = time.monotonic()
         ns = sync.namespaces_of(cluster, self.namespace)
-        api_nodes = kube.list_nodes()
-        pods = [p for p in kube.list_pods(ns) if not is_terminated(p)]
+        api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))  # two reads in one round trip's time
+        pods = [p for p in pods if not is_terminated(p)]
         nodes = rt_nodes(cluster, api_nodes)
         names = [n.name for n in nodes]
         rows = cluster.realtimes.prefetch_related("wcets__node")
@@ -298,7 +306,6 @@ class RTScheduler:
             rows = rows.filter(namespace=ns)
         realtimes = {(r.namespace, r.name): r for r in rows}
         views = [view_pod(p, realtimes, names) for p in pods]
-        self._record_pods(cluster, views)
         pending = [
             v
             for v in views
@@ -306,6 +313,7 @@ class RTScheduler:
             and (v.pod.get("spec") or {}).get("schedulerName") == RT_SCHEDULER_NAME
         ]
         if not pending:
+            self._record_pods(cluster, views)
             return result
         ledger = rt_kube.Ledger.for_nodes(nodes)
         for v in views:
@@ -339,7 +347,8 @@ class RTScheduler:
                 ledger.release(d.item)
                 result.failed[v.key] = message
                 outcomes.append((v, d, RTDecision.Outcome.FAILED, message))
-        self._record_bound(cluster, bound_rows)
+        # The ledger rows, once the binds are done: they are off the path from the watch event to the Binding.
+        self._record_pods(cluster, views, bound_rows)
         for v in pending:
             if v.container is None:
                 d = Decision(v.key, None)
@@ -364,30 +373,19 @@ class RTScheduler:
                                        describe=problem)  # fmt: skip
         return {d.item: r for (_, d), r in zip(placed, results, strict=True)}, stopped
 
-    def _record_bound(self, cluster: Cluster, bound: dict[tuple[str, str], tuple[str, float]]) -> None:
-        """The ledger rows of the pods just bound: node, time and utilisation (one UPDATE, not one per pod)."""
-        if not bound:
-            return
-        now = timezone.now()
-        rows = list(
-            RTPod.objects.filter(cluster=cluster, namespace__in={ns for ns, _ in bound}, name__in={n for _, n in bound})
-        )
-        changed = []
-        for row in rows:
-            hit = bound.get((row.namespace, row.name))
-            if hit is not None:
-                row.node, row.utilization, row.bound_at = hit[0], hit[1], now
-                changed.append(row)
-        RTPod.objects.bulk_update(changed, ["node", "bound_at", "utilization"], batch_size=1000)
-
     # ---- bookkeeping ---------------------------------------------------------------------------------------
-    def _record_pods(self, cluster: Cluster, views: list[PodView]) -> None:
-        """Upsert the ledger rows of the pods seen; pods gone from the API are marked deleted."""
+    def _record_pods(
+        self, cluster: Cluster, views: list[PodView], bound: dict[tuple[str, str], tuple[str, float]] | None = None
+    ) -> None:
+        """Upsert the ledger rows of the pods seen (``bound``: (namespace, name) -> (node, utilisation) of the
+        pods this cycle bound, bound now); pods gone from the API are marked deleted."""
         now = timezone.now()
+        bound = bound or {}
         rows = []
         for v in views:
             meta, spec = v.pod["metadata"], v.pod.get("spec") or {}
-            node = spec.get("nodeName") or ""
+            just_bound = bound.get((meta["namespace"], meta["name"]))
+            node = just_bound[0] if just_bound else spec.get("nodeName") or ""
             c = v.container
             containers = spec.get("containers") or [{}]
             rows.append(
@@ -407,7 +405,7 @@ class RTScheduler:
                     utilization=(c.utilization(node) if c and node else None),
                     owned=any(o.get("controller") for o in meta.get("ownerReferences") or []),
                     phase=(v.pod.get("status") or {}).get("phase", ""),
-                    bound_at=_bound_at(v.pod) if node else None,
+                    bound_at=now if just_bound else (_bound_at(v.pod) if node else None),
                     deleted_at=None,
                 )
             )
@@ -481,7 +479,8 @@ class RTScheduler:
 
     def _explain(self, kube: Kube, outcomes: list) -> None:
         """A ``Scheduled`` Event per bound pod, the reason on each pod left pending (when it changed); the
-        calls overlap, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` in flight (one round trip each)."""
+        calls overlap, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` in flight (one round trip each). While
+        :meth:`run` loops they are sent in the background (see ``_explainer``)."""
         calls = []
         for v, d, outcome, message in outcomes:
             uid = v.pod["metadata"].get("uid", "")
@@ -489,9 +488,18 @@ class RTScheduler:
                 self.explained.pop(uid, None)
                 calls.append((v, "Scheduled", f"Successfully assigned {v.key} to {d.node}"))
             elif self.explained.get(uid) != message:
+                # Told once: marked now (the next cycle must not queue it again), unmarked if it fails.
+                self.explained[uid] = message
                 calls.append((v, "", message))
+        if not calls:
+            return
+        if self._explainer is not None:
+            self._explainer.submit(self._send_explanations, kube, calls)
+        else:
+            self._send_explanations(kube, calls)
 
-        def one(item: tuple[PodView, str, str]) -> bool:
+    def _send_explanations(self, kube: Kube, calls: list[tuple[PodView, str, str]]) -> None:
+        def one(item: tuple[PodView, str, str]) -> None:
             v, reason, message = item
             try:
                 if reason:
@@ -500,13 +508,16 @@ class RTScheduler:
                     kube.explain_pending(v.pod, message)
             except KUBE_ERRORS as exc:
                 log.info("%s for %s: %s", "no Scheduled event" if reason else "cannot explain", v.key, exc)
-                return False
-            return True
+                uid = v.pod["metadata"].get("uid", "")
+                if not reason and self.explained.get(uid) == message:
+                    del self.explained[uid]  # told again at the next cycle
 
-        done, _ = run_bounded(calls, one, skipped=lambda reason: False, fatal=(), describe=problem)
-        for (v, reason, message), ok in zip(calls, done, strict=True):
-            if ok and not reason:
-                self.explained[v.pod["metadata"].get("uid", "")] = message
+        try:
+            run_bounded(calls, one, skipped=lambda reason: None, fatal=(), describe=problem)
+        except Exception:  # a bug in the background must not be lost silently
+            log.exception("RT scheduler explanations failed")
+            if self._explainer is None:
+                raise
 
     # ---- watches ----------------------------------------------------------------------------------------------
     def _start_watches(self, stop: threading.Event) -> None:
