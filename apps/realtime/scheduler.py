@@ -76,6 +76,9 @@ from .models import MonitoringReport, RealTime, RTDecision, RTPlan, RTPod, RTPol
 log = logging.getLogger("continuum.rt_scheduler")
 STATELESS_LABEL = "rt.monitoring/stateless"
 MAX_BACKOFF = 30.0
+#: The ledger fields a cycle writes from the API's view of a pod (besides deleted_at, cleared, and seen).
+RECORDED = ("uid", "node", "container_name", "scheduler_name", "realtime", "criticality", "stateless", "cpu",
+            "memory_mib", "utilization", "owned", "phase", "bound_at")  # fmt: skip
 
 
 def pod_key(pod: dict) -> str:
@@ -145,7 +148,13 @@ class PodView:
         return pod_key(self.pod)
 
 
-def view_pod(pod: dict, realtimes: dict[tuple[str, str], RealTime], known_nodes: list[str]) -> PodView:
+def view_pod(
+    pod: dict,
+    realtimes: dict[tuple[str, str], RealTime],
+    known_nodes: list[str],
+    engines: dict[tuple[str, str], RTContainer | InputError] | None = None,
+) -> PodView:
+    """``engines``: a memo of each RealTime's engine container (many pods name the same RealTime)."""
     meta = pod["metadata"]
     labels = meta.get("labels") or {}
     cpu, mem = requests_of(pod)
@@ -161,10 +170,17 @@ def view_pod(pod: dict, realtimes: dict[tuple[str, str], RealTime], known_nodes:
     row = realtimes.get((meta["namespace"], rt_name))
     if row is None:
         return PodView(pod, None, None, f"RealTime {rt_name!r} not found in namespace {meta['namespace']!r}")
-    try:
-        base = row.to_engine(known_nodes)
-    except InputError as exc:
-        return PodView(pod, row, None, f"RealTime {rt_name!r} is invalid: {exc}")
+    key = (meta["namespace"], rt_name)
+    base = engines.get(key) if engines is not None else None
+    if base is None:
+        try:
+            base = row.to_engine(known_nodes)
+        except InputError as exc:
+            base = exc
+        if engines is not None:
+            engines[key] = base
+    if isinstance(base, InputError):
+        return PodView(pod, row, None, f"RealTime {rt_name!r} is invalid: {base}")
     c = RTContainer(
         pod_key(pod),
         base.criticality,
@@ -233,6 +249,10 @@ class RTScheduler:
         #: (each batch with its calls overlapping) while the next cycle already decides and binds, as
         #: kube-scheduler's event broadcaster does. A cycle called on its own sends them before returning.
         self._explainer: ThreadPoolExecutor | None = None
+        #: (namespace, name) -> the ledger row's fields as this process last wrote them: a row unchanged since
+        #: is not written again (a cycle of 1,000 pods would upsert them all), except at each sync, when every
+        #: row is written (what another writer changed meanwhile is reconciled at most sync_period late).
+        self._recorded: dict[tuple[str, str], tuple] = {}
 
     # ---- the loop --------------------------------------------------------------------------------------------
     def run(self, stop: threading.Event | None = None, max_cycles: int | None = None) -> int:
@@ -296,6 +316,7 @@ class RTScheduler:
                 "monitorings": sync.push_monitorings(cluster, kube),
             }
             self.last_sync = time.monotonic()
+            self._recorded.clear()
         ns = sync.namespaces_of(cluster, self.namespace)
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))  # two reads in one round trip's time
         pods = [p for p in pods if not is_terminated(p)]
@@ -305,7 +326,8 @@ class RTScheduler:
         if ns is not None:
             rows = rows.filter(namespace=ns)
         realtimes = {(r.namespace, r.name): r for r in rows}
-        views = [view_pod(p, realtimes, names) for p in pods]
+        engines: dict[tuple[str, str], RTContainer | InputError] = {}
+        views = [view_pod(p, realtimes, names, engines) for p in pods]
         pending = [
             v
             for v in views
@@ -410,28 +432,15 @@ class RTScheduler:
                 )
             )
         seen = {(r.namespace, r.name) for r in rows}
+        columns = [RTPod._meta.get_field(f).attname for f in RECORDED]
+        state = {(r.namespace, r.name): tuple(getattr(r, c) for c in columns) for r in rows}
+        rows = [r for r in rows if self._recorded.get((r.namespace, r.name)) != state[(r.namespace, r.name)]]
         with transaction.atomic():
             RTPod.objects.bulk_create(
                 sorted(rows, key=lambda r: (r.namespace, r.name)),
                 update_conflicts=True,
                 unique_fields=["cluster", "namespace", "name"],
-                update_fields=[
-                    "uid",
-                    "node",
-                    "container_name",
-                    "scheduler_name",
-                    "realtime",
-                    "criticality",
-                    "stateless",
-                    "cpu",
-                    "memory_mib",
-                    "utilization",
-                    "owned",
-                    "phase",
-                    "bound_at",
-                    "deleted_at",
-                    "seen",
-                ],
+                update_fields=[*RECORDED, "deleted_at", "seen"],
             )
             live = RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True)
             ns = sync.namespaces_of(cluster, self.namespace)
@@ -440,6 +449,7 @@ class RTScheduler:
             gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
             if gone:
                 RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
+        self._recorded = {key: state[key] for key in seen}  # written (or unchanged) and committed
 
     def _store(self, cluster: Cluster, plan, outcomes: list) -> None:
         """Store the plan and the decisions whose outcome or reason changed since the pod's last one."""
