@@ -40,7 +40,7 @@ from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube import gateway
 from apps.kube.gateway import API_ERRORS, KubeError, node_fields
-from apps.kube.parallel import gather, run_bounded
+from apps.kube.parallel import concurrency, gather, run_bounded
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision
@@ -523,7 +523,9 @@ class RTScheduler:
                     del self.explained[uid]  # told again at the next cycle
 
         try:
-            run_bounded(calls, one, skipped=lambda reason: None, fatal=(), describe=problem)
+            # A quarter of the bound: the next cycle's Bindings share the client's connection pool.
+            run_bounded(calls, one, skipped=lambda reason: None, fatal=(), describe=problem,
+                        workers=max(1, concurrency() // 4))  # fmt: skip
         except Exception:  # a bug in the background must not be lost silently
             log.exception("RT scheduler explanations failed")
             if self._explainer is None:
