@@ -12,7 +12,7 @@ are checked identical to the vectorised ones.
 
     python benchmarks/rt_kube_scale.py [--nodes 500 1000 5000] [--pods 100 1000] [--ref-pods 50] [--seed 1]
 
-The live-cluster half of issue 15 (watch -> decide -> bind against kube-scheduler) is not in this script.
+The live-cluster half of issue 15 (watch -> decide -> bind against kube-scheduler) is benchmarks/rt_kube_live.py.
 """
 
 from __future__ import annotations

@@ -28,6 +28,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from typing import Any
@@ -38,7 +39,8 @@ from django.utils import timezone
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube import gateway
-from apps.kube.gateway import node_fields
+from apps.kube.gateway import API_ERRORS, KubeError, node_fields
+from apps.kube.parallel import concurrency, gather, run_bounded
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision
@@ -74,6 +76,9 @@ from .models import MonitoringReport, RealTime, RTDecision, RTPlan, RTPod, RTPol
 log = logging.getLogger("continuum.rt_scheduler")
 STATELESS_LABEL = "rt.monitoring/stateless"
 MAX_BACKOFF = 30.0
+#: The ledger fields a cycle writes from the API's view of a pod (besides deleted_at, cleared, and seen).
+RECORDED = ("uid", "node", "container_name", "scheduler_name", "realtime", "criticality", "stateless", "cpu",
+            "memory_mib", "utilization", "owned", "phase", "bound_at")  # fmt: skip
 
 
 def pod_key(pod: dict) -> str:
@@ -143,7 +148,13 @@ class PodView:
         return pod_key(self.pod)
 
 
-def view_pod(pod: dict, realtimes: dict[tuple[str, str], RealTime], known_nodes: list[str]) -> PodView:
+def view_pod(
+    pod: dict,
+    realtimes: dict[tuple[str, str], RealTime],
+    known_nodes: list[str],
+    engines: dict[tuple[str, str], RTContainer | InputError] | None = None,
+) -> PodView:
+    """``engines``: a memo of each RealTime's engine container (many pods name the same RealTime)."""
     meta = pod["metadata"]
     labels = meta.get("labels") or {}
     cpu, mem = requests_of(pod)
@@ -159,10 +170,17 @@ def view_pod(pod: dict, realtimes: dict[tuple[str, str], RealTime], known_nodes:
     row = realtimes.get((meta["namespace"], rt_name))
     if row is None:
         return PodView(pod, None, None, f"RealTime {rt_name!r} not found in namespace {meta['namespace']!r}")
-    try:
-        base = row.to_engine(known_nodes)
-    except InputError as exc:
-        return PodView(pod, row, None, f"RealTime {rt_name!r} is invalid: {exc}")
+    key = (meta["namespace"], rt_name)
+    base = engines.get(key) if engines is not None else None
+    if base is None:
+        try:
+            base = row.to_engine(known_nodes)
+        except InputError as exc:
+            base = exc
+        if engines is not None:
+            engines[key] = base
+    if isinstance(base, InputError):
+        return PodView(pod, row, None, f"RealTime {rt_name!r} is invalid: {base}")
     c = RTContainer(
         pod_key(pod),
         base.criticality,
@@ -227,6 +245,14 @@ class RTScheduler:
         self.threads: list[threading.Thread] = []
         self._watches = gateway.Watches()
         self.ingested = 0
+        #: While run() loops: the Events and pending explanations of a cycle are sent from this one thread
+        #: (each batch with its calls overlapping) while the next cycle already decides and binds, as
+        #: kube-scheduler's event broadcaster does. A cycle called on its own sends them before returning.
+        self._explainer: ThreadPoolExecutor | None = None
+        #: (namespace, name) -> the ledger row's fields as this process last wrote them: a row unchanged since
+        #: is not written again (a cycle of 1,000 pods would upsert them all), except at each sync, when every
+        #: row is written (what another writer changed meanwhile is reconciled at most sync_period late).
+        self._recorded: dict[tuple[str, str], tuple] = {}
 
     # ---- the loop --------------------------------------------------------------------------------------------
     def run(self, stop: threading.Event | None = None, max_cycles: int | None = None) -> int:
@@ -235,6 +261,7 @@ class RTScheduler:
         failures = 0
         if self.use_watch:
             self._start_watches(stop)
+        self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
         try:
             while not stop.is_set():
                 wait = self.period
@@ -262,6 +289,8 @@ class RTScheduler:
         finally:
             stop.set()
             self.stopping.set()
+            self._explainer.shutdown(wait=True)  # the explanations of the last cycle are sent
+            self._explainer = None
             self._close_watches()
             deadline = time.monotonic() + 10
             for t in self.threads:
@@ -287,17 +316,18 @@ class RTScheduler:
                 "monitorings": sync.push_monitorings(cluster, kube),
             }
             self.last_sync = time.monotonic()
+            self._recorded.clear()
         ns = sync.namespaces_of(cluster, self.namespace)
-        api_nodes = kube.list_nodes()
-        pods = [p for p in kube.list_pods(ns) if not is_terminated(p)]
+        api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))  # two reads in one round trip's time
+        pods = [p for p in pods if not is_terminated(p)]
         nodes = rt_nodes(cluster, api_nodes)
         names = [n.name for n in nodes]
         rows = cluster.realtimes.prefetch_related("wcets__node")
         if ns is not None:
             rows = rows.filter(namespace=ns)
         realtimes = {(r.namespace, r.name): r for r in rows}
-        views = [view_pod(p, realtimes, names) for p in pods]
-        self._record_pods(cluster, views)
+        engines: dict[tuple[str, str], RTContainer | InputError] = {}
+        views = [view_pod(p, realtimes, names, engines) for p in pods]
         pending = [
             v
             for v in views
@@ -305,6 +335,7 @@ class RTScheduler:
             and (v.pod.get("spec") or {}).get("schedulerName") == RT_SCHEDULER_NAME
         ]
         if not pending:
+            self._record_pods(cluster, views)
             return result
         ledger = rt_kube.Ledger.for_nodes(nodes)
         for v in views:
@@ -317,7 +348,8 @@ class RTScheduler:
             [v.container for v in schedulable], nodes, policy.scheduler_params(), ledger, now=time.time(), full="auto"
         )
         by_key = {v.key: v for v in pending}
-        outcomes = []
+        binds, stopped = self._bind_all(kube, [(by_key[d.item], d) for d in plan.decisions if d.node is not None])
+        outcomes, bound_rows = [], {}
         for d in plan.decisions:
             v = by_key[d.item]
             if d.node is None:
@@ -325,18 +357,20 @@ class RTScheduler:
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, message))
                 result.pending[v.key] = message
                 continue
-            meta = v.pod["metadata"]
-            ok, message = kube.bind(meta["namespace"], meta["name"], d.node, meta.get("uid"))
+            ok, message = binds[d.item]
+            if ok is None:  # not attempted: the API went away during this cycle's binds (raised below)
+                continue
             if ok:
                 result.bound.append((v.key, d.node))
                 outcomes.append((v, d, RTDecision.Outcome.BOUND, message))
-                RTPod.objects.filter(cluster=cluster, namespace=meta["namespace"], name=meta["name"]).update(
-                    node=d.node, bound_at=timezone.now(), utilization=v.container.utilization(d.node)
-                )
+                meta = v.pod["metadata"]
+                bound_rows[(meta["namespace"], meta["name"])] = (d.node, v.container.utilization(d.node))
             else:
                 ledger.release(d.item)
                 result.failed[v.key] = message
                 outcomes.append((v, d, RTDecision.Outcome.FAILED, message))
+        # The ledger rows, once the binds are done: they are off the path from the watch event to the Binding.
+        self._record_pods(cluster, views, bound_rows)
         for v in pending:
             if v.container is None:
                 d = Decision(v.key, None)
@@ -344,16 +378,36 @@ class RTScheduler:
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, v.problem))
         self._store(cluster, plan, outcomes)
         self._explain(kube, outcomes)
+        if stopped:  # the pods bound before it are recorded; the cycle fails and is retried with back-off
+            raise KubeError(stopped)
         return result
 
+    def _bind_all(self, kube: Kube, placed: list[tuple[PodView, Decision]]) -> tuple[dict, str | None]:
+        """The bind phase of every placed pod, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` Bindings in flight
+        (the decisions are all made: binds are independent round trips). {pod key: (ok, message)} with
+        ``ok=None`` for the binds not attempted after the API failed (the reason is returned)."""
+
+        def one(item: tuple[PodView, Decision]) -> tuple[bool | None, str]:
+            meta = item[0].pod["metadata"]
+            return kube.bind(meta["namespace"], meta["name"], item[1].node, meta.get("uid"))
+
+        results, stopped = run_bounded(placed, one, skipped=lambda reason: (None, reason), fatal=API_ERRORS,
+                                       describe=problem)  # fmt: skip
+        return {d.item: r for (_, d), r in zip(placed, results, strict=True)}, stopped
+
     # ---- bookkeeping ---------------------------------------------------------------------------------------
-    def _record_pods(self, cluster: Cluster, views: list[PodView]) -> None:
-        """Upsert the ledger rows of the pods seen; pods gone from the API are marked deleted."""
+    def _record_pods(
+        self, cluster: Cluster, views: list[PodView], bound: dict[tuple[str, str], tuple[str, float]] | None = None
+    ) -> None:
+        """Upsert the ledger rows of the pods seen (``bound``: (namespace, name) -> (node, utilisation) of the
+        pods this cycle bound, bound now); pods gone from the API are marked deleted."""
         now = timezone.now()
+        bound = bound or {}
         rows = []
         for v in views:
             meta, spec = v.pod["metadata"], v.pod.get("spec") or {}
-            node = spec.get("nodeName") or ""
+            just_bound = bound.get((meta["namespace"], meta["name"]))
+            node = just_bound[0] if just_bound else spec.get("nodeName") or ""
             c = v.container
             containers = spec.get("containers") or [{}]
             rows.append(
@@ -373,33 +427,20 @@ class RTScheduler:
                     utilization=(c.utilization(node) if c and node else None),
                     owned=any(o.get("controller") for o in meta.get("ownerReferences") or []),
                     phase=(v.pod.get("status") or {}).get("phase", ""),
-                    bound_at=_bound_at(v.pod) if node else None,
+                    bound_at=now if just_bound else (_bound_at(v.pod) if node else None),
                     deleted_at=None,
                 )
             )
         seen = {(r.namespace, r.name) for r in rows}
+        columns = [RTPod._meta.get_field(f).attname for f in RECORDED]
+        state = {(r.namespace, r.name): tuple(getattr(r, c) for c in columns) for r in rows}
+        rows = [r for r in rows if self._recorded.get((r.namespace, r.name)) != state[(r.namespace, r.name)]]
         with transaction.atomic():
             RTPod.objects.bulk_create(
                 sorted(rows, key=lambda r: (r.namespace, r.name)),
                 update_conflicts=True,
                 unique_fields=["cluster", "namespace", "name"],
-                update_fields=[
-                    "uid",
-                    "node",
-                    "container_name",
-                    "scheduler_name",
-                    "realtime",
-                    "criticality",
-                    "stateless",
-                    "cpu",
-                    "memory_mib",
-                    "utilization",
-                    "owned",
-                    "phase",
-                    "bound_at",
-                    "deleted_at",
-                    "seen",
-                ],
+                update_fields=[*RECORDED, "deleted_at", "seen"],
             )
             live = RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True)
             ns = sync.namespaces_of(cluster, self.namespace)
@@ -408,6 +449,7 @@ class RTScheduler:
             gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
             if gone:
                 RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
+        self._recorded = {key: state[key] for key in seen}  # written (or unchanged) and committed
 
     def _store(self, cluster: Cluster, plan, outcomes: list) -> None:
         """Store the plan and the decisions whose outcome or reason changed since the pod's last one."""
@@ -446,23 +488,48 @@ class RTScheduler:
             )
 
     def _explain(self, kube: Kube, outcomes: list) -> None:
-        for v, _d, outcome, message in outcomes:
-            if outcome == RTDecision.Outcome.BOUND:
-                uid = v.pod["metadata"].get("uid", "")
-                self.explained.pop(uid, None)
-                try:
-                    kube.event(v.pod, "Scheduled", f"Successfully assigned {v.key} to {_d.node}")
-                except KUBE_ERRORS as exc:
-                    log.info("no Scheduled event for %s: %s", v.key, exc)
-                continue
+        """A ``Scheduled`` Event per bound pod, the reason on each pod left pending (when it changed); the
+        calls overlap, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` in flight (one round trip each). While
+        :meth:`run` loops they are sent in the background (see ``_explainer``)."""
+        calls = []
+        for v, d, outcome, message in outcomes:
             uid = v.pod["metadata"].get("uid", "")
-            if self.explained.get(uid) == message:
-                continue
-            try:
-                kube.explain_pending(v.pod, message)
+            if outcome == RTDecision.Outcome.BOUND:
+                self.explained.pop(uid, None)
+                calls.append((v, "Scheduled", f"Successfully assigned {v.key} to {d.node}"))
+            elif self.explained.get(uid) != message:
+                # Told once: marked now (the next cycle must not queue it again), unmarked if it fails.
                 self.explained[uid] = message
+                calls.append((v, "", message))
+        if not calls:
+            return
+        if self._explainer is not None:
+            self._explainer.submit(self._send_explanations, kube, calls)
+        else:
+            self._send_explanations(kube, calls)
+
+    def _send_explanations(self, kube: Kube, calls: list[tuple[PodView, str, str]]) -> None:
+        def one(item: tuple[PodView, str, str]) -> None:
+            v, reason, message = item
+            try:
+                if reason:
+                    kube.event(v.pod, reason, message)
+                else:
+                    kube.explain_pending(v.pod, message)
             except KUBE_ERRORS as exc:
-                log.info("cannot explain %s: %s", v.key, exc)
+                log.info("%s for %s: %s", "no Scheduled event" if reason else "cannot explain", v.key, exc)
+                uid = v.pod["metadata"].get("uid", "")
+                if not reason and self.explained.get(uid) == message:
+                    del self.explained[uid]  # told again at the next cycle
+
+        try:
+            # A quarter of the bound: the next cycle's Bindings share the client's connection pool.
+            run_bounded(calls, one, skipped=lambda reason: None, fatal=(), describe=problem,
+                        workers=max(1, concurrency() // 4))  # fmt: skip
+        except Exception:  # a bug in the background must not be lost silently
+            log.exception("RT scheduler explanations failed")
+            if self._explainer is None:
+                raise
 
     # ---- watches ----------------------------------------------------------------------------------------------
     def _start_watches(self, stop: threading.Event) -> None:

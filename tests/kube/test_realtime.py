@@ -171,12 +171,18 @@ def test_realtime_objects_pods_binding_eviction_taint_and_rebinding(api, kube, c
         "PodScheduled condition",
     )
     assert condition.status == "False" and "node3: node has no real-time kernel" in condition.message
-    events = kube.list_namespaced_event(ns, field_selector="involvedObject.name=vision").items
     # The RT scheduler weighs every node of the API: the cluster's 4 and the session cluster's hollow nodes.
     every = {f"node{i}" for i in range(4)} | SESSION_NODES
     assert {n.metadata.name for n in kube.list_node().items} == every
     message = f"0/{len(every)} nodes are available"
-    assert any(e.reason == "FailedScheduling" and message in e.message for e in events)
+    # The Event follows the condition (the running scheduler sends explanations in the background).
+    wait_for(
+        lambda: any(
+            e.reason == "FailedScheduling" and message in e.message
+            for e in kube.list_namespaced_event(ns, field_selector="involvedObject.name=vision").items
+        ),
+        "vision's FailedScheduling Event",
+    )
     bound = RTDecision.objects.get(cluster=cluster, pod="lidar", outcome="bound")
     assert bound.node == "node0" and {v["node"] for v in bound.decision["verdicts"]} == every
 

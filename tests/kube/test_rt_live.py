@@ -133,6 +133,11 @@ def test_an_evicted_deployment_pod_is_recreated_by_its_controller_and_bound_on_a
     assert pod.metadata.owner_references[0].uid == owner.uid  # the same ReplicaSet recreated it
     assert old not in {p.metadata.name for p in kube.list_namespaced_pod(ns).items}
     assert running_on(kube, ns)["slam"] == FIRST  # the violator stays
-    events = kube.list_namespaced_event(ns, field_selector=f"involvedObject.name={new},reason=Scheduled").items
-    assert any(e.source.component == "RT-scheduler" and OTHER in e.message for e in events)
+    wait_for(  # the running scheduler sends its Events in the background
+        "the RT scheduler's Scheduled Event",
+        lambda: any(
+            e.source.component == "RT-scheduler" and OTHER in e.message
+            for e in kube.list_namespaced_event(ns, field_selector=f"involvedObject.name={new},reason=Scheduled").items
+        ),
+    )
     assert scheduler.errors == 0, scheduler.last_error
