@@ -121,11 +121,15 @@ def test_a_report_claimed_meanwhile_is_not_reconciled(rt_cluster, node0_pods):
     policy = RTPolicy.for_cluster(rt_cluster)
     result = monitoring.ingest(rt_cluster, [report], policy=policy)
     assert result["duplicates"] == [0] and result["events"] == []
-    # Past the look-up (as if the other request stored it between the look-up and the reconcile):
+    # A stored violation that another reconcile (a redelivered task, the sweep) claimed meanwhile:
     now = timezone.now()
-    row = (rt_cluster.pk, report.name, "node0", "slam", "", 50, 50, "period", None, None, now, "rest", "r1")
-    outcome = monitoring.reconcile(rt_cluster, policy, policy.monitor_policy(), report, "period", now, claim=row)
+    row = MonitoringReport.objects.create(
+        cluster=rt_cluster, name="slam-node0", node="node0", container_name="slam", missed_period=50,
+        missed_total=50, violation="period", received_at=now, report_id="r2", reconciled_at=now,
+    )  # fmt: skip
+    outcome = monitoring.reconcile(rt_cluster, policy, policy.monitor_policy(), report, "period", now, claim=row.pk)
     assert outcome is monitoring.DUPLICATE
+    assert monitoring.reconcile_stored(rt_cluster, [row.pk], policy) == []
     assert RTEvent.objects.count() == 0 and NodeTaint.objects.count() == 0
     assert RTPod.objects.filter(deleted_at__isnull=False).count() == 0
 
