@@ -19,6 +19,7 @@ from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.realtime.kinds import RealtimeJob
 from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.models import FleetToken
 from apps.tenancy.scoping import visible_fleets
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.safeload import load_yaml_all
@@ -64,7 +65,10 @@ class ClusterScoped(FleetScopedMixin):
 
 def _visible_cluster(request, pk) -> Cluster:
     try:
-        return Cluster.objects.select_related("rt_policy").get(pk=int(pk), fleet__in=visible_fleets(request))
+        auth = getattr(request, "auth", None)
+        # A fleet token (every robot's report) names its one fleet: no subquery to compile and run.
+        scope = {"fleet_id": auth.fleet_id} if isinstance(auth, FleetToken) else {"fleet__in": visible_fleets(request)}
+        return Cluster.objects.select_related("rt_policy").get(pk=int(pk), **scope)
     except (Cluster.DoesNotExist, TypeError, ValueError) as exc:
         raise ValidationError({"cluster": [f"no cluster {pk!r} among your fleets' clusters"]}) from exc
 

@@ -22,6 +22,7 @@ the reconcile, the eviction sent and answered.
 from __future__ import annotations
 
 import hashlib
+import json
 import logging
 import math
 import re
@@ -29,6 +30,7 @@ import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
+from functools import cache
 from typing import Any
 
 from django.db import connection, transaction
@@ -420,6 +422,7 @@ def _pg_types(model, columns: Sequence[str]) -> list[str]:
     return [fields[c].db_type(connection) for c in columns]
 
 
+@cache  # the same text for every batch (PostgreSQL only)
 def _store_sql() -> str:
     """The batch in one statement (one round trip instead of four: no BEGIN/COMMIT, two INSERTs): the new
     reports (``ON CONFLICT DO NOTHING``: a duplicate id is skipped), then, for each container, its last new
@@ -429,12 +432,15 @@ def _store_sql() -> str:
     report_types = _pg_types(MonitoringReport, REPORT_COLUMNS)
     node_type = _pg_types(Monitoring, ("node_id",))[0]
     cols = ", ".join(qn(c) for c in REPORT_COLUMNS)
-    src_cols = ", ".join([*(qn(c) for c in REPORT_COLUMNS), "node_ref", "ord"])
-    arrays = ", ".join(f"%s::{t}[]" for t in [*report_types, node_type])
+    # The rows travel as one JSON array of arrays: one text parameter for the driver to send (psycopg dumps
+    # an array parameter element by element in Python: that was a fifth of the request's CPU).
+    fields = [f"(e->>{i})::{t} AS {qn(c)}" for i, (c, t) in enumerate(zip(REPORT_COLUMNS, report_types, strict=True))]
+    fields.append(f"(e->>{len(REPORT_COLUMNS)})::{node_type} AS node_ref")
     latest = ", ".join(qn(c) for c in LATEST_COLUMNS)
     sets = ", ".join(f"{qn(c)} = EXCLUDED.{qn(c)}" for c in LATEST_COLUMNS[2:-1])
     return (
-        f"WITH src ({src_cols}) AS (SELECT * FROM unnest({arrays}) WITH ORDINALITY), "
+        f"WITH src AS (SELECT {', '.join(fields)}, ord FROM json_array_elements(%s::json) WITH ORDINALITY "
+        f"AS t(e, ord)), "
         f"ins AS (INSERT INTO {qn(MonitoringReport._meta.db_table)} ({cols}) SELECT {cols} FROM src "
         f"ON CONFLICT ({qn('cluster_id')}, {qn('report_id')}) DO NOTHING "
         f"RETURNING {qn('report_id')}, {qn('id')}), "
@@ -458,13 +464,10 @@ def _store_batch_pg(
 ) -> dict[str, int]:
     if not rows:
         return {}
-    columns: list[list] = [[] for _ in range(len(REPORT_COLUMNS) + 1)]
-    for rid, r in first.items():  # batch order: the ordinality that makes the last report of a container win
-        for i, v in enumerate(rows[rid]):
-            columns[i].append(v)
-        columns[-1].append(node_ids[r.node])
+    # Batch order: the ordinality that makes the last report of a container win.
+    data = json.dumps([[*rows[rid], node_ids[r.node]] for rid, r in first.items()], default=datetime.isoformat)
     with connection.cursor() as cursor:
-        cursor.execute(_store_sql(), [*columns, synced])
+        cursor.execute(_store_sql(), [data, synced])
         return dict(cursor.fetchall())
 
 
