@@ -1,11 +1,13 @@
 """Load on RT-Kube's monitoring endpoint: many robot fleets posting missed-deadline reports (thesis 3.4).
 
 Everything is real: PostgreSQL (a throw-away database), a kube-apiserver + etcd (the test suite's builder;
-pods are really bound by the RT scheduler and really evicted), and gunicorn serving Continuum on
-127.0.0.1. Each fleet has its own token, cluster (nodes, RealTime objects, bound pods) and namespace. Every
-fleet posts batches of reports (Listing 3.37 specs) at a fixed rate; now and then one of its reports says a
-B container missed more deadlines than the threshold, and the endpoint evicts a stateless A pod of that
-node (DELETE with grace period 0) and taints the node before it answers.
+pods are really bound by the RT scheduler and really evicted), gunicorn serving Continuum on 127.0.0.1, and a
+Celery worker (Redis broker, ``--broker``; a private queue) running the ``rt_reconcile`` task. Each fleet has
+its own token, cluster (nodes, RealTime objects, bound pods) and namespace. Every fleet posts batches of
+reports (Listing 3.37 specs) at a fixed rate; now and then one of its reports says a B container missed more
+deadlines than the threshold: the endpoint stores the batch and answers, and the worker evicts a stateless A
+pod of that node (DELETE with grace period 0) and taints the node. After the load, the run waits for every
+stored violation to be reconciled (an eviction decided is carried out) before it counts.
 
 Printed: reports sent / acknowledged / stored (none may be lost), throughput, request latency
 percentiles, and report-to-eviction percentiles (server stamps: report received -> eviction sent; client:
@@ -13,6 +15,7 @@ report sent -> eviction answered, i.e. the violating request's round trip). Goal
 reports/s sustained on this 2-core machine, no report lost, p99 report-to-eviction < 100 ms.
 
     python benchmarks/rt_monitoring_load.py [--fleets 16 --rate 2000 --batch 25 --duration 20 --workers 8]
+        [--broker redis://127.0.0.1:6379/0 --celery-threads 4]   (BENCH_DB: the database's name)
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 PG = os.environ.get("BENCH_PG", "postgres://postgres@127.0.0.1:5432")
-DB_NAME = "continuum_bench_rtload"
+DB_NAME = os.environ.get("BENCH_DB", "continuum_bench_rtload")
 
 
 def parse_args() -> argparse.Namespace:
@@ -47,6 +50,9 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--workers", type=int, default=8, help="gunicorn worker processes (evictions wait on the API)")
     p.add_argument("--threads", type=int, default=1, help="threads per gunicorn worker (gthread when > 1)")
     p.add_argument("--concurrency", type=int, default=4, help="requests in flight per fleet at most")
+    p.add_argument("--broker", default=os.environ.get("BENCH_BROKER", "redis://127.0.0.1:6379/0"),
+                   help="Redis broker of the rt_reconcile task (a private queue on it)")  # fmt: skip
+    p.add_argument("--celery-threads", type=int, default=4, help="Celery worker threads (evictions wait on the API)")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     return p.parse_args()
 
@@ -86,8 +92,9 @@ def postgres_backends() -> list[int]:
 class CpuMeter:
     """CPU seconds used by each part while the load runs (the machine is shared: wall times alone mislead)."""
 
-    def __init__(self, gunicorn_pid: int, kube_pids: list[int]) -> None:
-        self.parts = {"gunicorn": lambda: children(gunicorn_pid), "kube-apiserver+etcd": lambda: kube_pids}
+    def __init__(self, gunicorn_pid: int, kube_pids: list[int], worker_pid: int) -> None:
+        self.parts = {"gunicorn": lambda: children(gunicorn_pid), "kube-apiserver+etcd": lambda: kube_pids,
+                      "celery worker": lambda: [worker_pid]}  # fmt: skip
         self.start: dict[str, dict[int, float]] = {}
 
     def _sample(self) -> dict[str, dict[int, float]]:
@@ -243,6 +250,39 @@ def start_gunicorn(args, env: dict, port: int) -> subprocess.Popen:
     raise SystemExit("gunicorn did not listen")
 
 
+def start_worker(args, env: dict) -> subprocess.Popen:
+    """The Celery worker that runs ``rt_reconcile`` (threads: the evictions wait on the API, not the CPU)."""
+    log = open("/tmp/continuum-rt-load-celery.log", "w")  # noqa: SIM115 - lives as long as the worker
+    return subprocess.Popen(
+        [sys.executable, "-m", "celery", "-A", "continuum", "worker", "-P", "threads", "-c", str(args.celery_threads),
+         "-Q", env["CELERY_QUEUE"], "--without-gossip", "--without-mingle", "--without-heartbeat", "-l", "WARNING"],
+        cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+    )  # fmt: skip
+
+
+def stop(proc: subprocess.Popen | None) -> None:
+    if proc is None:
+        return
+    proc.terminate()
+    try:
+        proc.wait(timeout=20)
+    except subprocess.TimeoutExpired:  # a loaded machine: its workers may not finish in time
+        os.killpg(proc.pid, 9)  # its own session (start_new_session): the master and its workers
+        proc.wait(timeout=20)
+
+
+def wait_reconciled(timeout: float = 120.0) -> tuple[int, float]:
+    """Wait until every stored violation has been reconciled; (still pending, seconds waited)."""
+    from apps.realtime.models import MonitoringReport
+
+    began = time.monotonic()
+    while True:
+        pending = MonitoringReport.objects.exclude(violation="").filter(reconciled_at__isnull=True).count()
+        if pending == 0 or time.monotonic() - began > timeout:
+            return pending, time.monotonic() - began
+        time.sleep(0.5)
+
+
 # ---- load ---------------------------------------------------------------------------------------------------
 async def fleet_load(session, url: str, fleet: dict, args, t0: float, results: list, idx: int) -> None:
     rng = random.Random(idx)
@@ -377,6 +417,11 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
     print(f"  request latency (ms): p50 {pct(lat, 50):.1f}  p95 {pct(lat, 95):.1f}  p99 {pct(lat, 99):.1f}  "
           f"max {lat[-1]:.1f}")  # fmt: skip
     print(f"  evictions {len(ok)} (+{len(events) - len(ok)} failed), alerts {alerts}")
+    violations = MonitoringReport.objects.exclude(violation="")
+    done = violations.filter(reconciled_at__isnull=False).count()
+    print(f"  violations stored {violations.count()}, reconciled {done}"
+          f" (still pending {meter.pending} after waiting {meter.waited:.1f} s for the worker); the others were in "
+          f"their container's cooldown")  # fmt: skip
     if server:
         print(f"  report received -> eviction sent (ms, server):   p50 {pct(server, 50):.1f}  "
               f"p95 {pct(server, 95):.1f}  p99 {pct(server, 99):.1f}  max {server[-1]:.1f}")  # fmt: skip
@@ -384,8 +429,9 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
               f"p95 {pct(server_done, 95):.1f}  p99 {pct(server_done, 99):.1f}  max {server_done[-1]:.1f}")  # fmt: skip
         print(f"  report sent -> eviction sent (ms, Eq. 3.19 without the update wait): p50 {pct(e2e, 50):.1f}  "
               f"p95 {pct(e2e, 95):.1f}  p99 {pct(e2e, 99):.1f}  max {e2e[-1]:.1f}")  # fmt: skip
-        print(f"  report sent -> eviction answered (ms, client):   p50 {pct(client, 50):.1f}  "
-              f"p95 {pct(client, 95):.1f}  p99 {pct(client, 99):.1f}  max {client[-1]:.1f}")  # fmt: skip
+        if client:  # only when the request itself evicts
+            print(f"  report sent -> eviction answered (ms, client):   p50 {pct(client, 50):.1f}  "
+                  f"p95 {pct(client, 95):.1f}  p99 {pct(client, 99):.1f}  max {client[-1]:.1f}")  # fmt: skip
         if trans_json:
             print(f"  HTTP_trans(JSON) incl. queueing (ms): mean {statistics.fmean(trans_json):.1f}  "
                   f"max {max(trans_json):.1f}")  # fmt: skip
@@ -411,10 +457,13 @@ def main() -> None:
     os.environ["LOG_LEVEL"] = "WARNING"
     from tests.kubeapi import KubeAPIServer, build_kube_apiserver
 
-    env = dict(os.environ, DATABASE_URL=db_url, DEBUG="0", LOG_LEVEL="WARNING")
+    queue = f"bench-rtload-{os.getpid()}"  # private: no other worker on the broker takes its messages
+    env = dict(os.environ, DATABASE_URL=db_url, DEBUG="0", LOG_LEVEL="WARNING", CELERY_BROKER_URL=args.broker,
+               CELERY_QUEUE=queue)  # fmt: skip
+    env.pop("CONTINUUM_JOBS_EAGER", None)
     subprocess.run([sys.executable, "manage.py", "migrate", "-v0"], cwd=ROOT, env=env, check=True)
     server = KubeAPIServer(build_kube_apiserver()).start()
-    gunicorn = None
+    gunicorn = worker = None
     try:
         import django
 
@@ -425,20 +474,17 @@ def main() -> None:
               f"scheduler in {time.monotonic() - began:.1f} s")  # fmt: skip
         port = free_port()
         gunicorn = start_gunicorn(args, env, port)
+        worker = start_worker(args, env)
         from django.db import connection
 
         connection.close()
-        meter = CpuMeter(gunicorn.pid, [p.pid for p in server.procs])
+        meter = CpuMeter(gunicorn.pid, [p.pid for p in server.procs], worker.pid)
         results, t0 = asyncio.run(drive(f"http://127.0.0.1:{port}/api/v1/rt-reports/", fleets, args, meter))
+        meter.pending, meter.waited = wait_reconciled()
         report(args, results, t0, fleets, meter)
     finally:
-        if gunicorn is not None:
-            gunicorn.terminate()
-            try:
-                gunicorn.wait(timeout=20)
-            except subprocess.TimeoutExpired:  # a loaded machine: its workers may not finish in time
-                os.killpg(gunicorn.pid, 9)  # its own session (start_new_session): the master and its workers
-                gunicorn.wait(timeout=20)
+        stop(gunicorn)
+        stop(worker)
         server.stop()
         from django.db import connections
 

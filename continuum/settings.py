@@ -270,6 +270,10 @@ CELERY_BROKER_TRANSPORT_OPTIONS |= {
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
 # `celery -A continuum beat`: lifts RT-Kube's expired node taints (the rt_scheduler process does it too).
 CELERY_BEAT_SCHEDULE = {"rt-lift-taints": {"task": "continuum.rt_lift_taints", "schedule": 5.0}}
+# A reported violation is stored in the request and reconciled by the continuum.rt_reconcile task; one whose
+# message never ran (broker down, worker lost) is reconciled by this sweep once it is this many seconds old.
+CONTINUUM_RT_RECONCILE_OVERDUE_S = float(os.environ.get("CONTINUUM_RT_RECONCILE_OVERDUE_S", "30"))
+CELERY_BEAT_SCHEDULE["rt-reconcile-overdue"] = {"task": "continuum.rt_reconcile_overdue", "schedule": 10.0}
 
 # ---- Jobs whose worker is gone (apps/jobs/liveness.py) -----------------------------------------------
 # A worker's run stamps Job.heartbeat every CONTINUUM_JOB_HEARTBEAT_S seconds. Every CONTINUUM_JOB_CHECK_S

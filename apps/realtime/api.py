@@ -19,6 +19,7 @@ from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.realtime.kinds import RealtimeJob
 from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.models import FleetToken
 from apps.tenancy.scoping import visible_fleets
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.safeload import load_yaml_all
@@ -55,6 +56,7 @@ from .serializers import (
     WhyNotQuerySerializer,
     WhyNotSerializer,
 )
+from .tasks import queue_reconcile
 
 
 class ClusterScoped(FleetScopedMixin):
@@ -63,7 +65,10 @@ class ClusterScoped(FleetScopedMixin):
 
 def _visible_cluster(request, pk) -> Cluster:
     try:
-        return Cluster.objects.select_related("rt_policy").get(pk=int(pk), fleet__in=visible_fleets(request))
+        auth = getattr(request, "auth", None)
+        # A fleet token (every robot's report) names its one fleet: no subquery to compile and run.
+        scope = {"fleet_id": auth.fleet_id} if isinstance(auth, FleetToken) else {"fleet__in": visible_fleets(request)}
+        return Cluster.objects.select_related("rt_policy").get(pk=int(pk), **scope)
     except (Cluster.DoesNotExist, TypeError, ValueError) as exc:
         raise ValidationError({"cluster": [f"no cluster {pk!r} among your fleets' clusters"]}) from exc
 
@@ -214,7 +219,9 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
     """Missed-deadline reports. POST a batch: ``{"cluster": id, "reports": [Monitoring objects or specs]}``.
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
     """
 
     queryset = MonitoringReport.objects.all()
@@ -235,25 +242,16 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
         received = timezone.now()
         try:
             reports = monitoring.parse_batch(payload)
-            if monitoring.may_call_kube(cluster, reports, policy):
-                monitoring.check_nodes(cluster, reports)  # the caller's error: 400, not a failed job
-                return self._ingest_in_job(request, cluster, payload, received)
-            result = monitoring.ingest(cluster, reports, policy=policy, received_at=received)
+            # With a Kubernetes API, the reconcile (evictions, taints) runs in the rt_reconcile task: the answer
+            # waits for the batch to be stored, never for Kubernetes.
+            result = monitoring.ingest(cluster, reports, policy=policy, received_at=received, defer=has_api(cluster))
         except InputError as exc:
             raise ValidationError({exc.field or "reports": [str(exc)]}) from exc
+        pending = result.pop("pending")
+        if pending:
+            result["events"] = queue_reconcile(cluster, pending)
+        result["queued"] = len(pending)
         return Response({"cluster": cluster.pk, **result}, status=status.HTTP_201_CREATED)
-
-    def _ingest_in_job(self, request, cluster: Cluster, payload, received) -> Response:
-        """A batch whose reconcile may evict and taint through Kubernetes: an ``rt_reports`` job. Without a
-        broker it runs at once and the answer is the same as in-request ingestion; with one, 202 and the job."""
-        items = payload.get("reports", [payload]) if isinstance(payload, dict) else payload
-        args = {"cluster": cluster.pk, "reports": items, "received_at": received.isoformat()}
-        job = start_job(RealtimeJob.RT_REPORTS, cluster.fleet, args, request.user)
-        if job.state == job.State.SUCCEEDED:
-            return Response({"cluster": cluster.pk, **(job.result or {})}, status=status.HTTP_201_CREATED)
-        if job.state == job.State.FAILED:
-            raise ValidationError({"reports": [job.error]})
-        return Response(JobSerializer(job, context=self.get_serializer_context()).data, status=status.HTTP_202_ACCEPTED)
 
     @staticmethod
     def _cluster(request, payload) -> Cluster:

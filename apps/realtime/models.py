@@ -412,10 +412,22 @@ class MonitoringReport(models.Model):
     #: The report's idempotency key: the client's ``id``/``report_id``, else a digest of its content. A report
     #: whose key the cluster has seen is a replay (a robot retrying a batch): acknowledged, not acted on again.
     report_id = models.CharField(max_length=160, null=True, blank=True)
+    #: A report over a threshold is stored first and reconciled after (off the web request: the
+    #: ``continuum.rt_reconcile`` task); the reconcile claims it by setting this, in the transaction that records
+    #: its eviction, so it is acted on exactly once. Null on a violation: not reconciled yet.
+    reconciled_at = models.DateTimeField(null=True, blank=True)
 
     class Meta:
         ordering = ["-received_at", "-pk"]
-        indexes = [models.Index(fields=["cluster", "received_at"])]
+        indexes = [
+            models.Index(fields=["cluster", "received_at"]),
+            # The violations still to reconcile (the sweep's query): a handful among millions of reports.
+            models.Index(
+                fields=["received_at"],
+                name="rt_report_pending",
+                condition=~models.Q(violation="") & models.Q(reconciled_at__isnull=True),
+            ),
+        ]
         constraints = [models.UniqueConstraint(fields=["cluster", "report_id"], name="unique_report_id")]
 
     def __str__(self) -> str:

@@ -121,11 +121,15 @@ def test_a_report_claimed_meanwhile_is_not_reconciled(rt_cluster, node0_pods):
     policy = RTPolicy.for_cluster(rt_cluster)
     result = monitoring.ingest(rt_cluster, [report], policy=policy)
     assert result["duplicates"] == [0] and result["events"] == []
-    # Past the look-up (as if the other request stored it between the look-up and the reconcile):
+    # A stored violation that another reconcile (a redelivered task, the sweep) claimed meanwhile:
     now = timezone.now()
-    row = (rt_cluster.pk, report.name, "node0", "slam", "", 50, 50, "period", None, None, now, "rest", "r1")
-    outcome = monitoring.reconcile(rt_cluster, policy, policy.monitor_policy(), report, "period", now, claim=row)
+    row = MonitoringReport.objects.create(
+        cluster=rt_cluster, name="slam-node0", node="node0", container_name="slam", missed_period=50,
+        missed_total=50, violation="period", received_at=now, report_id="r2", reconciled_at=now,
+    )  # fmt: skip
+    outcome = monitoring.reconcile(rt_cluster, policy, policy.monitor_policy(), report, "period", now, claim=row.pk)
     assert outcome is monitoring.DUPLICATE
+    assert monitoring.reconcile_stored(rt_cluster, [row.pk], policy) == []
     assert RTEvent.objects.count() == 0 and NodeTaint.objects.count() == 0
     assert RTPod.objects.filter(deleted_at__isnull=False).count() == 0
 
@@ -150,3 +154,38 @@ def test_a_batch_is_stored_in_one_statement_and_the_last_new_report_of_a_contain
     assert again.status_code == 201 and again.data["stored"] == 1 and again.data["duplicates"] == [1]
     assert Monitoring.objects.get(container_name="cam").missed_total == 30
     assert MonitoringReport.objects.count() == 5
+
+
+def test_a_deferred_violation_is_stored_first_and_reconciled_exactly_once(rt_cluster, node0_pods):
+    """Issue 15: the request stores the batch (violations included) and leaves the reconcile to the
+    rt_reconcile task: a report acknowledged is stored before any eviction, and the eviction decided for it is
+    carried out once, however often its task runs (a redelivered message, the overdue sweep)."""
+    policy = RTPolicy.for_cluster(rt_cluster)
+    reports = monitoring.parse_batch([spec("cam", "node1", 1, 1), spec(period=50, total=50, report_id="v1")])
+    result = monitoring.ingest(rt_cluster, reports, policy=policy, defer=True)
+    assert result["stored"] == 2 and result["violations"] == 1 and result["events"] == []
+    [pending] = result["pending"]
+    row = MonitoringReport.objects.get(pk=pending)
+    assert row.report_id == "v1" and row.violation == "period" and row.reconciled_at is None
+    assert RTEvent.objects.count() == 0 and RTPod.objects.filter(deleted_at__isnull=False).count() == 0
+    [event] = monitoring.reconcile_stored(rt_cluster, [pending], policy)
+    assert event.kind == "eviction" and event.victim.rsplit("/", 1)[1] in {"lidar", "planner"}  # stateless A
+    assert event.received_at == row.received_at  # Eq. 3.19 counts from the request, queueing included
+    assert MonitoringReport.objects.get(pk=pending).reconciled_at is not None
+    # The task again, the sweep, another cluster's task naming the row: nothing more.
+    assert monitoring.reconcile_stored(rt_cluster, [pending], policy) == []
+    assert monitoring.reconcile_overdue(older_than_s=0) == 0
+    assert RTEvent.objects.count() == 1 and RTPod.objects.filter(deleted_at__isnull=False).count() == 1
+
+
+def test_the_sweep_reconciles_a_violation_whose_task_never_ran(rt_cluster, node0_pods):
+    """A broker down when the report came: the violation is stored, unclaimed, and the sweep evicts for it
+    once it is overdue (not before: its task may still be on its way)."""
+    [report] = monitoring.parse_batch([spec(period=50, total=50)])
+    result = monitoring.ingest(rt_cluster, [report], defer=True)
+    assert monitoring.reconcile_overdue(older_than_s=3600) == 0
+    assert RTEvent.objects.count() == 0 and RTPod.objects.filter(deleted_at__isnull=False).count() == 0
+    assert monitoring.reconcile_overdue(older_than_s=0) == 1
+    assert RTEvent.objects.get().kind == "eviction"
+    assert MonitoringReport.objects.get(pk=result["pending"][0]).reconciled_at is not None
+    assert monitoring.reconcile_overdue(older_than_s=0) == 0 and RTEvent.objects.count() == 1
