@@ -64,8 +64,10 @@ def sync_detailed(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         body (ReportBatchRequest): For the API docs only: the endpoint reads the body itself (it
@@ -100,8 +102,10 @@ def sync(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         body (ReportBatchRequest): For the API docs only: the endpoint reads the body itself (it
@@ -131,8 +135,10 @@ async def asyncio_detailed(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         body (ReportBatchRequest): For the API docs only: the endpoint reads the body itself (it
@@ -165,8 +171,10 @@ async def asyncio(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         body (ReportBatchRequest): For the API docs only: the endpoint reads the body itself (it

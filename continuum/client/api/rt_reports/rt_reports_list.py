@@ -101,8 +101,10 @@ def sync_detailed(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         cluster (int | Unset):
@@ -160,8 +162,10 @@ def sync(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         cluster (int | Unset):
@@ -214,8 +218,10 @@ async def asyncio_detailed(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         cluster (int | Unset):
@@ -271,8 +277,10 @@ async def asyncio(
 
     Each report is stored, and reconciled when it exceeds the cluster's thresholds (eviction and node
     taint,
-    thesis 3.4); the answer lists what the monitor did. A malformed report rejects the whole batch
-    (400).
+    thesis 3.4). On a model-only cluster the answer lists what the monitor did; with a Kubernetes API
+    the
+    violations are stored and handed to the ``rt_reconcile`` task (``queued``), whose events are in
+    ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
 
     Args:
         cluster (int | Unset):
