@@ -19,12 +19,20 @@ hollow node (MiB, from /proc) and of the control plane. Then each client, in its
    (answers parsed into models; the Binding's answer read raw, as the client cannot parse it). The gateway reads
    the answers it does not use raw, one of the reasons it can be faster with more work per pod.
 
-Printed per client: pods/s (``--pods`` / seconds until the last Binding answered), Deployments/s, and the time
-from the start of its push until every pod, the bound ones and the Deployments' (made by the ReplicaSet
-controller, placed by kube-scheduler), reports Running on the hollow kubelets (polled every 0.5 s); then the
-gateway / plain ratio (goal: >= 1). The next client starts once the previous namespace is deleted. With
-``--rounds`` > 1 the order alternates (gateway first, then plain first, ...) so drift of the loaded machine
-falls on both; the ratio of the medians is printed. Hollow nodes accept at most 110 pods each.
+Both clients' timed windows hold the same work: the namespace's creation, then the pods (the gateway's window
+also holds its reads before the first write: namespace, nodes, pods already there; and before the Deployments:
+namespace, nodes, Deployments already there). Printed per client and round: pods/s (``--pods`` / seconds until
+the last Binding answered), Deployments/s, the client process's CPU time per pod and per Deployment (ms, from
+``time.process_time``: the cluster runs in other processes and the clients run one at a time, so it is the
+client's own cost, and it varies far less than the wall rates on a loaded machine), the load average, and the
+time from the start of its push until every pod, the bound ones and the Deployments' (made by the ReplicaSet
+controller, placed by kube-scheduler), reports Running on the hollow kubelets (polled every 0.5 s). The gateway
+then, once its pods run, pushes the same pods again (every pod exists and is bound: one list, no write), timed as
+``re-push``. The next client starts once the previous namespace is deleted. Each client first pushes a few
+pods and Deployments, unmeasured (first uses cost CPU: the client's models, TLS handshakes). Rounds alternate
+the order (gateway first, then plain first, ...) so drift of the loaded machine falls on both; the summary gives
+each figure's median and spread (min-max) over the rounds and the gateway / plain ratio of the medians (goal:
+>= 1 for the rates, <= 1 for the CPU). Hollow nodes accept at most 110 pods each.
 """
 
 from __future__ import annotations
@@ -160,36 +168,60 @@ class Observer:
         return timeout
 
 
-def run_gateway(kubeconfig: str, nodes: list[str], args, namespace: str) -> tuple[float, float]:
-    """(seconds for the pods, seconds for the Deployments) through the gateway."""
+class Timed:
+    """Wall and CPU seconds (this process's, all threads) of a ``with`` block."""
+
+    def __enter__(self) -> Timed:
+        self.wall, self.cpu = time.monotonic(), time.process_time()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.wall, self.cpu = time.monotonic() - self.wall, time.process_time() - self.cpu
+
+
+def gateway_work(nodes: list[str], args, namespace: str) -> tuple[PodSet, list[tuple[Assignment, str]]]:
     pods = PodSet(schedule=1, application=1, application_name="bench", namespace=namespace)
-    work = [(a, pod_name(pods, a.task, a.frame)) for a in assignments(nodes, args.pods)]
+    return pods, [(a, pod_name(pods, a.task, a.frame)) for a in assignments(nodes, args.pods)]
+
+
+def run_gateway(kubeconfig: str, nodes: list[str], args, namespace: str) -> dict[str, Timed]:
+    """Wall and CPU seconds of the pods and of the Deployments through the gateway."""
+    pods, work = gateway_work(nodes, args, namespace)
     bodies = [deployment(namespace, i, nodes[i % len(nodes)]) for i in range(args.deployments)]
     with gateway.api_client(kubeconfig, name="bench") as api_client:
-        began = time.monotonic()
+        with Timed() as pods_t:
+            outcomes, reason = push(pods, api_client, work)
+        check("gateway push", [o.message for o in outcomes if not o.ok], reason)
+        with Timed() as deploy_t:
+            deployments = gateway.Deployments(api_client, namespace, HASH)
+            _, current = deployments.prepare("continuum.io/group=bench")
+            results, reason = deployments.apply_all([(b, current.get(b["metadata"]["name"])) for b in bodies])
+        check("gateway Deployments", [message for ok, message in results if not ok], reason)
+    return {"pods": pods_t, "deployments": deploy_t}
+
+
+def repush_gateway(kubeconfig: str, nodes: list[str], args, namespace: str) -> Timed:
+    """The gateway's push of the same pods again: each is listed, found bound to its node and left alone."""
+    pods, work = gateway_work(nodes, args, namespace)
+    with gateway.api_client(kubeconfig, name="bench") as api_client, Timed() as again:
         outcomes, reason = push(pods, api_client, work)
-        pods_s = time.monotonic() - began
-        bad = [o.message for o in outcomes if not o.ok]
-        if reason or bad:
-            raise RuntimeError(f"gateway push failed: {reason or bad[0]} ({len(bad)} failed)")
-        began = time.monotonic()
-        deployments = gateway.Deployments(api_client, namespace, HASH)
-        _, current = deployments.prepare("continuum.io/group=bench")
-        results, reason = deployments.apply_all([(b, current.get(b["metadata"]["name"])) for b in bodies])
-        deploy_s = time.monotonic() - began
-    bad = [message for ok, message in results if not ok]
+    bad = [o.message for o in outcomes if not o.ok]
+    if reason or bad:  # a hollow node starved of CPU may be NotReady meanwhile: reported, not fatal
+        print(f"    re-push: {len(bad)} placements failed: {reason or bad[0]}", flush=True)
+    return again
+
+
+def check(what: str, bad: list[str], reason: str | None) -> None:
     if reason or bad:
-        raise RuntimeError(f"gateway Deployments failed: {reason or bad[0]} ({len(bad)} failed)")
-    return pods_s, deploy_s
+        raise RuntimeError(f"{what} failed: {reason or bad[0]} ({len(bad)} failed)")
 
 
-def run_plain(kubeconfig: str, nodes: list[str], args, namespace: str) -> tuple[float, float]:
+def run_plain(kubeconfig: str, nodes: list[str], args, namespace: str) -> dict[str, Timed]:
     """The same writes with the official client and a thread pool, no retries, no checks."""
     configuration = config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False).configuration
     configuration.connection_pool_maxsize = args.threads
     api_client = client.ApiClient(configuration)
     api, apps = client.CoreV1Api(api_client), client.AppsV1Api(api_client)
-    api.create_namespace(client.V1Namespace(metadata=client.V1ObjectMeta(name=namespace)))
     pods = PodSet(schedule=2, application=2, application_name="bench", namespace=namespace)
 
     def create_and_bind(a: Assignment) -> None:
@@ -207,18 +239,33 @@ def run_plain(kubeconfig: str, nodes: list[str], args, namespace: str) -> tuple[
     def create_deployment(body: dict) -> None:
         apps.create_namespaced_deployment(namespace, body)
 
-    def timed(fn: Callable, items: list) -> float:
-        began = time.monotonic()
-        with ThreadPoolExecutor(args.threads) as pool:
-            list(pool.map(fn, items))
-        return time.monotonic() - began
+    def timed(fn: Callable, items: list, first: Callable[[], object] = lambda: None) -> Timed:
+        with Timed() as t:
+            first()
+            with ThreadPoolExecutor(args.threads) as pool:
+                list(pool.map(fn, items))
+        return t
 
-    pods_s = timed(create_and_bind, assignments(nodes, args.pods))
-    deploy_s = timed(
+    # The namespace is made in the timed window, as the gateway's push makes it in its own.
+    pods_t = timed(
+        create_and_bind,
+        assignments(nodes, args.pods),
+        lambda: api.create_namespace(client.V1Namespace(metadata=client.V1ObjectMeta(name=namespace))),
+    )
+    deploy_t = timed(
         create_deployment, [deployment(namespace, i, nodes[i % len(nodes)]) for i in range(args.deployments)]
     )
     api_client.close()
-    return pods_s, deploy_s
+    return {"pods": pods_t, "deployments": deploy_t}
+
+
+def spread(values: list[float], unit: str, digits: int = 1) -> str:
+    """``median [min-max] unit`` of a figure over the rounds."""
+    return f"{statistics.median(values):.{digits}f} [{min(values):.{digits}f}-{max(values):.{digits}f}] {unit}"
+
+
+def load() -> str:
+    return "load average " + " ".join(f"{x:.1f}" for x in os.getloadavg())
 
 
 def main() -> None:
@@ -247,52 +294,94 @@ def main() -> None:
         nodes = [n["name"] for n in doc["nodes"]]
         print(f"== Pushing {args.pods} pods and {args.deployments} Deployments on {args.nodes} kubemark hollow nodes, "
               f"{args.threads} calls in flight, {args.rounds} round(s) ==")  # fmt: skip
-        print(f"cluster up in {startup:.1f} s; {rss_line(cluster)[0]}")
+        print(f"cluster up in {startup:.1f} s; {rss_line(cluster)[0]}; {load()}")
         print(f"(bound pods name schedulerName {settings.CONTINUUM_SCHEDULER_NAME}: kube-scheduler places only the "
               "Deployments' pods)")  # fmt: skip
         observer = Observer(kubeconfig)
         tag = uuid.uuid4().hex[:6]
         clients = {"gateway": run_gateway, "plain": run_plain}
-        measured: dict[str, list[tuple]] = {"gateway": [], "plain": []}
+        measured: dict[str, list[dict[str, float]]] = {"gateway": [], "plain": []}
         rows = []
+        n_pods, n_dep = args.pods, max(args.deployments, 1)
+        # Unmeasured warm-up of each client: the first use of a model, an API class or a connection costs CPU
+        # (pydantic validators, TLS handshakes) that would otherwise fall on whichever client goes first.
+        warm = argparse.Namespace(**{**vars(args), "pods": min(args.pods, 2 * args.threads),
+                                     "deployments": min(args.deployments, 4)})  # fmt: skip
+        for label, run in clients.items():
+            run(kubeconfig, nodes, warm, f"bench-{tag}-warm-{label}")
+            if label == "gateway":
+                repush_gateway(kubeconfig, nodes, warm, f"bench-{tag}-warm-{label}")
+            observer.delete(f"bench-{tag}-warm-{label}")
+        print(f"warmed up both clients ({warm.pods} pods, {warm.deployments} Deployments each); {load()}", flush=True)
         for r in range(args.rounds):
             order = ["gateway", "plain"] if r % 2 == 0 else ["plain", "gateway"]
             for label in order:
                 namespace = f"bench-{tag}-{r}-{label}"
                 t0 = time.monotonic()
-                pods_s, deploy_s = clients[label](kubeconfig, nodes, args, namespace)
+                timed = clients[label](kubeconfig, nodes, args, namespace)
+                pods_t, deploy_t = timed["pods"], timed["deployments"]
+                figures = {
+                    "pods/s": n_pods / pods_t.wall,
+                    "Deployments/s": args.deployments / deploy_t.wall if args.deployments else 0.0,
+                    "CPU ms/pod": 1000 * pods_t.cpu / n_pods,
+                    "CPU ms/Deployment": 1000 * deploy_t.cpu / n_dep,
+                }
+                measured[label].append(figures)
+                load1 = os.getloadavg()[0]
+                f = figures
                 print(
-                    f"  round {r + 1} {label}: pushed, {args.pods / pods_s:.1f} pods/s, "
-                    f"{args.deployments / max(deploy_s, 1e-9):.1f} Deployments/s; waiting for Running",
+                    f"  round {r + 1} {label}: {f['pods/s']:.1f} pods/s ({f['CPU ms/pod']:.2f} ms CPU/pod), "
+                    f"{f['Deployments/s']:.1f} Deployments/s ({f['CPU ms/Deployment']:.2f} ms CPU/Deployment); "
+                    f"load {load1:.1f}; waiting for Running",
                     flush=True,
                 )
                 bound_s, deployed_s, all_s, lost = observer.wait_running(
                     namespace, args.pods, args.deployments, t0, args.timeout
                 )
+                again = None
+                if label == "gateway":  # after the wait: it must not delay the pods' start
+                    again = repush_gateway(kubeconfig, nodes, args, namespace)
+                    figures["re-push s"] = again.wall
+                    figures["re-push CPU ms/pod"] = 1000 * again.cpu / n_pods
+                    cpu_ms = figures["re-push CPU ms/pod"]
+                    print(f"    re-push: {again.wall:.2f} s ({cpu_ms:.3f} ms CPU/pod)", flush=True)
                 if lost:
                     print(
                         f"    {lost} bound pods evicted meanwhile (their hollow node went NotReady): not counted",
                         flush=True,
                     )
-                measured[label].append((pods_s, deploy_s, all_s))
-                row = [f"{r + 1}", label, args.pods / pods_s, args.deployments / deploy_s if deploy_s else 0.0,
-                       pods_s, deploy_s, bound_s, deployed_s, all_s]  # fmt: skip
-                rows.append(row)
-                print(f"  round {r + 1} {label}: {args.pods} pods in {pods_s:.2f} s ({args.pods / pods_s:.1f} pods/s), "
-                      f"{args.deployments} Deployments in {deploy_s:.2f} s; all Running {all_s:.1f} s after the "
-                      "push began", flush=True)  # fmt: skip
+                figures["all Running s"] = all_s
+                rows.append([f"{r + 1}", label, figures["pods/s"], figures["Deployments/s"], figures["CPU ms/pod"],
+                             figures["CPU ms/Deployment"], pods_t.wall, deploy_t.wall,
+                             again.wall if again else "-", bound_s, deployed_s, all_s, load1])  # fmt: skip
                 gone = observer.delete(namespace)
                 print(f"    namespace deleted in {gone:.1f} s", flush=True)
         print()
-        print(table(["round", "client", "pods/s", "Deployments/s", "pods s", "Deployments s", "bound Running s",
-                     "Deployment pods Running s", "all Running s"], rows))  # fmt: skip
-        med = {k: [statistics.median(x[i] for x in v) for i in range(3)] for k, v in measured.items()}
-        print(f"gateway / plain, pods/s: {med['plain'][0] / med['gateway'][0]:.2f}x (median over rounds; goal >= 1)")
+        print(table(["round", "client", "pods/s", "Deployments/s", "CPU ms/pod", "CPU ms/Deployment", "pods s",
+                     "Deployments s", "re-push s", "bound Running s", "Deployment pods Running s", "all Running s",
+                     "load 1 min"], rows))  # fmt: skip
+        print()
+        print(f"median [min-max] over {args.rounds} round(s); {load()}")
+        units = {"pods/s": "pods/s", "Deployments/s": "Deployments/s", "CPU ms/pod": "ms CPU/pod",
+                 "CPU ms/Deployment": "ms CPU/Deployment", "all Running s": "s until all Running"}  # fmt: skip
+        med = {}
+        for key, unit in units.items():
+            if key in ("Deployments/s", "CPU ms/Deployment") and not args.deployments:
+                continue
+            g = [f[key] for f in measured["gateway"]]
+            p = [f[key] for f in measured["plain"]]
+            med[key] = statistics.median(g) / statistics.median(p)
+            digits = 2 if "CPU" in key else 1
+            print(f"  {key:18s} gateway {spread(g, unit, digits)}; plain {spread(p, unit, digits)}; "
+                  f"gateway / plain {med[key]:.2f}x")  # fmt: skip
+        runs = measured["gateway"]
+        print(f"  gateway re-push of the {args.pods} pods (all exist): "
+              f"{spread([f['re-push s'] for f in runs], 's', 2)}, "
+              f"{spread([f['re-push CPU ms/pod'] for f in runs], 'ms CPU/pod', 3)}")  # fmt: skip
+        print(f"gateway / plain, pods/s: {med['pods/s']:.2f}x (ratio of the medians; goal >= 1)")
         if args.deployments:
-            print(f"gateway / plain, Deployments/s: {med['plain'][1] / med['gateway'][1]:.2f}x")
-        total_g, total_p = med["gateway"][0] + med["gateway"][1], med["plain"][0] + med["plain"][1]
-        print(f"gateway / plain, all writes (pods + Deployments): {total_p / total_g:.2f}x")
-        print(f"time until all Running, gateway vs plain: {med['gateway'][2]:.1f} s vs {med['plain'][2]:.1f} s")
+            print(f"gateway / plain, Deployments/s: {med['Deployments/s']:.2f}x")
+        print(f"gateway / plain, CPU per pod: {med['CPU ms/pod']:.2f}x (goal <= 1)")
         print(f"after the runs: {rss_line(cluster)[0]}")
         observer.api_client.close()
     finally:

@@ -201,19 +201,26 @@ def push_placement(placement: Placement, progress: Progress | None = None) -> di
             for container in order:
                 outcomes.setdefault(container, (False, fatal))
     with transaction.atomic():
-        for container in order:
-            ok, message = outcomes[container]
-            ContainerDeployment.objects.update_or_create(
-                placement=placement,
-                container=container,
-                defaults={
-                    "node": placed.get(container) or "",
-                    "deployment": names[container],
-                    "namespace": namespace,
-                    "state": ContainerDeployment.State.APPLIED if ok else ContainerDeployment.State.FAILED,
-                    "message": message[:500],
-                },
-            )
+        # One upsert for all the containers (not a query or two per container): the row of a container pushed
+        # before is updated in place, keeping what the pod watcher stored on it.
+        state = ContainerDeployment.State
+        ContainerDeployment.objects.bulk_create(
+            [
+                ContainerDeployment(
+                    placement=placement,
+                    container=container,
+                    node=placed.get(container) or "",
+                    deployment=names[container],
+                    namespace=namespace,
+                    state=state.APPLIED if outcomes[container][0] else state.FAILED,
+                    message=outcomes[container][1][:500],
+                )
+                for container in order
+            ],
+            update_conflicts=True,
+            unique_fields=["placement", "container"],
+            update_fields=["node", "deployment", "namespace", "state", "message", "updated"],
+        )
         # The Deployments just applied now follow this placement, not an older one of the same clustering.
         applied = [names[c] for c in order if outcomes[c][0]]
         ContainerDeployment.objects.filter(

@@ -18,7 +18,7 @@ from kubernetes import client
 from kubernetes.client.exceptions import ApiException
 
 from . import nodes, parallel, pods
-from .connect import API_ERRORS, call, describe
+from .connect import API_ERRORS, call, describe, read_json
 
 #: Replaces answered 409 (changed meanwhile) retried against a fresh read before giving up.
 REPLACE_ATTEMPTS = 5
@@ -40,16 +40,18 @@ class Deployments:
     def node_problems(self) -> dict[str, str | None]:
         return nodes.node_problems(self.api_client)
 
-    def existing(self, label_selector: str) -> dict[str, Any]:
-        """The namespace's Deployments matching ``label_selector``, by name."""
-        items = call(
+    def existing(self, label_selector: str) -> dict[str, dict[str, Any]]:
+        """The namespace's Deployments matching ``label_selector``, by name, as the server's JSON (only the
+        hash annotation and the resourceVersion are read: parsing whole V1Deployments would cost more CPU)."""
+        listing = call(
+            read_json,
             self.apps.list_namespaced_deployment,
             self.namespace,
             label_selector=label_selector,
             what=f"list Deployments in namespace {self.namespace}",
             server=self.server,
-        ).items
-        return {d.metadata.name: d for d in items}
+        )
+        return {d["metadata"]["name"]: d for d in (listing or {}).get("items") or []}
 
     def prepare(self, label_selector: str) -> tuple[dict[str, str | None], dict[str, Any]]:
         """Before a push, at once: the namespace made if missing, the nodes' problems
@@ -59,8 +61,9 @@ class Deployments:
         )
         return problems, current
 
-    def _read(self, name: str):
+    def _read(self, name: str) -> dict[str, Any]:
         return call(
+            read_json,
             self.apps.read_namespaced_deployment,
             name,
             self.namespace,
@@ -68,8 +71,12 @@ class Deployments:
             server=self.server,
         )
 
-    def apply(self, body: dict[str, Any], current) -> tuple[bool, str]:
-        """(ok, what happened): created, updated or unchanged, or why the API refused."""
+    def _hash(self, current: dict[str, Any]) -> str | None:
+        return ((current.get("metadata") or {}).get("annotations") or {}).get(self.hash_annotation)
+
+    def apply(self, body: dict[str, Any], current: dict[str, Any] | None) -> tuple[bool, str]:
+        """(ok, what happened): created, updated or unchanged, or why the API refused. ``current``: the
+        Deployment's JSON as listed by :meth:`existing` (``None``: not there)."""
         name = body["metadata"]["name"]
         wanted = body["metadata"]["annotations"][self.hash_annotation]
         if current is None:
@@ -92,11 +99,10 @@ class Deployments:
                 # retried): compare with what is there.
                 current = self._read(name)
         for _ in range(REPLACE_ATTEMPTS):
-            annotations = current.metadata.annotations or {}
-            if annotations.get(self.hash_annotation) == wanted:
+            if self._hash(current) == wanted:
                 return True, "unchanged"
             replacement = json.loads(json.dumps(body))
-            replacement["metadata"]["resourceVersion"] = current.metadata.resource_version
+            replacement["metadata"]["resourceVersion"] = current["metadata"]["resourceVersion"]
             try:
                 pods.drain(
                     call(
@@ -116,7 +122,7 @@ class Deployments:
                 # Changed since we read it: the Deployment controller's status writes bump the resourceVersion,
                 # and so does a retried replace of ours the server had done. Read again: done if the hash is ours.
                 current = self._read(name)
-                if (current.metadata.annotations or {}).get(self.hash_annotation) == wanted:
+                if self._hash(current) == wanted:
                     return True, "updated"
         return False, f"Deployment {name} not updated: it kept changing while we wrote it"
 

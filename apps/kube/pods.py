@@ -31,7 +31,7 @@ from continuum.engine.core.schedule import Assignment
 from continuum.engine.heft4k.heft4k import nice_container
 
 from . import nodes, parallel
-from .connect import API_ERRORS, REQUEST_TIMEOUT, call, describe
+from .connect import API_ERRORS, REQUEST_TIMEOUT, call, describe, read_json
 from .resources import pod_event
 
 log = logging.getLogger(__name__)
@@ -175,26 +175,37 @@ class Pusher:
     def ready_nodes(self) -> set[str]:
         return nodes.ready_nodes(self.api_client)
 
-    def existing_pods(self) -> dict[str, object]:
-        """The application's pods by name: a remapped schedule keeps pods created for the schedule it came from."""
+    def existing_pods(self) -> dict[str, dict]:
+        """The application's pods by name, as the server's JSON: a remapped schedule keeps pods created for the
+        schedule it came from. Raw JSON, not models: a re-push lists every pod of the schedule, and parsing a
+        V1Pod costs more CPU than the few fields read here."""
         selector = f"{PREFIX}/application={self.pods.application}"
-        pods = call(
+        listing = call(
+            read_json,
             self.api.list_namespaced_pod,
             self.namespace,
             label_selector=selector,
             what=f"list pods in namespace {self.namespace}",
             server=self.server,
-        ).items
-        return {p.metadata.name: p for p in pods}
+        )
+        return {p["metadata"]["name"]: p for p in (listing or {}).get("items") or []}
 
-    def place(self, assignment: Assignment, name: str, pod, problems: dict[str, str | None]) -> Outcome:
+    def _read_pod(self, name: str) -> dict:
+        return call(
+            read_json, self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server
+        )
+
+    def place(self, assignment: Assignment, name: str, pod: dict | None, problems: dict[str, str | None]) -> Outcome:
+        """Create ``name`` unless ``pod`` (its JSON, from :meth:`existing_pods`) exists, then bind it to the
+        assignment's node unless it is bound there already."""
         node = assignment.processor
         if pod is not None and (mismatch := self._mismatch(pod, name, assignment)):
             return Outcome(False, mismatch)  # listed under the application's label, but another task's pod
-        if pod is not None and pod.spec.node_name:
-            if pod.spec.node_name == node:
+        bound_to = _node_name(pod)
+        if bound_to:
+            if bound_to == node:
                 return Outcome(True, f"bound to {node}")
-            return Outcome(False, f"pod {name} is already bound to node {pod.spec.node_name!r}, not {node!r}")
+            return Outcome(False, f"pod {name} is already bound to node {bound_to!r}, not {node!r}")
         if node not in problems:
             return Outcome(False, f"node {node!r} not found in the Kubernetes API")
         if problems[node]:
@@ -225,13 +236,13 @@ class Pusher:
 
     def _not_ours(self, name: str, assignment: Assignment) -> str | None:
         """Why the existing pod ``name`` is not the pod of ``assignment`` (``None``: it is)."""
-        pod = call(self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server)
-        return self._mismatch(pod, name, assignment)
+        return self._mismatch(self._read_pod(name), name, assignment)
 
-    def _mismatch(self, pod, name: str, assignment: Assignment) -> str | None:
-        """Why the pod object ``pod`` (named ``name``) is not the pod of ``assignment`` (``None``: it is)."""
-        annotations = pod.metadata.annotations or {}
-        labels = pod.metadata.labels or {}
+    def _mismatch(self, pod: dict, name: str, assignment: Assignment) -> str | None:
+        """Why the pod ``pod`` (its JSON; named ``name``) is not the pod of ``assignment`` (``None``: it is)."""
+        metadata = pod.get("metadata") or {}
+        annotations = metadata.get("annotations") or {}
+        labels = metadata.get("labels") or {}
         if (
             annotations.get(f"{PREFIX}/task") != assignment.task
             or labels.get(f"{PREFIX}/frame") != str(assignment.frame)
@@ -261,10 +272,7 @@ class Pusher:
             )
         except ApiException as exc:
             if exc.status == 409:
-                bound = call(
-                    self.api.read_namespaced_pod, name, self.namespace, what=f"read pod {name}", server=self.server
-                )
-                if bound.spec.node_name == node:
+                if _node_name(self._read_pod(name)) == node:
                     return Outcome(True, f"bound to {node}")
                 return Outcome(False, f"binding refused: {describe(exc)}")
             return Outcome(False, f"binding refused: {describe(exc)}")
@@ -299,6 +307,11 @@ class Pusher:
                 return False
             raise
         return True
+
+
+def _node_name(pod: dict | None) -> str:
+    """The node a pod (its JSON) is bound to ('': none, or no pod)."""
+    return ((pod or {}).get("spec") or {}).get("nodeName") or ""
 
 
 def push(

@@ -228,3 +228,25 @@ def test_an_unreachable_api_fails_every_container_cleanly(kube_admin, api, kube_
     rows = ContainerDeployment.objects.filter(placement=placement)
     assert rows.count() == 4 and {r.state for r in rows} == {"failed"}
     assert all("Kubernetes API unreachable" in r.message for r in rows)
+
+
+def test_pushing_a_placement_again_updates_its_rows_in_place(api, kube_cluster, kube_namespace, apps_api):
+    """The rows of a pushed placement are written in one upsert: a second push updates each container's row
+    (same row, new state and message) and keeps what the pod watcher stored on it."""
+    placement = autoware_placement(api, kube_cluster)
+    assert run(api, f"/api/v1/placements/{placement.pk}/push/")["state"] == "succeeded"
+    rows = ContainerDeployment.objects.filter(placement=placement)
+    before = {r.container: r for r in rows}
+    assert len(before) == 4 and {r.message for r in before.values()} == {"created"}
+    rows.update(state="failed", message="stale", pod_phase="Running", pod_node="watched-node")
+    job = run(api, f"/api/v1/placements/{placement.pk}/push/")
+    assert job["state"] == "succeeded", job["error"]
+    assert job["result"]["unchanged"] == 4 and job["result"]["created"] == 0
+    after = {r.container: r for r in ContainerDeployment.objects.filter(placement=placement)}
+    assert {c: r.pk for c, r in after.items()} == {c: r.pk for c, r in before.items()}
+    for container, row in after.items():
+        assert (row.state, row.message) == ("applied", "unchanged")
+        assert (row.pod_phase, row.pod_node) == ("Running", "watched-node")  # the watcher's, untouched
+        assert row.deployment == before[container].deployment and row.node == before[container].node
+        assert row.updated > before[container].updated
+    assert set(deployments(apps_api, kube_namespace)) == {r.deployment for r in after.values()}
