@@ -31,7 +31,7 @@ from continuum.client.api.events import events_create
 from continuum.client.api.jobs import jobs_retrieve
 from continuum.client.api.rosgraphs import rosgraphs_import_create
 from continuum.client.api.rt_reports import rt_reports_create
-from continuum.client.api.schedules import schedules_push_create
+from continuum.client.api.schedules import schedules_assignments_list, schedules_push_create
 from continuum.client.models import (
     ApplicationImportRequest,
     EventBatchRequest,
@@ -303,6 +303,27 @@ class Fleet:
     def push(self, schedule: int) -> Job:
         """Start the job that binds a schedule's pods in its cluster's Kubernetes API."""
         return self.parsed(self.call("push", schedules_push_create.sync_detailed, schedule))
+
+    def assignments(self, schedule: int, page: int = 1000, **filters: Any) -> Iterator[Any]:
+        """Every assignment of a schedule, in start order, read page by page from
+        ``/schedules/{id}/assignments/`` (the schedule's own detail inlines at most 1,000); ``filters`` are that
+        endpoint's (``task``, ``processor``, ``frame``, ``placement``)."""
+        offset = 0
+        while True:
+            resp = self.call(
+                "assignments",
+                schedules_assignments_list.sync_detailed,
+                schedule,
+                limit=page,
+                offset=offset,
+                idempotent=True,
+                **filters,
+            )
+            batch = self.parsed(resp)
+            yield from batch.results
+            offset += len(batch.results)
+            if not batch.results or not batch.next_:
+                return
 
     def job(self, job_id: uuid.UUID | str) -> Job | JobDetail:
         jid = job_id if isinstance(job_id, uuid.UUID) else uuid.UUID(str(job_id))

@@ -23,4 +23,7 @@ def test_schedule_and_wait_while_a_worker_runs_it(fleet_client, fleet, start_wor
     assert any(state == "running" and 0 < pct < 100 for state, pct in seen), seen
     assert [pct for _, pct in seen] == sorted(pct for _, pct in seen)  # progress never goes back
     schedule = schedules_retrieve.sync(done.result["schedule"], client=fleet_client.client)
-    assert len(schedule.assignments) == 6000 and schedule.makespan == done.result["makespan"]
+    assert schedule.assignment_count == 6000 and schedule.makespan == done.result["makespan"]
+    assert len(schedule.assignments) == 1000 and not schedule.assignments_complete  # the detail stays bounded
+    every = list(fleet_client.assignments(schedule.id))
+    assert len(every) == 6000 and len({(a.task, a.frame) for a in every}) == 6000
