@@ -176,15 +176,16 @@ def test_coordinator_milp_moves_monitors_off_an_overloaded_unit(network):
     bus, start, procs = network
     for name, text in MONITORS.items():
         bus.register_monitor(name, text)
+    # placed on edge before any coordinator can run (else one may start the unplaced monitors on server first)
+    for name in MONITORS:
+        bus.set_allocation(name, "edge")
+    bus.send("edge", "EXEC", monitors=sorted(MONITORS))  # edge reads its requests from the start
     # edge: little free CPU and a 60 % threshold -> no capacity; server: plenty, 20 ms away
     start("edge", "--free-cpu", "1", "--threshold", "60", "--monitor-cpu", "5", "--allocate",
           "--allocate-period", "0.3")  # fmt: skip
     start("server", "--free-cpu", "90", "--delay-ms", "20", "--monitor-cpu", "2", "--allocate",
           "--allocate-period", "0.3")  # fmt: skip
     _wait(lambda: len(bus.handlers()) == 2, what="handlers reporting")
-    for name in MONITORS:
-        bus.set_allocation(name, "edge")
-    bus.send("edge", "EXEC", monitors=sorted(MONITORS))
     _wait(lambda: sum(1 for k, _ in bus.acks() if k == "exec") == 3, what="EXEC acknowledged")
     _wait(lambda: bus.coordinator() == "server", what="server elected")
     events = _stream(random.Random(3), 8000)
