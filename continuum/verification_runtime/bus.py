@@ -11,6 +11,9 @@ Keys (all under one prefix, so several networks and tests can share a Redis serv
     {p}:monitors          hash monitor -> JSON {assertion, constants, options}
     {p}:handlers          hash handler -> JSON statistics (the stat handler's report, also its heartbeat)
     {p}:allocation        hash monitor -> handler running it (kept by the coordinator)
+    {p}:moving            hash monitor -> JSON {source, target}: migrations in flight (set by the coordinator
+                          that sent MIGRATE, cleared by the handler that completes or refuses it), so a newly
+                          elected coordinator does not act on a monitor whose hand-over is under way
     {p}:coordinator       the elected coordinator's name, with a time-to-live renewed while it answers
 """
 
@@ -102,6 +105,15 @@ class Bus:
 
     def set_allocation(self, monitor: str, handler: str) -> None:
         self.redis.hset(self.key("allocation"), monitor, handler)
+
+    def start_moving(self, monitor: str, source: str, target: str) -> None:
+        self.redis.hset(self.key("moving"), monitor, json.dumps({"source": source, "target": target}))
+
+    def moving(self) -> dict[str, dict]:
+        return {k: json.loads(v) for k, v in self.redis.hgetall(self.key("moving")).items()}
+
+    def stop_moving(self, monitor: str) -> None:
+        self.redis.hdel(self.key("moving"), monitor)
 
     def coordinator(self) -> str | None:
         return self.redis.get(self.key("coordinator"))

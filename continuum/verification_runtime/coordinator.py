@@ -1,6 +1,15 @@
 """The coordinator (thesis §3.5, Fig. 3.42; spec 03 §9): elected among the handlers, it runs the
 allocation MILP every period on the handlers' statistics and sends EXEC/MIGRATE requests for the
-differences from the current allocation."""
+differences from the current allocation.
+
+Exactly one handler has each monitor active (spec 03 §9), so the coordinator never starts a second copy:
+
+* a handler whose report is late (not *live*: a busy or descheduled process) is left alone with its
+  monitors; only one silent for ``dead_after`` seconds (or shut down) is *gone*, and only then are its
+  monitors started afresh elsewhere;
+* migrations in flight are kept in Redis (:meth:`Bus.moving`), not in this object, so a coordinator
+  elected while a hand-over is under way does not move or restart that monitor.
+"""
 
 from __future__ import annotations
 
@@ -15,13 +24,12 @@ if TYPE_CHECKING:
 
 
 class Coordinator:
-    def __init__(self, handler: Handler, period: float = 1.0, default_cpu: float = 0.5):
+    def __init__(self, handler: Handler, period: float = 1.0, default_cpu: float = 0.5, dead_after: float = 10.0):
         self.handler, self.bus, self.period = handler, handler.bus, period
+        self.dead_after = dead_after
         self.allocator = MonitorAllocator(window=10, time_limit=max(0.1, period / 2))
         self.default_cpu = default_cpu
         self.next_run = 0.0
-        self.acks_read = 0
-        self.moving: dict[str, str] = {}
         self.variables: dict[str, list[str]] = {}
         self.last: dict | None = None
         self.degraded: set[str] = set()
@@ -31,8 +39,10 @@ class Coordinator:
         if now < self.next_run:
             return
         self.next_run = now + self.period
-        self._read_acks()
-        live = self.live_handlers()
+        reports = self.bus.handlers()
+        live = self.live_handlers(reports)
+        gone = self.gone_handlers(reports)
+        moving = self._moving(gone)
         doc = self.stats_doc(live)
         if doc is None:
             return
@@ -41,13 +51,15 @@ class Coordinator:
         current = self.bus.allocation()
         for monitor, node in result.allocation.items():
             host = current.get(monitor)
-            if monitor in self.moving or host == node:
+            if monitor in moving or host == node:
                 continue
-            if host is None or host not in live:  # never placed, or its handler is gone: start it afresh
+            if host is None or host in gone:  # never placed, or its handler is gone: start it afresh
                 self.bus.send(node, "EXEC", monitors=[monitor])
-            else:
+            elif host in live:
+                self.bus.start_moving(monitor, host, node)  # before MIGRATE: the target may answer at once
                 self.bus.send(host, "MIGRATE", monitor=monitor, to=node)
-                self.moving[monitor] = node
+            else:  # late but not gone: it still runs the monitor; a second copy would duplicate verdicts
+                continue
             self.bus.set_allocation(monitor, node)
         # overload strategy 2 on the overloaded units' tolerant monitors (strategy 1, priority by active
         # instances, is always on in the handlers' schedulers)
@@ -58,20 +70,30 @@ class Coordinator:
             self.bus.send(result.allocation[monitor], "DEGRADE", monitors=[monitor], drop=False)
         self.degraded = drop
 
-    def _read_acks(self) -> None:
-        acks = self.bus.acks()
-        for kind, body in acks[self.acks_read :]:
-            if kind in ("migrated", "migrate_refused"):
-                self.moving.pop(body["monitor"], None)
-        self.acks_read = len(acks)
+    def _moving(self, gone: set[str]) -> set[str]:
+        """Monitors whose migration is in flight; one whose source or target is gone will never finish."""
+        moving = set()
+        for monitor, move in self.bus.moving().items():
+            if move["source"] in gone or move["target"] in gone:
+                self.bus.stop_moving(monitor)
+            else:
+                moving.add(monitor)
+        return moving
 
-    def live_handlers(self) -> dict[str, dict]:
+    def live_handlers(self, reports: dict[str, dict] | None = None) -> dict[str, dict]:
+        """Handlers that reported within 3 stats periods: the MILP places monitors on these only."""
         horizon = 3 * self.handler.stats_period
+        reports = self.bus.handlers() if reports is None else reports
         return {
             name: report
-            for name, report in self.bus.handlers().items()
+            for name, report in reports.items()
             if time.time() - report["wall"] <= horizon and not report.get("shutting_down")
         }
+
+    def gone_handlers(self, reports: dict[str, dict]) -> set[str]:
+        """Handlers silent for ``dead_after`` seconds, or shutting down: their monitors may start elsewhere."""
+        now = time.time()
+        return {n for n, r in reports.items() if now - r["wall"] > self.dead_after or r.get("shutting_down")}
 
     def stats_doc(self, live: dict[str, dict]) -> dict | None:
         """The ``continuum.monitorstats/v1`` document built from the live handlers' reports."""

@@ -80,6 +80,7 @@ class Handler:
         discovery: float = 1.0,
         max_lag_ms: float = 500.0,
         max_buffer: int = 10_000,
+        dead_after: float = 10.0,
     ):
         self.name, self.bus = name, bus
         self.free_cpu, self.cores = free_cpu, cores or os.cpu_count() or 1
@@ -94,7 +95,7 @@ class Handler:
         self.shutting_down = False
         self.next_stats = 0.0
         self.period_start = time.monotonic()
-        self.coordinator = Coordinator(self, period=allocate_period) if allocate else None
+        self.coordinator = Coordinator(self, period=allocate_period, dead_after=dead_after) if allocate else None
         self.is_coordinator = False
         self.discovery_until = time.monotonic() + discovery  # hear the other handlers before electing
         self.degraded: set[str] = set()  # monitors allowed to drop events while this unit is overloaded
@@ -158,6 +159,8 @@ class Handler:
     def on_migrate(self, monitor: str, to: str) -> None:
         copy = self.copies.get(monitor)
         if copy is None or copy.role != "active" or to == self.name:
+            if copy is None or copy.role == "active":  # not a hand-over of ours in flight: nothing will finish it
+                self.bus.stop_moving(monitor)
             self.bus.ack("migrate_refused", monitor=monitor, handler=self.name, to=to)
             return
         migrate_begin(copy.monitor)  # step 2a
@@ -178,6 +181,7 @@ class Handler:
         migrate_complete(copy.monitor, payload)  # step 6
         copy.role, copy.peer, copy.seen = "active", None, []
         moved = len(payload["state"]["pre"].get("bits", []))  # instants handed over, compressed (step 5)
+        self.bus.stop_moving(monitor)  # installed: a coordinator may move it again
         self.bus.ack("migrated", monitor=monitor, source=source, handler=self.name, moved=moved)
 
     def on_degrade(self, monitors: list[str], drop: bool = True) -> None:
@@ -328,6 +332,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--discovery", type=float, default=1.0, help="seconds of listening before an election")
     parser.add_argument("--max-lag-ms", type=float, default=500.0, help="drop trigger: event-time lag")
     parser.add_argument("--max-buffer", type=int, default=10_000, help="drop trigger: events waiting")
+    parser.add_argument(
+        "--dead-after",
+        type=float,
+        default=10.0,
+        help="seconds without a report before the coordinator restarts a handler's monitors elsewhere",
+    )
     args = parser.parse_args(argv)
     handler = Handler(
         args.name,
@@ -344,6 +354,7 @@ def main(argv: list[str] | None = None) -> None:
         discovery=args.discovery,
         max_lag_ms=args.max_lag_ms,
         max_buffer=args.max_buffer,
+        dead_after=args.dead_after,
     )
     signal.signal(signal.SIGTERM, lambda *_: handler.on_shutdown())
     handler.run()

@@ -176,15 +176,16 @@ def test_coordinator_milp_moves_monitors_off_an_overloaded_unit(network):
     bus, start, procs = network
     for name, text in MONITORS.items():
         bus.register_monitor(name, text)
+    # placed on edge before any coordinator can run (else one may start the unplaced monitors on server first)
+    for name in MONITORS:
+        bus.set_allocation(name, "edge")
+    bus.send("edge", "EXEC", monitors=sorted(MONITORS))  # edge reads its requests from the start
     # edge: little free CPU and a 60 % threshold -> no capacity; server: plenty, 20 ms away
     start("edge", "--free-cpu", "1", "--threshold", "60", "--monitor-cpu", "5", "--allocate",
           "--allocate-period", "0.3")  # fmt: skip
     start("server", "--free-cpu", "90", "--delay-ms", "20", "--monitor-cpu", "2", "--allocate",
           "--allocate-period", "0.3")  # fmt: skip
     _wait(lambda: len(bus.handlers()) == 2, what="handlers reporting")
-    for name in MONITORS:
-        bus.set_allocation(name, "edge")
-    bus.send("edge", "EXEC", monitors=sorted(MONITORS))
     _wait(lambda: sum(1 for k, _ in bus.acks() if k == "exec") == 3, what="EXEC acknowledged")
     _wait(lambda: bus.coordinator() == "server", what="server elected")
     events = _stream(random.Random(3), 8000)
@@ -226,3 +227,42 @@ def test_degraded_tolerant_monitor_drops_events_without_false_positives(network)
     assert set(got["hard"]) == truth  # the hard monitor is exact
     assert set(got["soft"]) <= truth  # the tolerant one only misses violations (false negatives)
     assert len(got["soft"]) < len(truth)
+
+
+def test_coordinator_leaves_a_late_handler_alone_and_never_starts_a_second_copy(network):
+    """A handler descheduled for a moment (SIGSTOP: its report goes stale, as on a loaded machine) still
+    runs its monitors: a coordinator elected meanwhile must neither restart them elsewhere nor forget a
+    migration in flight, or events and verdicts are lost or duplicated (regression: under load the lease
+    flapped and the new coordinator EXECed fresh copies of monitors that were still running)."""
+    from continuum.verification_runtime.handler import Handler
+
+    bus, start, _ = network
+    for name, text in MONITORS.items():
+        bus.register_monitor(name, text)
+    edge = start("edge", "--free-cpu", "1", "--threshold", "60", "--monitor-cpu", "5")
+    _wait(lambda: "edge" in bus.handlers(), what="edge reporting")
+    for name in MONITORS:
+        bus.set_allocation(name, "edge")
+    bus.send("edge", "EXEC", monitors=sorted(MONITORS))
+    _wait(lambda: sum(1 for k, _ in bus.acks() if k == "exec") == 3, what="EXEC acknowledged")
+    events = _stream(random.Random(11), 4000)
+    bus.publish_events(events[:2000])
+    edge.send_signal(signal.SIGSTOP)  # late, not gone: its last report ages past 3 stats periods
+    try:
+        _wait(lambda: time.time() - bus.handlers()["edge"]["wall"] > 1.0, what="edge's report going stale")
+        server = Handler("server", bus, free_cpu=90, monitor_cpu=2, stats_period=0.1, allocate=True)
+        server.report()
+        server.coordinator.maybe_allocate()
+        assert bus.requests("server", "0-0") == []  # no second copy of edge's monitors
+        assert bus.allocation() == dict.fromkeys(MONITORS, "edge")
+        # a migration in flight, recorded by another coordinator, is not touched by this one either
+        bus.start_moving("window", "edge", "server")
+        server.coordinator.next_run = 0.0
+        server.coordinator.maybe_allocate()
+        assert bus.requests("server", "0-0") == [] and bus.requests("edge", "0-0")[-1][1] == "EXEC"
+    finally:
+        edge.send_signal(signal.SIGCONT)
+    bus.stop_moving("window")
+    bus.publish_events(events[2000:])
+    _shutdown(bus, {"edge": edge})
+    _compare(bus, events)
