@@ -39,6 +39,18 @@ class JSONArrayLength(Func):
         return sql, [path, path]
 
 
+#: What a list page shows of a schedule's or comparison's fleet, application and cluster (never a DAG or a
+#: kubeconfig).
+RELATED_LIST_FIELDS = (
+    "fleet__id",
+    "fleet__name",
+    "application__id",
+    "application__name",
+    "cluster__id",
+    "cluster__name",
+)
+
+
 class ScheduleQuerySet(models.QuerySet):
     def for_list(self) -> "ScheduleQuerySet":
         """Schedules for a list page: only the small columns of the schedule and its application, fleet and
@@ -55,12 +67,7 @@ class ScheduleQuerySet(models.QuerySet):
                 "task_count",
                 "time_unit",
                 "created",
-                "fleet__id",
-                "fleet__name",
-                "application__id",
-                "application__name",
-                "cluster__id",
-                "cluster__name",
+                *RELATED_LIST_FIELDS,
             )
             .annotate(processor_count=JSONArrayLength(F("platform"), "processors"))
         )
@@ -157,12 +164,7 @@ class ComparisonQuerySet(models.QuerySet):
                 "params",
                 "best",
                 "created",
-                "fleet__id",
-                "fleet__name",
-                "application__id",
-                "application__name",
-                "cluster__id",
-                "cluster__name",
+                *RELATED_LIST_FIELDS,
             )
             .annotate(processor_count=JSONArrayLength(F("platform"), "processors"))
         )
