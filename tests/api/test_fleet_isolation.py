@@ -320,9 +320,10 @@ def test_another_fleets_id_in_the_path_answers_like_no_such_id(
     leak = answer(b_client, method, url_for(path, their_id), normalise=[their_id], **kwargs)
     none = answer(b_client, method, url_for(path, missing), normalise=[missing], **kwargs)
     assert leak == none
-    if action == "retrieve":  # the metadata of OPTIONS, too
-        leak = answer(b_client, "OPTIONS", url_for(path, their_id), normalise=[their_id])
-        none = answer(b_client, "OPTIONS", url_for(path, missing), normalise=[missing])
+    if action == "retrieve":  # the metadata of OPTIONS, too; it names no object, so nothing is normalised
+        # (an id of 2 would otherwise be "normalised" out of the view's description, "Algorithm 2")
+        leak = answer(b_client, "OPTIONS", url_for(path, their_id))
+        none = answer(b_client, "OPTIONS", url_for(path, missing))
         assert leak == none
 
 
