@@ -309,6 +309,10 @@ CONTINUUM_REMAP_THRESHOLD = float(os.environ.get("CONTINUUM_REMAP_THRESHOLD", "0
 # (a placement request's drivers_on_robot/robot_label override these defaults).
 CONTINUUM_DRIVERS_ON_ROBOT = os.environ.get("CONTINUUM_DRIVERS_ON_ROBOT", "1").lower() not in ("0", "false", "off")
 CONTINUUM_ROBOT_LABEL = os.environ.get("CONTINUUM_ROBOT_LABEL", "zone=robot")
+# The CPU and memory a ROS node asks for when it was not profiled (continuum/engine/containers/resource_model.py,
+# a proposal: the thesis prints no per-node model). A JSON object overriding any of its parameters, e.g.
+# {"per_message_us": 40, "process_mib": 30}; checked at start-up (containers.E001).
+CONTINUUM_RESOURCE_MODEL = os.environ.get("CONTINUUM_RESOURCE_MODEL", "{}")
 # ---- Limits (continuum/engine/core/limits.py; README "Limits"; CONTINUUM_MAX_<NAME> overrides) -----------
 from continuum.engine.core import limits as _limits  # noqa: E402
 
@@ -337,8 +341,13 @@ LOGGING = {
 # CONTINUUM_VERIFICATION_PREFIX:<cluster id>). Empty: events posted to the API are evaluated in-process.
 CONTINUUM_VERIFICATION_REDIS_URL = os.environ.get("CONTINUUM_VERIFICATION_REDIS_URL", "")
 CONTINUUM_VERIFICATION_PREFIX = os.environ.get("CONTINUUM_VERIFICATION_PREFIX", "cv")
-# A handler that has not reported for this many seconds is considered gone (3 stats periods, spec 03 §9).
+# A handler that has not reported for this many seconds is not live: no monitor is placed on it (3 stats
+# periods, spec 03 §9).
 CONTINUUM_HANDLER_LIVENESS_S = float(os.environ.get("CONTINUUM_HANDLER_LIVENESS_S", "3"))
+# A handler silent for this many seconds is gone: its monitors start afresh elsewhere. Between the two it is
+# late (busy, descheduled) and keeps its monitors; the handlers' coordinator uses the same figure
+# (`--dead-after`).
+CONTINUUM_HANDLER_GONE_AFTER_S = float(os.environ.get("CONTINUUM_HANDLER_GONE_AFTER_S", "10"))
 
 # ---- Trust boundary: cache, rate limits, audit trail ----------------------------------------------------
 # The cache the rate limits count in. Several processes (gunicorn workers) must share it: set

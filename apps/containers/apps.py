@@ -13,7 +13,13 @@ class ContainersConfig(AppConfig):
         register_object_page("rosgraph", "containers:rosgraph")
         register_object_page("clustering", "containers:clustering")
         register_object_page("placement", "containers:placement")
+        from django.core import checks
+
         from apps.clusters.live import register_pod_handler
+
+        from .resources import check_resource_model
+
+        checks.register(check_resource_model)
 
         from . import jobs  # noqa: F401 - registers the cluster_ros, place and push_placement job kinds
         from .live import store_pod_state

@@ -18,6 +18,7 @@ from typing import Any
 import plotly.graph_objects as go
 from plotly.colors import qualitative
 
+from apps.containers.resources import resource_model
 from apps.ui.charts import EDGE_COLOUR, base_layout, cycle_colours, esc, escs
 from continuum.engine.containers.resource_model import NodeProfile
 from continuum.engine.containers.resource_model import profiles as resource_profiles
@@ -143,7 +144,7 @@ def rosgraph_figure(
     top = max(weights.values(), default=0.0)
     fig = go.Figure(_edge_traces(_rosgraph_segments(graph, groups, pos, weights), top))
     labelled = len(graph.nodes) <= MAX_LABELLED
-    requests = resource_profiles(graph)  # what placement reserves (resource_model), not only the profile
+    requests = resource_profiles(graph, resource_model())  # what placement reserves, not only the profile
     for container, members in groups.items():
         trace = _ros_nodes_trace(graph, levels, requests, container, members, pos, palette[container], labelled)
         fig.add_trace(trace)

@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from apps.clusters.models import Cluster
+from apps.containers.resources import resource_model
 from continuum.engine.containers.image_inheritance import DEFAULT_PLATFORMS, ImagePlan, plan_from_graph
 from continuum.engine.containers.rosgraph import (
     LEVEL_ALIASES,
@@ -283,7 +284,7 @@ def clustering_workload(
 
 def resolve_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> tuple[Workload, dict[str, Any]]:
     """Read a containers document (with the graph for Definition 3.2.1 bandwidth) and resolve it."""
-    workload = load_workload(doc, graph)
+    workload = load_workload(doc, graph, resource_model())
     resolved = workload.to_dict()
     images = {c.get("name"): c.get("image") for c in doc.get("containers", []) if isinstance(c, Mapping)}
     for entry in resolved["containers"]:

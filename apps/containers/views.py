@@ -13,6 +13,7 @@ from django.urls import reverse
 from django.views.decorators.http import require_POST
 
 from apps.containers.kinds import ContainersJob
+from apps.containers.resources import resource_model
 from apps.jobs.registry import HANDLERS
 from apps.jobs.services import start_job
 from apps.tenancy.scoping import visible_fleets
@@ -73,7 +74,7 @@ def _graph_page(
     groups = shown.groups() if shown and set(graph.nodes) == {n for ms in shown.groups().values() for n in ms} else None
     levels = graph.levels()
     proposed = propose_levels(graph)
-    profiles = resource_profiles(graph)
+    profiles = resource_profiles(graph, resource_model())
     on_robot = robot_pinning.pinned(levels, {n: node.pin for n, node in graph.nodes.items()})
 
     def row_form(form_class, kind: str, item: str, initial: dict, **extra):
@@ -214,7 +215,7 @@ def _clustering_page(request, clustering: Clustering, form: PlaceForm | None = N
         {"a": a, "b": b, "bytes_per_s": w} for (a, b), w in sorted(container_bandwidth(graph, groups, mode).items())
     ]
     levels = graph.levels()
-    profiles = resource_profiles(graph)
+    profiles = resource_profiles(graph, resource_model())
     rows = []
     for c in clustering.containers:
         rows.append(

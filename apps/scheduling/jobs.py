@@ -4,7 +4,7 @@ from django.conf import settings
 from django.db import transaction
 
 from apps.clusters.models import Cluster
-from apps.jobs.registry import job_kind
+from apps.jobs.registry import job_kind, owned_row
 from apps.scheduling.kinds import SchedulingJob
 from apps.workloads.models import Application
 from continuum.engine.core.platform import Platform
@@ -27,14 +27,9 @@ def with_defaults(algorithm: str, params: dict) -> dict:
 
 def _target(job) -> tuple[Application, Cluster | None, Platform]:
     """The job's application and the cluster (its Ready nodes) or platform document it runs on."""
-    args = job.arguments
-    application = Application.objects.get(pk=args["application"], fleet=job.fleet)
-    cluster = None
-    if args.get("cluster") is not None:
-        cluster = Cluster.objects.get(pk=args["cluster"], fleet=job.fleet)
-        platform = cluster.to_platform()
-    else:
-        platform = Platform.from_dict(args["platform"])
+    application = owned_row(job, Application.objects, "application")
+    cluster = owned_row(job, Cluster.objects, "cluster", required=False)
+    platform = cluster.to_platform() if cluster is not None else Platform.from_dict(job.arguments["platform"])
     return application, cluster, platform
 
 

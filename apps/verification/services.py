@@ -19,6 +19,7 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.verification.abv_simulation import SimulationResult
 from continuum.engine.verification.monitor_milp import Allocation, MonitorStats, allocate
 from continuum.engine.verification.stl_monitor import Monitor as EngineMonitor
+from continuum.verification_runtime.coordinator import gone_handlers, hand_over
 
 from .models import AllocationRun, Handler, MigrationEvent, Monitor, MonitorVerdict, Verdict, Violation
 
@@ -71,13 +72,13 @@ def bus_for(cluster: Cluster):
     return Bus(url, prefix=f"{settings.CONTINUUM_VERIFICATION_PREFIX}:{cluster.pk}")
 
 
-def live_reports(bus) -> dict[str, dict]:
+def live_reports(bus, reports: dict[str, dict] | None = None) -> dict[str, dict]:
     """Handlers that reported within the liveness window and are not shutting down."""
     horizon = settings.CONTINUUM_HANDLER_LIVENESS_S
     now = time.time()
     return {
         name: r
-        for name, r in bus.handlers().items()
+        for name, r in (bus.handlers() if reports is None else reports).items()
         if now - float(r.get("wall", 0)) <= horizon and not r.get("shutting_down")
     }
 
@@ -396,17 +397,10 @@ def apply_allocation(run: AllocationRun, cluster: Cluster) -> None:
             m.save(update_fields=["node", "updated"])
     bus = bus_for(cluster)
     if bus is not None:
-        live = live_reports(bus)
-        placed = bus.allocation()
-        for name, target in allocation.items():
-            host = placed.get(name)
-            if target not in live or host == target:
-                continue
-            if host in live:
-                bus.send(host, "MIGRATE", monitor=name, to=target)
-            else:
-                bus.send(target, "EXEC", monitors=[name])
-            bus.set_allocation(name, target)
+        # The coordinator's rule: a late handler keeps its monitors; only a gone one's start afresh.
+        reports = bus.handlers()
+        gone = gone_handlers(reports, settings.CONTINUUM_HANDLER_GONE_AFTER_S)
+        hand_over(bus, allocation, live_reports(bus, reports), gone)
     run.applied = True
     run.save(update_fields=["applied"])
 

@@ -14,13 +14,57 @@ Exactly one handler has each monitor active (spec 03 §9), so the coordinator ne
 from __future__ import annotations
 
 import time
+from collections.abc import Collection, Mapping
 from typing import TYPE_CHECKING
 
 from continuum.engine.verification.monitor_milp import MonitorAllocator
 from continuum.engine.verification.stl_monitor import synthesize
 
 if TYPE_CHECKING:
+    from .bus import Bus
     from .handler import Handler
+
+
+def gone_handlers(reports: Mapping[str, Mapping], dead_after: float) -> set[str]:
+    """Handlers silent for ``dead_after`` seconds, or shutting down: their monitors may start elsewhere."""
+    now = time.time()
+    return {n for n, r in reports.items() if now - float(r.get("wall", 0)) > dead_after or r.get("shutting_down")}
+
+
+def hand_over(bus: Bus, allocation: Mapping[str, str], live: Collection[str], gone: Collection[str]) -> list[str]:
+    """Send the requests that carry out ``allocation`` (monitor -> handler) and record it; returns the monitors
+    acted on. The one rule for every caller (the elected coordinator, the server applying a stored run):
+
+    * a monitor never placed, or whose handler is gone, is started afresh (EXEC) on its target;
+    * one on a live handler migrates (MIGRATE, Fig. 3.43), recorded in ``{p}:moving`` first;
+    * one on a handler that is late but not gone is left alone: it still runs the monitor, and a second copy
+      would duplicate its verdicts;
+    * one whose migration is in flight is left alone, unless the source or target of that migration is gone
+      (it will never finish: the record is dropped and the monitor placed as above);
+    * a target that is not live gets nothing (the request would wait in its stream).
+    """
+    in_flight = set()
+    for monitor, move in bus.moving().items():
+        if move["source"] in gone or move["target"] in gone:
+            bus.stop_moving(monitor)
+        else:
+            in_flight.add(monitor)
+    current = bus.allocation()
+    acted = []
+    for monitor, node in allocation.items():
+        host = current.get(monitor)
+        if monitor in in_flight or host == node or node not in live:
+            continue
+        if host is None or host in gone:
+            bus.send(node, "EXEC", monitors=[monitor])
+        elif host in live:
+            bus.start_moving(monitor, host, node)  # before MIGRATE: the target may answer at once
+            bus.send(host, "MIGRATE", monitor=monitor, to=node)
+        else:
+            continue
+        bus.set_allocation(monitor, node)
+        acted.append(monitor)
+    return acted
 
 
 class Coordinator:
@@ -41,26 +85,13 @@ class Coordinator:
         self.next_run = now + self.period
         reports = self.bus.handlers()
         live = self.live_handlers(reports)
-        gone = self.gone_handlers(reports)
-        moving = self._moving(gone)
+        gone = gone_handlers(reports, self.dead_after)
         doc = self.stats_doc(live)
         if doc is None:
             return
         result = self.allocator.step(doc)
         self.last = result.to_dict()
-        current = self.bus.allocation()
-        for monitor, node in result.allocation.items():
-            host = current.get(monitor)
-            if monitor in moving or host == node:
-                continue
-            if host is None or host in gone:  # never placed, or its handler is gone: start it afresh
-                self.bus.send(node, "EXEC", monitors=[monitor])
-            elif host in live:
-                self.bus.start_moving(monitor, host, node)  # before MIGRATE: the target may answer at once
-                self.bus.send(host, "MIGRATE", monitor=monitor, to=node)
-            else:  # late but not gone: it still runs the monitor; a second copy would duplicate verdicts
-                continue
-            self.bus.set_allocation(monitor, node)
+        hand_over(self.bus, result.allocation, live, gone)
         # overload strategy 2 on the overloaded units' tolerant monitors (strategy 1, priority by active
         # instances, is always on in the handlers' schedulers)
         drop = set(result.drop_events)
@@ -69,16 +100,6 @@ class Coordinator:
         for monitor in sorted(self.degraded - drop):
             self.bus.send(result.allocation[monitor], "DEGRADE", monitors=[monitor], drop=False)
         self.degraded = drop
-
-    def _moving(self, gone: set[str]) -> set[str]:
-        """Monitors whose migration is in flight; one whose source or target is gone will never finish."""
-        moving = set()
-        for monitor, move in self.bus.moving().items():
-            if move["source"] in gone or move["target"] in gone:
-                self.bus.stop_moving(monitor)
-            else:
-                moving.add(monitor)
-        return moving
 
     def live_handlers(self, reports: dict[str, dict] | None = None) -> dict[str, dict]:
         """Handlers that reported within 3 stats periods: the MILP places monitors on these only."""
@@ -89,11 +110,6 @@ class Coordinator:
             for name, report in reports.items()
             if time.time() - report["wall"] <= horizon and not report.get("shutting_down")
         }
-
-    def gone_handlers(self, reports: dict[str, dict]) -> set[str]:
-        """Handlers silent for ``dead_after`` seconds, or shutting down: their monitors may start elsewhere."""
-        now = time.time()
-        return {n for n, r in reports.items() if now - r["wall"] > self.dead_after or r.get("shutting_down")}
 
     def stats_doc(self, live: dict[str, dict]) -> dict | None:
         """The ``continuum.monitorstats/v1`` document built from the live handlers' reports."""

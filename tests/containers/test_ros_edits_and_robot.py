@@ -191,6 +191,25 @@ def test_containers_request_cpu_and_memory_from_the_ros_nodes(member, autoware, 
     assert cpu_of(faster, "FrontLidarDriver") > cpu_of(placement, "FrontLidarDriver")
 
 
+def test_the_deployment_sets_the_resource_model(settings, autoware, robot_cluster):
+    """CONTINUUM_RESOURCE_MODEL overrides the engine's proposed constants for every placement; a bad value is
+    a start-up error naming it."""
+    from django.core import checks
+
+    clustering = cluster_it(autoware)
+    default = place(clustering, robot_cluster).containers["containers"]
+    settings.CONTINUUM_RESOURCE_MODEL = json.dumps({"process_mib": 50, "per_message_us": 100})
+    heavier = {c["name"]: c for c in place(clustering, robot_cluster).containers["containers"]}
+    for c in default:
+        assert heavier[c["name"]]["memory_mib"] == pytest.approx(c["memory_mib"] + 30 * len(c["nodes"]))
+        assert heavier[c["name"]]["cpu"] > c["cpu"]
+    settings.CONTINUUM_RESOURCE_MODEL = '{"process_mb": 50}'
+    errors = [e for e in checks.run_checks() if e.id == "containers.E001"]
+    assert [e.msg for e in errors] == ["CONTINUUM_RESOURCE_MODEL: resource model: unknown parameter 'process_mb'"]
+    settings.CONTINUUM_RESOURCE_MODEL = "{"
+    assert [e.id for e in checks.run_checks() if e.id == "containers.E001"] == ["containers.E001"]
+
+
 # ---- Dockerfile preview -------------------------------------------------------------------------------------
 def test_dockerfile_preview_matches_the_archive(member, fleet):
     row = make_graph(fleet, json.dumps(CONTRACT))

@@ -371,3 +371,18 @@ def test_schedule_round_trip_through_the_database(api):
         assert (back.algorithm, back.ranks, back.params, back.metrics, back.makespan) == (
             engine.algorithm, engine.ranks, engine.params, engine.metrics, engine.makespan
         )  # fmt: skip
+
+
+def test_a_schedule_job_names_a_missing_or_foreign_row(fleet, foreign, topcuoglu_platform):
+    """The job reads its rows among its own fleet's only; a missing one is a failure that names it (it was an
+    unexplained internal error)."""
+    from apps.jobs.services import start_job
+    from apps.scheduling.kinds import SchedulingJob
+
+    args = {"algorithm": "heft", "platform": topcuoglu_platform}
+    job = start_job(SchedulingJob.SCHEDULE, fleet, {**args, "application": 987654})
+    assert job.state == "failed" and job.error == "application 987654 does not exist"
+    other = foreign["application"]  # another fleet's application
+    job = start_job(SchedulingJob.COMPARE, fleet, {**args, "algorithms": ["heft"], "application": other.pk})
+    assert job.state == "failed" and job.error == f"application {other.pk} does not exist"
+    assert not Schedule.objects.filter(application=other, job=job).exists()

@@ -49,6 +49,7 @@ from typing import Any, TypeGuard, overload
 import numpy as np
 
 from continuum.engine.containers import robot_pinning
+from continuum.engine.containers.resource_model import ResourceModel
 from continuum.engine.containers.resource_model import profiles as resource_profiles
 from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
 from continuum.engine.core.cluster import Cluster, ClusterNode, normalize_arch
@@ -238,7 +239,9 @@ def container_bandwidth(graph: RosGraph, groups: Mapping[str, Sequence[str]], mo
     return out
 
 
-def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Workload:
+def load_workload(
+    doc: Mapping[str, Any], graph: RosGraph | None = None, model: ResourceModel | None = None
+) -> Workload:
     """Read a ``continuum.containers/v1`` document (the ``cluster_ros --json`` output is accepted too).
 
     ``{"containers": [{"name", "nodes": [ROS nodes], "cpu", "memory_mib", "storage_mib", "priority" (or
@@ -247,8 +250,8 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
     "preferred": [{"weight": w, "match": [expr]}]}, "tolerations": [...]}],
     "archs": [default platforms], "bandwidth": [{"a", "b", "bytes_per_s"}]}`` where ``expr`` is
     ``{"key", "operator", "values"}``. With a ROS graph, a container's missing CPU/memory are the sums over its
-    ROS nodes and the bandwidth between containers follows Definition 3.2.1; explicit ``bandwidth`` entries
-    override a pair.
+    ROS nodes (their requests under ``model``, the resource model's defaults when ``None``) and the bandwidth
+    between containers follows Definition 3.2.1; explicit ``bandwidth`` entries override a pair.
     """
     if not isinstance(doc, Mapping):
         raise InputError("a containers document must be a JSON object")
@@ -264,7 +267,7 @@ def load_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> Work
         isinstance(v, (int, float)) and not isinstance(v, bool) for v in classes.values()
     ):
         raise InputError("'priority_classes' must map class names to numbers", "priority_classes")
-    derived = _derived(graph) if graph is not None else None
+    derived = _derived(graph, model) if graph is not None else None
     containers = [_parse_container(i, c, default_archs, graph, classes, derived) for i, c in enumerate(raw)]
     bandwidth: dict[tuple[str, str], float] = {}
     if graph is not None:
@@ -299,8 +302,8 @@ class _Derived:
     on_robot: set[str]
 
 
-def _derived(graph: RosGraph) -> _Derived:
-    profiles = resource_profiles(graph)
+def _derived(graph: RosGraph, model: ResourceModel | None) -> _Derived:
+    profiles = resource_profiles(graph, model)
     levels = graph.levels()
     return _Derived(
         cpu={n: p.cpu for n, p in profiles.items()},

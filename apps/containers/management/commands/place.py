@@ -6,6 +6,7 @@ from typing import Any
 
 from django.conf import settings
 
+from apps.containers.resources import resource_model
 from continuum.commands import EngineCommand
 from continuum.engine.containers.rosgraph import load_rosgraph
 from continuum.engine.containers.superclustering import ALIASES, POLICIES, load_workload, place
@@ -35,7 +36,7 @@ class Command(EngineCommand):
 
     def run(self, **options: Any) -> dict:
         graph = load_rosgraph(self.read_text(options["graph"])) if options.get("graph") else None
-        workload = load_workload(self.read_json(options["containers"]), graph)
+        workload = load_workload(self.read_json(options["containers"]), graph, resource_model())
         cluster = Cluster.from_dict(self.read_json(options["cluster"]))
         params: dict[str, Any] = {
             "overhead_mib": options.get("overhead_mib") or 0.0,
