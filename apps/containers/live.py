@@ -42,19 +42,12 @@ def placement_pods(placement: Placement) -> tuple[list[LivePod], int]:
     first, at most LIMIT), and how many Deployments were pushed."""
     pushed = placement.deployments.exclude(state__in=[ContainerDeployment.State.NOT_PUSHED])
     rows = pushed.order_by(F("pod_state_at").desc(nulls_last=True), "container")[:LIMIT]
-    pods = [
-        LivePod(
-            label=f"container {d.container}"
-            + (" (superseded by a newer placement)" if d.state == ContainerDeployment.State.SUPERSEDED else ""),
-            pod=d.pod_name,
-            planned=d.node,
-            node=d.pod_node,
-            phase=d.pod_phase,
-            event=d.pod_event,
-            at=d.pod_state_at,
-        )
-        for d in rows
-    ]
+
+    def label(d: ContainerDeployment) -> str:
+        superseded = d.state == ContainerDeployment.State.SUPERSEDED
+        return f"container {d.container}" + (" (superseded by a newer placement)" if superseded else "")
+
+    pods = [LivePod.from_row(d, label(d), d.node) for d in rows]
     return pods, pushed.count()
 
 

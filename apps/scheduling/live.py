@@ -39,18 +39,11 @@ def schedule_pods(schedule) -> tuple[list[LivePod], int]:
     rows = pushed.order_by(F("pod_state_at").desc(nulls_last=True), "processor", "start").only(
         "task", "frame", "processor", "pod_name", "pod_phase", "pod_node", "pod_event", "pod_state_at"
     )[:LIMIT]
-    pods = [
-        LivePod(
-            label=f"task {a.task}" + (f" (frame {a.frame})" if a.frame else ""),
-            pod=a.pod_name,
-            planned=a.processor,
-            node=a.pod_node,
-            phase=a.pod_phase,
-            event=a.pod_event,
-            at=a.pod_state_at,
-        )
-        for a in rows
-    ]
+
+    def label(a: Assignment) -> str:
+        return f"task {a.task}" + (f" (frame {a.frame})" if a.frame else "")
+
+    pods = [LivePod.from_row(a, label(a), a.processor) for a in rows]
     return pods, pushed.count()
 
 

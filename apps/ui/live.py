@@ -13,6 +13,7 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from datetime import datetime
+from typing import Any
 
 from django.http import JsonResponse
 
@@ -31,6 +32,20 @@ class LivePod:
     phase: str = ""  # Kubernetes phase: Pending, Running, Succeeded, Failed, Unknown, Deleted ('' not seen)
     event: str = ""  # its newest Event, "Reason: message"
     at: datetime | None = None  # when the watcher last stored a change
+
+    @classmethod
+    def from_row(cls, row: Any, label: str, planned: str = "") -> LivePod:
+        """From a domain row holding the watcher's fields (``pod_name``, ``pod_node``, ``pod_phase``,
+        ``pod_event``, ``pod_state_at``: a schedule's assignment, a placement's Deployment)."""
+        return cls(
+            label=label,
+            pod=row.pod_name,
+            planned=planned,
+            node=row.pod_node,
+            phase=row.pod_phase,
+            event=row.pod_event,
+            at=row.pod_state_at,
+        )
 
     @property
     def moved(self) -> bool:
