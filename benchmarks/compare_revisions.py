@@ -157,7 +157,7 @@ def _headline_stl_vs_rtamt(text: str) -> dict[str, float | None]:
 
 
 def _headline_heft_scale(text: str) -> dict[str, float | None]:
-    rows = re.findall(r"^(\d+)\s+\d+\s+\d+\s+([\d.]+)\s", text, flags=re.MULTILINE)
+    rows = re.findall(r"^\s*(\d+)\s+\d+\s+\d+\s+([\d.]+)\s", text, flags=re.MULTILINE)
     return {f"heft() CPU s, {n} tasks": float(sec) for n, sec in rows}
 
 
@@ -278,24 +278,14 @@ def ratio(old: float | None, new: float | None) -> str:
 
 
 def render(results: dict[str, tuple[Run | None, Run | None]], args_by_name: dict[str, list[str]]) -> str:
-    """The before/after table: one line per benchmark (CPU), then one per headline figure it printed."""
-    headers = [
-        "benchmark",
-        "args",
-        "CPU s before",
-        "CPU s after",
-        "after/before",
-        "wall s b/a",
-        "RSS MiB b/a",
-        "load b/a",
-    ]
+    """The before/after table: one line per benchmark (CPU of the child tree), then one per headline figure it
+    printed (indented; times unless named a rate), then each benchmark's arguments."""
+    headers = ["benchmark", "CPU s before", "CPU s after", "after/before", "wall s b/a", "RSS MiB b/a", "load b/a"]
     rows: list[list[str]] = []
     for name, (old, new) in results.items():
-        argtext = " ".join(args_by_name.get(name, [])) or "-"
         if new is None:
-            rows.append([name, argtext, "-", "-", "missing at new", "-", "-", "-"])
+            rows.append([name, "-", "-", "missing at new", "-", "-", "-"])
             continue
-        failed = [side for side, r in (("before", old), ("after", new)) if r is not None and r.returncode != 0]
         if old is None:
             cells = ["new", fmt(new.cpu_s), "new", f"- / {fmt(new.wall_s)}", f"- / {new.maxrss_mib:.0f}"]
             loads = f"- / {new.load_start:.1f}-{new.load_end:.1f}"
@@ -308,22 +298,18 @@ def render(results: dict[str, tuple[Run | None, Run | None]], args_by_name: dict
                 f"{old.maxrss_mib:.0f} / {new.maxrss_mib:.0f}",
             ]
             loads = f"{old.load_start:.1f}-{old.load_end:.1f} / {new.load_start:.1f}-{new.load_end:.1f}"
+        failed = [f"{side} exit {r.returncode}" for side, r in (("before", old), ("after", new)) if r and r.returncode]
         if failed:
-            codes = ", ".join(f"{s} exit {(old if s == 'before' else new).returncode}" for s in failed)  # type: ignore[union-attr]
-            cells[2] = f"FAILED ({codes})"
-        rows.append([name, argtext, *cells, loads])
-        for key in new.headline:
+            cells[2] = f"FAILED ({', '.join(failed)})"
+        rows.append([name, *cells, loads])
+        for key, value in new.headline.items():
             before = old.headline.get(key) if old else None
-            cells = [fmt(before) if old else "new", fmt(new.headline[key]), ratio(before, new.headline[key])]
-            rows.append([f"  {key}", "", *cells, "", "", ""])
-    widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(headers)]
-    lines = [
-        "  ".join(h.ljust(w) if i < 2 else h.rjust(w) for i, (h, w) in enumerate(zip(headers, widths, strict=True)))
-    ]
-    for r in rows:
-        lines.append(
-            "  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths, strict=True)))
-        )
+            rows.append([f"  {key}", fmt(before) if old else "new", fmt(value), ratio(before, value), "", "", ""])
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(headers)]
+    lines = ["  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths, strict=True)))
+             for r in [headers, *rows]]  # fmt: skip
+    lines.append("")
+    lines += [f"{name}: {' '.join(args_by_name.get(name, [])) or '(no arguments)'}" for name in results]
     return "\n".join(line.rstrip() for line in lines)
 
 

@@ -61,12 +61,18 @@ def test_table_gives_the_ratio_marks_new_and_failed_runs():
         "orb_frames": (run(1.0), run(1.0, code=1)),
     }
     text = cr.render(results, {"remap_speed": ["--failures", "5"], "heft_scale": [], "orb_frames": []})
-    lines = {line.split()[0]: line for line in text.splitlines()[1:]}
-    assert lines["remap_speed"].split()[3:6] == ["10", "12", "1.20"]
-    assert "--failures 5" in lines["remap_speed"]
-    assert lines["x"].split()[-3:] == ["4", "2", "0.50"]
-    assert lines["heft_scale"].split()[2:5] == ["new", "3", "new"]
+    lines = {line.split()[0]: line for line in text.splitlines()[1:] if line.strip()}
+    assert lines["remap_speed"].split()[1:4] == ["10", "12", "1.20"]
+    assert lines["remap_speed:"] == "remap_speed: --failures 5"
+    assert lines["orb_frames:"] == "orb_frames: (no arguments)"
+    assert lines["x"].split()[2:5] == ["4", "2", "0.50"]
+    assert lines["heft_scale"].split()[1:4] == ["new", "3", "new"]
     assert "FAILED (after exit 1)" in lines["orb_frames"]
+
+
+def test_heft_scale_rows_are_read_whatever_their_width():
+    text = "tasks  procs  edges  heft() s\n 5000     64  16000    0.3049  1\n12500     64  40021    0.8703  2\n"
+    assert cr.HEADLINES["heft_scale"](text) == {"heft() CPU s, 5000 tasks": 0.3049, "heft() CPU s, 12500 tasks": 0.8703}
 
 
 def test_cpu_time_counts_the_whole_child_tree(tmp_path: Path):
