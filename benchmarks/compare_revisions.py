@@ -19,6 +19,10 @@ Figures per run:
 * the benchmark's own headline figure(s) where its output is easy to parse (``HEADLINES``), e.g. the scheduling
   call's time that the benchmark itself measures. These are mostly wall times of one call (noisy under load).
 
+Caveat: a benchmark that stops a solver at a wall-clock limit spends less CPU when the machine is loaded. So do
+milp_scaling's time-limited cells and, at ff4db15, kairos_monitors (0.9 s of MILP per simulated period; since
+59385af its budget is branch-and-bound nodes, reproducible, and its solves run to optimality: more CPU by design).
+
 A benchmark whose script is missing at the old revision is reported as ``new`` (its figures at the new one
 only). Benchmarks that need a Kubernetes cluster, a browser or a server under load are not in the default list.
 Benchmarks that install their peers (saga, rtamt) into /tmp venvs get them installed before the first timed run,
