@@ -78,6 +78,7 @@ __all__ = [
 ]
 
 FORMAT = "continuum.monitorstats/v1"
+FORMULATIONS = ("covers", "classes", "textbook")  # see allocate()
 
 
 # ===================================================================================================
@@ -337,7 +338,7 @@ class _Classes:
     allowed: np.ndarray | None = None  # class x unit, when candidate units are restricted
 
 
-def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool) -> _Classes:
+def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool, merge: bool = True) -> _Classes:
     node_ix = {j: b for b, j in enumerate(stats.nodes)}
     topic_ix = {k: t for t, k in enumerate(stats.topics)}
     by_key: dict[tuple, int] = {}
@@ -351,7 +352,7 @@ def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool) -> _Classes:
         )
         now_on = stats.current[i]
         cur = None if now_on is None else node_ix[now_on]
-        key = (topics, cur, cpu[a].tobytes())
+        key = (topics, cur, cpu[a].tobytes()) if merge else (a,)
         if key not in by_key:
             by_key[key] = len(members)
             members.append([])
@@ -386,6 +387,7 @@ def _build(
     slack: bool,
     delay_weight: float = 1.0,
     max_excess: float | None = None,
+    formulation: str = "covers",
 ) -> _Model:
     """Variables: n[c,j] (monitors of class c on unit j, integer), y[k,j] (topic k received on j),
     z[g,j] (some monitor of topic-set group g on j, binary), [s_j capacity slacks]."""
@@ -452,7 +454,7 @@ def _build(
             np.zeros(m),
         )
     cap = stats.capacity()
-    if not slack:  # spread cuts: valid only when capacities are hard
+    if not slack and formulation != "textbook":  # spread cuts: valid only when capacities are hard
         for g, need in _spread_bounds(cl, [cap[j] for j in stats.nodes], by="group"):
             add(
                 np.zeros(j_count, dtype=int),
@@ -477,24 +479,40 @@ def _build(
         add(np.zeros(len(columns), dtype=int), np.array(columns, dtype=int), np.array(coefs, dtype=float), 1,
             np.array([low]), np.array([high]))  # fmt: skip
 
-    if not slack:  # relief covers: valid only when capacities are hard
+    if not slack and formulation != "textbook":  # relief (and host) covers: valid only for hard capacities
         families, cover_cuts = _relief_covers(stats, cl)
+        if formulation == "covers":
+            host_families, host_cuts = _host_covers(stats, cl, max_sets=HOST_SETS)
+            families += host_families
+        else:
+            host_cuts = []
         for unit, topics, need in cover_cuts:
             columns = [y0 + k * j_count + b for k in topics for b in range(j_count) if b != unit]
+            row(columns, [1.0] * len(columns), float(need), np.inf)
+        for unit, topics, need in host_cuts:
+            columns = [y0 + k * j_count + unit for k in topics]
             row(columns, [1.0] * len(columns), float(need), np.inf)
         w = n
         for fam in families:
             fam.w0 = w
-            # exactly one relief set is chosen ...
+            # exactly one relief (host) set is chosen ...
             row([w + o for o in range(len(fam.sets))], [1.0] * len(fam.sets), 1.0, 1.0)
-            if fam.complete:  # ... a monitor of the unit leaves only if that set holds all its topics ...
-                for cls in fam.members:
+            if fam.complete and not fam.host:  # ... a monitor of the unit leaves only if that set holds
+                for cls in fam.members:  # all its topics ...
                     held = set(cl.group_topics[cl.group[cls]])
                     wcols = [w + o for o, topics in enumerate(fam.sets) if held <= set(topics)]
                     row([cls * j_count + fam.unit, *wcols], [1.0] + [size[cls]] * len(wcols), size[cls], np.inf)
-            # ... and each of its topics is received on some other unit
+            if fam.complete and fam.host:  # ... (host: a monitor runs on the unit only if the set holds all
+                for cls in fam.members:  # its topics) ...
+                    held = set(cl.group_topics[cl.group[cls]])
+                    wcols = [w + o for o, topics in enumerate(fam.sets) if held <= set(topics)]
+                    row([cls * j_count + fam.unit, *wcols], [1.0] + [-size[cls]] * len(wcols), -np.inf, 0.0)
+            # ... and each of its topics is received on some other unit (host: on the unit itself)
             for k in sorted({k for o in fam.sets for k in o}):
-                ycols = [y0 + k * j_count + b for b in range(j_count) if b != fam.unit]
+                if fam.host:
+                    ycols = [y0 + k * j_count + fam.unit]
+                else:
+                    ycols = [y0 + k * j_count + b for b in range(j_count) if b != fam.unit]
                 wcols = [w + o for o, topics in enumerate(fam.sets) if k in topics]
                 row(ycols + wcols, [1.0] * len(ycols) + [-1.0] * len(wcols), 0.0, np.inf)
             w += len(fam.sets)
@@ -545,6 +563,7 @@ class _Family:
     members: list[int]  # the classes counted in the unit's load
     universe: set[int] = field(default_factory=set)  # the topics the sets are drawn from
     w0: int = 0
+    host: bool = False  # a host family (see _host_covers): the sets are what the unit itself receives
 
 
 def _relief_covers(
@@ -605,6 +624,68 @@ def _relief_covers(
             families.append(_Family(r, minimal, False, members, set(universe)))
         else:
             cuts.extend((r, topics, need) for topics, need in unit_cuts[:max_cuts])
+    return families, cuts
+
+
+def _host_covers(
+    stats: MonitorStats, cl: _Classes, max_topics: int = 14, max_sets: int = 64, max_cuts: int = 128
+) -> tuple[list[_Family], list[tuple[int, list[int], int]]]:
+    """Host-cover inequalities for units that must host some monitors because the others cannot.
+
+    A unit j' != j hosts at most h[j'] monitors: the most of the smallest monitorCPU[·, j'] whose sum
+    fits in cap[j'] (topic CPU only lowers it). So unit j hosts at least R = N - Σ_{j' != j} h[j']
+    monitors, and a monitor runs on j only if j receives all its topics: with O the set of topics
+    received on j, #{monitors whose topics ⊆ O} >= R. This is the receiving side of the relief covers
+    (:func:`_relief_covers`, which look at what an overloaded unit must shed); the same subset machinery
+    gives its valid forms, with y[k,j] on j itself instead of Σ_{j' != r} y[k,j']:
+
+    * choose the host set (w, Σ w = 1), y[k,j] >= Σ_{O ∋ k} w[O], and, when every host set is listed,
+      n[c,j] <= |c|·Σ_{O ⊇ topics(c)} w[O] (the chosen O is the received set itself, which is a host set);
+    * else Σ_{k ∉ S} y[k,j] >= m(S), the fewest topics outside S that complete S to a host set.
+
+    With a universe cut to ``max_topics`` topics, the monitors reading a topic outside it are dropped and
+    R lowered by their number (they may all be on j): still valid. On the cross-robot fleets of
+    benchmarks/milp_scaling.py, where the slow cloud must take the overflow of every robot, the LP
+    relaxation otherwise receives a fraction of every topic there.
+    """
+    cap = stats.capacity()
+    sizes = np.array([len(m) for m in cl.members])
+    total = int(sizes.sum())
+    hosts = []
+    for b, unit in enumerate(stats.nodes):
+        per = np.repeat(cl.cpu[:, b], sizes)
+        per.sort()
+        hosts.append(int(np.searchsorted(np.cumsum(per), cap[unit] + 1e-9, side="right")))
+    families: list[_Family] = []
+    cuts: list[tuple[int, list[int], int]] = []
+    for b in range(len(stats.nodes)):
+        need = total - (sum(hosts) - hosts[b])
+        if need <= 0:
+            continue
+        members = list(range(len(cl.members)))
+        universe = sorted({k for c in members for k in cl.group_topics[cl.group[c]]})
+        if len(universe) > max_topics:
+            weight: dict[int, float] = {}
+            for c in members:
+                for k in cl.group_topics[cl.group[c]]:
+                    weight[k] = weight.get(k, 0.0) + sizes[c]
+            kept = set(sorted(universe, key=lambda k: (-weight[k], k))[:max_topics])
+            universe = sorted(kept)
+            members = [c for c in members if set(cl.group_topics[cl.group[c]]) <= kept]
+            need -= total - int(sizes[members].sum())
+            if need <= 0:
+                continue
+        every, minimal, unit_cuts = _relief_sets(
+            universe, [(cl.group_topics[cl.group[c]], float(sizes[c])) for c in members], float(need)
+        )
+        if not minimal:
+            continue  # no topic set hosts enough: the MILP proves it infeasible
+        if every and len(every) <= max_sets:
+            families.append(_Family(b, every, True, members, set(universe), host=True))
+        elif len(minimal) <= max_sets:
+            families.append(_Family(b, minimal, False, members, set(universe), host=True))
+        else:
+            cuts.extend((b, topics, need) for topics, need in unit_cuts[:max_cuts])
     return families, cuts
 
 
@@ -690,6 +771,9 @@ def _spread_bounds(cl: _Classes, cap: list[float], by: str) -> list[tuple[int, i
 # rounds short (one heterogeneous robot block: 3.0 s -> 0.9 s; the heterogeneous 1000 x 20 fleet 4.2 s -> 2.1 s).
 HIGHS_OPTIONS: dict[str, Any] = {"mip_pool_soft_limit": 100}
 
+# Largest host family written as an extended formulation (else the m(S) cuts).
+HOST_SETS = 512
+
 
 @dataclass
 class _Solved:
@@ -765,6 +849,7 @@ def allocate(
     max_candidates: int | None = None,
     decompose: bool = True,
     work_limit: int | None = None,
+    formulation: str = "covers",
 ) -> Allocation:
     """Solve Eqs. 3.21-3.22 for one set of statistics; fall back to the minimum-overload allocation.
 
@@ -780,7 +865,16 @@ def allocate(
     same allocation on a loaded machine as on an idle one (reproducible simulations). ``status`` is then
     ``"time_limit"`` when the budget stopped the search (the status names are part of the API). Give
     ``time_limit=math.inf`` with it so that the clock never decides.
+
+    ``formulation`` picks the model, all with the same optimum (kept selectable so that
+    benchmarks/milp_scaling.py can compare them side by side): ``"textbook"`` is Eqs. 3.21-3.22 as
+    written (one x[i,j] per monitor, no cuts, no decomposition); ``"classes"`` the class counts, blocks,
+    spread cuts and relief covers; ``"covers"`` (default) adds the host covers (:func:`_host_covers`).
     """
+    if formulation not in FORMULATIONS:
+        raise InputError(
+            f"formulation must be one of {', '.join(FORMULATIONS)}, not {formulation!r}", field="formulation"
+        )
     if not isinstance(stats, MonitorStats):
         stats = MonitorStats.from_dict(stats)
     started = time.perf_counter()
@@ -792,9 +886,10 @@ def allocate(
     def left() -> float:  # every solve shares one time budget
         return max(0.05, time_limit - (time.perf_counter() - started))
 
-    cl = _classes(stats, cpu, lit)
-    if decompose and not lit:
-        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap, work_limit)
+    textbook = formulation == "textbook"
+    cl = _classes(stats, cpu, lit, merge=not textbook)
+    if decompose and not lit and not textbook:
+        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap, work_limit, formulation)
         if split is not None and split[0] != "infeasible":
             status, gap, placement, blocks = split
             result = _result(stats, cpu, placement, True, status, gap, started, lit)
@@ -803,7 +898,7 @@ def allocate(
     if max_candidates is not None:
         cl.allowed = _candidates(stats, cl, max_candidates)
     greedy, fits = _greedy(stats, cl)
-    model = _build(stats, cl, epsilon, slack=False)
+    model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
     res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
         return _result(stats, cpu, _placement(stats, cl, res.x), True, res.status, res.gap, started, lit)
@@ -901,6 +996,7 @@ def _decomposed(
     left: Callable[[], float],
     gap: float,
     work_limit: int | None = None,
+    formulation: str = "covers",
 ) -> tuple[str, float, dict[str, str], int] | None:
     """Solve independent blocks separately; exact, or None to fall back to the whole model.
 
@@ -928,7 +1024,7 @@ def _decomposed(
             if max_candidates is not None:
                 sub_cl.allowed = _candidates(sub, sub_cl, max_candidates)
             greedy, fits = _greedy(sub, sub_cl)
-            model = _build(sub, sub_cl, epsilon, slack=False)
+            model = _build(sub, sub_cl, epsilon, slack=False, formulation=formulation)
             res = _solve(model, _vector(model, sub, sub_cl, greedy) if fits else None, left(), gap, work_limit)
             if res.status == "infeasible":
                 return "infeasible", 0.0, {}, 0
@@ -1135,7 +1231,7 @@ def _vector(model: _Model, stats: MonitorStats, cl: _Classes, placement: Mapping
             k
             for k in range(len(stats.topics))
             for b in range(j_count)
-            if b != fam.unit and x[model.y0 + k * j_count + b]
+            if (b == fam.unit if fam.host else b != fam.unit) and x[model.y0 + k * j_count + b]
         }
         if fam.complete:
             chosen = next((o for o, topics in enumerate(fam.sets) if set(topics) == elsewhere & fam.universe), None)
