@@ -302,6 +302,11 @@ class Allocation:
     unresolved: dict[str, float] = field(default_factory=dict)
     blocks: int = 1  # independent blocks the model was split into (see _decomposed)
     reused: bool = False  # MonitorAllocator: same statistics as the previous period, not solved again
+    # Diagnostics (not part of to_dict): HiGHS's dual bounds on the model objective (delay + 1e-6·Σy -
+    # ε·monitors kept; summed over blocks), after the root node and at the end, and the B&B nodes.
+    root_bound: float = -math.inf
+    bound: float = -math.inf
+    nodes: int = 0
 
     def to_dict(self) -> dict:
         return {
@@ -781,6 +786,9 @@ class _Solved:
     x: np.ndarray | None
     gap: float
     message: str
+    bound: float = -math.inf  # HiGHS's final dual bound (a lower bound on the model's objective)
+    root_bound: float = -math.inf  # the dual bound after the root node (LP relaxation + cuts)
+    nodes: int = 0
 
 
 def _solve(
@@ -818,6 +826,14 @@ def _solve(
         highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous for v in model.integrality
     ]
     h.passModel(lp)
+    root = [-math.inf]
+
+    def watch(_kind: int, _message: str, out: Any, _inp: Any, _data: Any) -> None:
+        if out.mip_node_count == 0 and math.isfinite(out.mip_dual_bound):  # still at the root
+            root[0] = max(root[0], float(out.mip_dual_bound))
+
+    h.setCallback(watch, None)
+    h.startCallback(highspy.cb.HighsCallbackType.kCallbackMipInterrupt)
     if start is not None:
         sol = highspy.HighsSolution()
         sol.col_value = list(start)
@@ -829,13 +845,19 @@ def _solve(
     has_x = info.primal_solution_status == 2  # kSolutionStatusFeasible
     x = np.array(h.getSolution().col_value) if has_x else None
     gap_value = float(info.mip_gap) if has_x and math.isfinite(info.mip_gap) else 0.0
+    bound = float(info.mip_dual_bound) if math.isfinite(info.mip_dual_bound) else -math.inf
+    extra = {
+        "bound": bound,
+        "root_bound": root[0] if math.isfinite(root[0]) or info.mip_node_count > 1 else bound,
+        "nodes": int(info.mip_node_count),
+    }
     if status == highspy.HighsModelStatus.kOptimal:
-        return _Solved("optimal", x, gap_value, "optimal")
+        return _Solved("optimal", x, gap_value, "optimal", **extra)
     if status == highspy.HighsModelStatus.kInfeasible:
-        return _Solved("infeasible", None, 0.0, "infeasible")
+        return _Solved("infeasible", None, 0.0, "infeasible", **extra)
     if status in (highspy.HighsModelStatus.kTimeLimit, highspy.HighsModelStatus.kInterrupt) or has_x:
-        return _Solved("time_limit", x, gap_value, h.modelStatusToString(status))
-    return _Solved("error", None, 0.0, h.modelStatusToString(status))
+        return _Solved("time_limit", x, gap_value, h.modelStatusToString(status), **extra)
+    return _Solved("error", None, 0.0, h.modelStatusToString(status), **extra)
 
 
 def allocate(
@@ -889,19 +911,20 @@ def allocate(
     textbook = formulation == "textbook"
     cl = _classes(stats, cpu, lit, merge=not textbook)
     if decompose and not lit and not textbook:
-        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap, work_limit, formulation)
+        diag: dict = {}
+        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap, work_limit, formulation, diag)
         if split is not None and split[0] != "infeasible":
             status, gap, placement, blocks = split
             result = _result(stats, cpu, placement, True, status, gap, started, lit)
             result.blocks = blocks
-            return result
+            return _noted(result, diag.get("total"))
     if max_candidates is not None:
         cl.allowed = _candidates(stats, cl, max_candidates)
     greedy, fits = _greedy(stats, cl)
     model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
     res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
-        return _result(stats, cpu, _placement(stats, cl, res.x), True, res.status, res.gap, started, lit)
+        return _noted(_result(stats, cpu, _placement(stats, cl, res.x), True, res.status, res.gap, started, lit), res)
     if res.status == "error":
         raise InputError(f"the allocation MILP failed: {res.message}")
     # Infeasible, or no allocation found in time: minimise the total excess first, then the delay among
@@ -919,6 +942,12 @@ def allocate(
         return _result(stats, cpu, placement, True, "time_limit", best.gap, started, lit)
     proven = res.status == "infeasible" or r1.status == "optimal"
     return _result(stats, cpu, placement, False, "overloaded" if proven else "time_limit", best.gap, started, lit)
+
+
+def _noted(result: Allocation, res: _Solved | None) -> Allocation:
+    if res is not None:
+        result.root_bound, result.bound, result.nodes = res.root_bound, res.bound, res.nodes
+    return result
 
 
 # ===================================================================================================
@@ -997,6 +1026,7 @@ def _decomposed(
     gap: float,
     work_limit: int | None = None,
     formulation: str = "covers",
+    diag: dict | None = None,
 ) -> tuple[str, float, dict[str, str], int] | None:
     """Solve independent blocks separately; exact, or None to fall back to the whole model.
 
@@ -1011,6 +1041,7 @@ def _decomposed(
     parts = _blocks(cl)
     if len(parts) < 2:
         return None
+    diag = {} if diag is None else diag
     solved: dict[tuple[int, ...], tuple[str, float, dict[str, str]]] = {}
     cap = stats.capacity()
     while True:
@@ -1031,6 +1062,7 @@ def _decomposed(
             if res.x is None:
                 return None
             solved[key] = (res.status, res.gap, _placement(sub, sub_cl, res.x))
+            diag[key] = res
         placement: dict[str, str] = {}
         for part in parts:
             placement.update(solved[tuple(part)][2])
@@ -1054,6 +1086,17 @@ def _decomposed(
                     merged = True
         if not merged:
             statuses = [solved[tuple(part)] for part in parts]
+            final = [diag[tuple(part)] for part in parts]
+            diag.clear()
+            diag["total"] = _Solved(
+                "",
+                None,
+                0.0,
+                "",
+                sum(r.bound for r in final),
+                sum(r.root_bound for r in final),
+                sum(r.nodes for r in final),
+            )
             status = "optimal" if all(s[0] == "optimal" for s in statuses) else "time_limit"
             return status, max(s[1] for s in statuses), {i: placement[i] for i in stats.monitors}, len(parts)
         groups: dict[int, list[int]] = {}
