@@ -920,7 +920,7 @@ def allocate(
             return _noted(result, diag.get("total"))
     if max_candidates is not None:
         cl.allowed = _candidates(stats, cl, max_candidates)
-    greedy, fits = _greedy(stats, cl)
+    greedy, fits = _greedy(stats, cl, epsilon if formulation == "covers" else None)
     model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
     res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
@@ -1054,7 +1054,7 @@ def _decomposed(
             sub_cl = _classes(sub, sub_cpu, False)
             if max_candidates is not None:
                 sub_cl.allowed = _candidates(sub, sub_cl, max_candidates)
-            greedy, fits = _greedy(sub, sub_cl)
+            greedy, fits = _greedy(sub, sub_cl, epsilon if formulation == "covers" else None)
             model = _build(sub, sub_cl, epsilon, slack=False, formulation=formulation)
             res = _solve(model, _vector(model, sub, sub_cl, greedy) if fits else None, left(), gap, work_limit)
             if res.status == "infeasible":
@@ -1121,10 +1121,11 @@ def _candidates(stats: MonitorStats, cl: _Classes, k: int) -> np.ndarray:
     return allowed
 
 
-def _greedy(stats: MonitorStats, cl: _Classes) -> tuple[dict[str, str], bool]:
+def _greedy(stats: MonitorStats, cl: _Classes, improve: float | None = None) -> tuple[dict[str, str], bool]:
     """A quick allocation: keep monitors where they are if everything fits, else place the largest
     monitors first on the unit that adds the least delay among those with room. ``fits`` tells whether
-    every capacity holds."""
+    every capacity holds. With ``improve`` (the ε of the objective), a fitting allocation is then
+    improved by local search (:func:`_improve`)."""
     cap = stats.capacity()
     nodes = stats.nodes
     topic_ix = {k: t for t, k in enumerate(stats.topics)}
@@ -1163,12 +1164,93 @@ def _greedy(stats: MonitorStats, cl: _Classes) -> tuple[dict[str, str], bool]:
 
     by_size = sorted(range(len(stats.monitors)), key=lambda a: -float(cl.cpu[cls_of[a]].max()))
     repaired = _repair(stats, cl, delay, tcpu)
-    if repaired is not None:
-        return repaired, True
-    kept, ok = attempt(by_size, stay=True)
-    if ok:
-        return kept, True
-    return attempt(by_size, stay=False)
+    if repaired is None:
+        repaired, ok = attempt(by_size, stay=True)
+        if not ok:
+            repaired, ok = attempt(by_size, stay=False)
+        if not ok:
+            return repaired, False
+    if improve is not None:
+        repaired = _improve(stats, cl, repaired, delay, tcpu, improve)
+    return repaired, True
+
+
+def _improve(
+    stats: MonitorStats,
+    cl: _Classes,
+    placement: Mapping[str, str],
+    delay: np.ndarray,
+    tcpu: np.ndarray,
+    epsilon: float,
+    max_passes: int = 20,
+) -> dict[str, str]:
+    """Local search on a capacity-feasible allocation (a better first incumbent for HiGHS; the optimum
+    is unchanged since the MILP still decides). A move takes every monitor on unit a that reads topic k
+    (or every monitor of one topic set) to one unit b, when that fits b's capacity and lowers the
+    objective: the delays of the topics a no longer needs minus those b starts receiving, plus ε per
+    monitor leaving its current unit. Moves are tried in a fixed order, so the result is deterministic."""
+    j_count, k_count = len(stats.nodes), len(stats.topics)
+    cap = np.array([stats.capacity()[j] for j in stats.nodes])
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    cls_of = np.zeros(len(stats.monitors), dtype=int)
+    for c, members in enumerate(cl.members):
+        cls_of[members] = c
+    allowed = cl.allowed if cl.allowed is not None else np.ones((len(cl.members), j_count), dtype=bool)
+    topics_of = [cl.group_topics[cl.group[c]] for c in cls_of]
+    place = np.array([node_ix[placement[i]] for i in stats.monitors])
+    readers = np.zeros((k_count, j_count), dtype=int)
+    load = np.zeros(j_count)
+    for a, b in enumerate(place):
+        load[b] += cl.cpu[cls_of[a], b]
+        for k in topics_of[a]:
+            readers[k, b] += 1
+    load += (tcpu * (readers > 0)).sum(axis=0)
+    current = np.array([-1 if cl.current[c] is None else cl.current[c] for c in cls_of])
+
+    cpu_of = cl.cpu[cls_of]  # monitor x unit
+
+    def try_move(movers: list[int], a: int) -> bool:
+        count: dict[int, int] = {}
+        for m in movers:
+            for k in topics_of[m]:
+                count[k] = count.get(k, 0) + 1
+        ks = np.fromiter(count, dtype=int, count=len(count))
+        freed = ks[readers[ks, a] == np.fromiter(count.values(), dtype=int, count=len(count))]
+        here = np.bincount(current[movers][current[movers] >= 0], minlength=j_count)
+        saved = float(delay[freed, a].sum()) + epsilon * here[a]
+        new = readers[ks] == 0  # topic x unit: not received there yet
+        gain = saved - (delay[ks] * new).sum(axis=0) - epsilon * here
+        extra = cpu_of[movers].sum(axis=0) + (tcpu[ks] * new).sum(axis=0)
+        ok = (gain > 1e-9) & (load + extra <= cap + 1e-9) & allowed[cls_of[movers]].all(axis=0)
+        ok[a] = False
+        if not ok.any():
+            return False
+        b = int(np.argmax(np.where(ok, gain, -np.inf)))
+        load[b] += extra[b]
+        load[a] -= float(cpu_of[movers, a].sum()) + float(tcpu[freed, a].sum())
+        place[movers] = b
+        for m in movers:
+            for k in topics_of[m]:
+                readers[k, a] -= 1
+                readers[k, b] += 1
+        return True
+
+    for _ in range(max_passes):
+        moved = False
+        for a in range(j_count):
+            for k in np.nonzero(readers[:, a])[0]:
+                movers = [int(m) for m in np.nonzero(place == a)[0] if k in topics_of[m]]
+                if movers and try_move(movers, a):
+                    moved = True
+            by_group: dict[int, list[int]] = {}
+            for m in np.nonzero(place == a)[0]:
+                by_group.setdefault(cl.group[cls_of[m]], []).append(int(m))
+            for movers in by_group.values():
+                if all(place[m] == a for m in movers) and try_move(movers, a):
+                    moved = True
+        if not moved:
+            break
+    return {i: stats.nodes[place[a]] for a, i in enumerate(stats.monitors)}
 
 
 def _repair(stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray) -> dict[str, str] | None:
