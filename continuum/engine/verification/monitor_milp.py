@@ -828,7 +828,7 @@ def _solve(
     h.passModel(lp)
     root = [-math.inf]
 
-    def watch(_kind: int, _message: str, out: Any, _inp: Any, _data: Any) -> None:
+    def watch(_kind: Any, _message: Any, out: Any, _inp: Any, _data: Any) -> None:
         if out.mip_node_count == 0 and math.isfinite(out.mip_dual_bound):  # still at the root
             root[0] = max(root[0], float(out.mip_dual_bound))
 
@@ -846,7 +846,7 @@ def _solve(
     x = np.array(h.getSolution().col_value) if has_x else None
     gap_value = float(info.mip_gap) if has_x and math.isfinite(info.mip_gap) else 0.0
     bound = float(info.mip_dual_bound) if math.isfinite(info.mip_dual_bound) else -math.inf
-    extra = {
+    extra: dict[str, Any] = {
         "bound": bound,
         "root_bound": root[0] if math.isfinite(root[0]) or info.mip_node_count > 1 else bound,
         "nodes": int(info.mip_node_count),
