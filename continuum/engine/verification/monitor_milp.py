@@ -844,7 +844,8 @@ def _solve(
     info = h.getInfo()
     has_x = info.primal_solution_status == 2  # kSolutionStatusFeasible
     x = np.array(h.getSolution().col_value) if has_x else None
-    gap_value = float(info.mip_gap) if has_x and math.isfinite(info.mip_gap) else 0.0
+    # no finite gap yet (stopped before the root bound): report 1.0, "nothing proven", never 0
+    gap_value = (float(info.mip_gap) if math.isfinite(info.mip_gap) else 1.0) if has_x else 0.0
     bound = float(info.mip_dual_bound) if math.isfinite(info.mip_dual_bound) else -math.inf
     extra: dict[str, Any] = {
         "bound": bound,
@@ -924,7 +925,8 @@ def allocate(
     model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
     res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
-        return _noted(_result(stats, cpu, _placement(stats, cl, res.x), True, res.status, res.gap, started, lit), res)
+        placement, gap = _polished(model, stats, cl, res, epsilon if formulation == "covers" else None)
+        return _noted(_result(stats, cpu, placement, True, res.status, gap, started, lit), res)
     if res.status == "error":
         raise InputError(f"the allocation MILP failed: {res.message}")
     # Infeasible, or no allocation found in time: minimise the total excess first, then the delay among
@@ -942,6 +944,28 @@ def allocate(
         return _result(stats, cpu, placement, True, "time_limit", best.gap, started, lit)
     proven = res.status == "infeasible" or r1.status == "optimal"
     return _result(stats, cpu, placement, False, "overloaded" if proven else "time_limit", best.gap, started, lit)
+
+
+def _polished(
+    model: _Model, stats: MonitorStats, cl: _Classes, res: _Solved, epsilon: float | None
+) -> tuple[dict[str, str], float]:
+    """The solver's allocation and gap; when the budget stopped it (and ``epsilon`` is given), first
+    improved by the local search of :func:`_improve`, the gap then recomputed against HiGHS's bound."""
+    assert res.x is not None
+    placement = _placement(stats, cl, res.x)
+    if res.status != "time_limit" or epsilon is None:
+        return placement, res.gap
+    nodes = stats.nodes
+    delay = np.array([[stats.delay[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    better = _improve(stats, cl, placement, delay, tcpu, epsilon)
+    before = float(model.c @ _vector(model, stats, cl, placement))
+    after = float(model.c @ _vector(model, stats, cl, better))
+    if after >= before - 1e-9:
+        return placement, res.gap
+    if not math.isfinite(res.bound):
+        return better, res.gap
+    return better, max(0.0, (after - res.bound) / max(abs(after), 1e-9))
 
 
 def _noted(result: Allocation, res: _Solved | None) -> Allocation:
@@ -1061,7 +1085,8 @@ def _decomposed(
                 return "infeasible", 0.0, {}, 0
             if res.x is None:
                 return None
-            solved[key] = (res.status, res.gap, _placement(sub, sub_cl, res.x))
+            polish = epsilon if formulation == "covers" else None
+            solved[key] = (res.status, *_polished(model, sub, sub_cl, res, polish)[::-1])
             diag[key] = res
         placement: dict[str, str] = {}
         for part in parts:
