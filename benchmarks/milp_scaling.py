@@ -19,11 +19,15 @@ Instances:
       MILP splits into one block per robot (allocate's decomposition), coupled only through the
       receiving units' capacities.
     - cross-robot (cross = 0.1): 10 % of the monitors also read another robot's topic, which ties every
-      robot into one block; receiving a topic on several intermediate units is then what the LP
-      relaxation underestimates, and large instances stop at the time limit with a gap.
-Each line: solve time, status (optimal = within HiGHS's 0.01 % gap), remaining gap when the time limit
-stopped it, total delay, migrations, independent blocks. Run on a shared 2-core machine: absolute times
-drift by tens of percent between runs.
+      robot into one block; the LP relaxation then spreads every topic over the intermediate units in
+      fractions (cross-robot reads cost it nothing), and large instances stop at the limit with a gap.
+Every fleet is solved by each formulation of ``--formulations`` in turn, in the same run (the first is
+the one measured, the others its references: "classes" is the previous model, "textbook" Eqs.
+3.21-3.22 as written). Each line: wall and CPU time, status (optimal = within HiGHS's 0.01 % gap), the
+remaining gap when the budget stopped it (100 % when not even the root bound was reached), total delay,
+HiGHS's dual bound after the root node and at the end (model objective: delay - ε per monitor kept),
+branch-and-bound nodes, migrations, independent blocks. The time limit is wall-clock, so on a loaded
+machine the stopped runs get less CPU: read the CPU column, and compare formulations within one run.
 """
 
 from __future__ import annotations

@@ -40,14 +40,38 @@ How it is solved (equivalent to the form above, faster):
   "spread" cuts Σ_j z[g,j] >= L_g (a group too big for any one unit) and relief covers
   (:func:`_relief_covers`): an overloaded unit must shed load, so the topics of the monitors leaving it
   must be received elsewhere; an extended formulation over the relief topic sets makes the LP pay for
-  them (on the 1000 x 20 robot-local fleet the root bound goes from 191 to 333, optimum 342).
+  them (on the 1000 x 20 robot-local fleet the root bound goes from 191 to 333, optimum 342). Host covers
+  (:func:`_host_covers`) are the receiving side: when the other units cannot hold every monitor (each
+  counted for the most monitors its capacity fits), unit j must host the rest, so the topics it receives
+  must hold that many monitors (cross-robot 500 x 5 fleet, where the cloud takes the overflow: root
+  bound 668 -> 824).
 * The matrix is assembled with numpy/scipy.sparse in one go; HiGHS (highspy) solves it, warm-started with
-  a repair heuristic, within a time limit (the allocation period); past it the best allocation found is
-  returned with its optimality gap.
+  a repair heuristic improved by local search (:func:`_improve`), within a time limit (the allocation
+  period) or a budget of branch-and-bound nodes (``work_limit``, reproducible); past it the best
+  allocation found, polished by the same local search, is returned with its optimality gap.
+* ``formulation`` keeps the earlier models selectable for comparison: ``"textbook"`` (the form above,
+  one x[i,j] per monitor), ``"classes"`` (classes, blocks, spread cuts, relief covers) and ``"covers"``
+  (default: + host covers and the local search). tests/engine/verification/test_monitor_milp_formulations.py
+  checks all three against brute force on small instances, and that every cut holds for every feasible
+  allocation.
 
-Measured by benchmarks/milp_scaling.py (shared 2-core machine): 1000 monitors on 20 units to optimality
-in 0.6 s (uniform monitors) and 2.0 s (heterogeneous), robot-local assertions; with 10 % of the monitors
-reading a second robot's topics everything is one block and 1000 x 20 stops at the time limit.
+Measured by benchmarks/milp_scaling.py --formulations covers,classes,textbook --time-limit 10 (shared
+2-core machine, load average 6-7: CPU seconds of the solving process; wall time was about twice that):
+
+* robot-local fleets (one block per robot), 1000 monitors x 20 units: optimal in 0.91 s (uniform) and
+  2.9 s (heterogeneous), "classes" 1.1 s and 4.2 s, the textbook model stops at the limit without a root
+  bound. 500 x 5 and 500 x 10 (a few robots sharing one or two intermediate units): stopped at the limit
+  with gap 9 % and 5 % (covers) against 24 % and 30 % (classes) and 53 % and 55 % (textbook).
+* Not met, cross-robot reads (10 % of the monitors read a second robot's topic, everything is one
+  block): 500 x 5/10/20 stop with gaps of 24-76 %, and at 1000 x 20 the root LP (~10 s CPU on its own)
+  does not finish within the limit. The root bound there (~635 at 1000 x 20, 304 at 500 x 10) is not
+  weak because of the y >= z linking: the LP receives each topic once, spread in fractions over the
+  intermediate units, and hosts a fraction of every monitor on each, so that cross-robot reads cost
+  nothing; an integer allocation partitions the robots among those units and pays for the reads that
+  cross the partition. A bound that sees this needs per-unit patterns (Dantzig-Wolfe / column
+  generation); not done. What the covers formulation improves there is the allocation returned at the
+  limit (local search: delay 2257 -> 1361 at 1000 x 20, 1581 -> 1258 at 500 x 10) and, where the cloud
+  must take the overflow, the root bound (host covers: 668 -> 824 at 500 x 5).
 """
 
 from __future__ import annotations
