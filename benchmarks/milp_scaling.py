@@ -1,6 +1,7 @@
 """Monitor-allocation MILP (Eqs. 3.21-3.22) solve time vs monitor and node counts.
 
-    python benchmarks/milp_scaling.py [--time-limit S] [--quick]
+    python benchmarks/milp_scaling.py [--time-limit S] [--work-limit NODES] [--quick]
+        [--formulations covers,classes[,textbook]] [--sizes 500x5,1000x20] [--skip-case-studies] [--skip-growth]
 
 Instances:
   * case study 1 (spec 03 §13.1/§14): 50 monitors, 5 topics published on edge, edge/desktop/server with
@@ -18,11 +19,15 @@ Instances:
       MILP splits into one block per robot (allocate's decomposition), coupled only through the
       receiving units' capacities.
     - cross-robot (cross = 0.1): 10 % of the monitors also read another robot's topic, which ties every
-      robot into one block; receiving a topic on several intermediate units is then what the LP
-      relaxation underestimates, and large instances stop at the time limit with a gap.
-Each line: solve time, status (optimal = within HiGHS's 0.01 % gap), remaining gap when the time limit
-stopped it, total delay, migrations, independent blocks. Run on a shared 2-core machine: absolute times
-drift by tens of percent between runs.
+      robot into one block; the LP relaxation then spreads every topic over the intermediate units in
+      fractions (cross-robot reads cost it nothing), and large instances stop at the limit with a gap.
+Every fleet is solved by each formulation of ``--formulations`` in turn, in the same run (the first is
+the one measured, the others its references: "classes" is the previous model, "textbook" Eqs.
+3.21-3.22 as written). Each line: wall and CPU time, status (optimal = within HiGHS's 0.01 % gap), the
+remaining gap when the budget stopped it (100 % when not even the root bound was reached), total delay,
+HiGHS's dual bound after the root node and at the end (model objective: delay - ε per monitor kept),
+branch-and-bound nodes, migrations, independent blocks. The time limit is wall-clock, so on a loaded
+machine the stopped runs get less CPU: read the CPU column, and compare formulations within one run.
 """
 
 from __future__ import annotations
@@ -36,7 +41,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from continuum.engine.verification.monitor_milp import MonitorStats, allocate
+from continuum.engine.verification.monitor_milp import FORMULATIONS, MonitorStats, allocate
 
 
 def case_study_1(edge_available: float) -> dict:
@@ -152,65 +157,131 @@ def fleet(n_monitors: int, n_nodes: int, seed: int, uniform: bool, cross: float 
     return {"format": "continuum.monitorstats/v1", "nodes": nodes, "topics": topics, "monitors": monitors}
 
 
-def solve(doc: dict, **options) -> tuple[float, object]:
+def solve(doc: dict, **options) -> tuple[float, float, object]:
+    """(wall ms, CPU ms of this process, Allocation). HiGHS runs single-threaded in this process, so the
+    CPU time is what the solve cost whatever else the shared machine is doing."""
     stats = MonitorStats.from_dict(doc)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     result = allocate(stats, **options)
-    return (time.perf_counter() - t0) * 1000, result
+    return (time.perf_counter() - t0) * 1000, (time.process_time() - c0) * 1000, result
 
 
-def line(label: str, ms: float, r) -> str:
+def line(label: str, ms: float, r, cpu_ms: float | None = None) -> str:
     state = r.status if r.feasible or r.status != "overloaded" else "overloaded"
     gap = f"gap {r.gap:.2%}" if r.status == "time_limit" else ""
+    cpu = f" cpu {cpu_ms:8.1f} ms" if cpu_ms is not None else ""
+    bounds = f"  root {_num(r.root_bound)} bound {_num(r.bound)} nodes {r.nodes:5d}" if cpu_ms is not None else ""
     return (
-        f"{label:<40} {ms:9.1f} ms  {state:<10} {gap:<11} delay {r.objective:9.2f}  {len(r.migrations):4d} migrations"
-        f"  {r.blocks:3d} block(s)"
+        f"{label:<44} {ms:9.1f} ms{cpu}  {state:<10} {gap:<11} delay {r.objective:9.2f}{bounds}"
+        f"  {len(r.migrations):4d} migr.  {r.blocks:3d} block(s)"
     )
+
+
+def _num(v: float) -> str:
+    return f"{v:9.2f}" if v > -1e300 else "      n/a"
+
+
+def loadavg() -> str:
+    try:
+        return " ".join(Path("/proc/loadavg").read_text().split()[:3])
+    except OSError:
+        return "n/a"
+
+
+FLEETS = [
+    ("robot-local uniform", True, 0.0),
+    ("robot-local heterogeneous", False, 0.0),
+    ("cross-robot uniform", True, 0.1),
+    ("cross-robot heterogeneous", False, 0.1),
+]
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--time-limit", type=float, default=5.0)
-    parser.add_argument("--quick", action="store_true", help="fewer and smaller fleets")
-    args = parser.parse_args()
-    tl = args.time_limit
-
-    profile = [100, 100, 60, 40, 30, 25, 20, 15, 10, 10, 20, 40, 80, 100]
-    times, statuses = [], []
-    for avail in profile:
-        ms, r = solve(case_study_1(avail), time_limit=tl)
-        times.append(ms)
-        statuses.append(r.status)
-    print(
-        f"case study 1 (50 x 3 x 5), {len(profile)} periods: mean {statistics.mean(times):.1f} ms, "
-        f"max {max(times):.1f} ms, statuses {sorted(set(statuses))}  (thesis: 27 ms per period)"
+    parser.add_argument("--time-limit", type=float, default=5.0, help="seconds per allocate() call")
+    parser.add_argument(
+        "--work-limit", type=int, default=None, help="branch-and-bound nodes per solve (reproducible budget)"
     )
-    ms, r = solve(case_study_2(0), time_limit=tl)
-    print(line("case study 2 (201 x 3 x 20)", ms, r))
-    print(f"  monitors per unit: { {j: sum(1 for v in r.allocation.values() if v == j) for j in r.cpu} }")
+    parser.add_argument("--quick", action="store_true", help="fewer and smaller fleets")
+    parser.add_argument(
+        "--formulations",
+        default="covers,classes",
+        help="comma-separated, first = the one measured, the others its references, side by side "
+        f"(choices: {', '.join(FORMULATIONS)}; textbook = Eqs. 3.21-3.22 as written)",
+    )
+    parser.add_argument("--sizes", default=None, help="monitors x nodes list, e.g. 500x5,1000x20")
+    parser.add_argument("--skip-case-studies", action="store_true")
+    parser.add_argument("--skip-growth", action="store_true")
+    args = parser.parse_args()
+    forms = [f.strip() for f in args.formulations.split(",") if f.strip()]
+    bad = [f for f in forms if f not in FORMULATIONS]
+    if bad or not forms:
+        print(f"milp_scaling: unknown formulation {bad[0] if bad else ''!r}", file=sys.stderr)
+        sys.exit(2)
+    try:
+        sizes = (
+            [tuple(int(v) for v in s.lower().split("x")) for s in args.sizes.split(",")]
+            if args.sizes
+            else ([(100, 5), (250, 10)] if args.quick else [(500, 5), (500, 10), (500, 20), (1000, 20)])
+        )
+        if any(len(s) != 2 or s[0] < 1 or s[1] < 3 for s in sizes):
+            raise ValueError
+    except ValueError:
+        print("milp_scaling: --sizes must look like 500x5,1000x20 (at least 3 nodes)", file=sys.stderr)
+        sys.exit(2)
+    budget = {"time_limit": args.time_limit}
+    if args.work_limit is not None:
+        budget["work_limit"] = args.work_limit
+    print(f"load average at start: {loadavg()}; budget {budget}; formulations {forms}")
 
-    monitors = [100, 250, 500, 1000] if not args.quick else [100, 250]
-    nodes = [5, 10, 20] if not args.quick else [5, 10]
-    families = [("robot-local uniform", True, 0.0), ("robot-local heterogeneous", False, 0.0),
-                ("cross-robot uniform", True, 0.1)]  # fmt: skip
-    print(f"\nsolve time vs monitors and nodes (time limit {tl:g} s)")
+    if not args.skip_case_studies:
+        profile = [100, 100, 60, 40, 30, 25, 20, 15, 10, 10, 20, 40, 80, 100]
+        for form in forms:
+            times, cpus, statuses = [], [], []
+            for avail in profile:
+                ms, cpu_ms, r = solve(case_study_1(avail), formulation=form, **budget)
+                times.append(ms)
+                cpus.append(cpu_ms)
+                statuses.append(r.status)
+            print(
+                f"case study 1 (50 x 3 x 5) [{form}], {len(profile)} periods: mean {statistics.mean(times):.1f} ms "
+                f"(cpu {statistics.mean(cpus):.1f}), max {max(times):.1f} ms, statuses {sorted(set(statuses))}"
+                "  (thesis: 27 ms per period)"
+            )
+            ms, cpu_ms, r = solve(case_study_2(0), formulation=form, **budget)
+            print(line(f"case study 2 (201 x 3 x 20) [{form}]", ms, r, cpu_ms))
+
+    print("\nsolve time, side by side (same instances, same run)")
     table: dict[str, dict[tuple[int, int], str]] = {}
-    for label, uniform, cross in families:
-        for n_mon in monitors:
-            for n_nodes in nodes:
-                doc = fleet(n_mon, n_nodes, seed=n_mon + n_nodes, uniform=uniform, cross=cross)
-                ms, r = solve(doc, time_limit=tl)
-                print(line(f"{label} {n_mon} x {n_nodes}", ms, r))
-                mark = "" if r.status == "optimal" else "*"
-                table.setdefault(label, {})[(n_mon, n_nodes)] = f"{ms / 1000:.2f}{mark}"
-    print("\nseconds to optimality (* = stopped at the time limit, not proven optimal)")
-    print(f"{'':<28}" + "".join(f"{f'{m} x {n}':>12}" for m in monitors for n in nodes))
+    for label, uniform, cross in FLEETS:
+        for n_mon, n_nodes in sizes:
+            doc = fleet(n_mon, n_nodes, seed=n_mon + n_nodes, uniform=uniform, cross=cross)
+            cpu_of = {}
+            for form in forms:
+                ms, cpu_ms, r = solve(doc, formulation=form, **budget)
+                cpu_of[form] = cpu_ms
+                print(line(f"{label} {n_mon} x {n_nodes} [{form}]", ms, r, cpu_ms))
+                mark = "" if r.status == "optimal" else f"*{r.gap:.0%}"
+                table.setdefault(f"{label} [{form}]", {})[(n_mon, n_nodes)] = f"{cpu_ms / 1000:.2f}{mark}"
+            for ref in forms[1:]:
+                print(f"{'':<44} cpu ratio {forms[0]}/{ref}: {cpu_of[forms[0]] / max(cpu_of[ref], 1e-9):.2f}")
+    print("\nCPU seconds to optimality (*g = stopped by the budget with gap g, not proven optimal)")
+    print(f"{'':<40}" + "".join(f"{f'{m} x {n}':>12}" for m, n in sizes))
     for label, row in table.items():
-        print(f"{label:<28}" + "".join(f"{row[(m, n)]:>12}" for m in monitors for n in nodes))
-    if not args.quick:
-        doc = fleet(1000, 20, seed=1020, uniform=True, cross=0.1)
-        ms, r = solve(doc, time_limit=tl, max_candidates=3)
-        print(line("cross-robot uniform 1000 x 20, max_candidates=3", ms, r))
+        print(f"{label:<40}" + "".join(f"{row[s]:>12}" for s in sizes))
+
+    if not args.skip_growth:
+        print("\ngrowth with monitors (20 nodes), CPU seconds")
+        counts = [100, 250, 500, 1000] if not args.quick else [100, 250]
+        for label, uniform, cross in FLEETS:
+            for form in forms:
+                cells = []
+                for n_mon in counts:
+                    doc = fleet(n_mon, 20, seed=n_mon + 20, uniform=uniform, cross=cross)
+                    _, cpu_ms, r = solve(doc, formulation=form, **budget)
+                    cells.append(f"{cpu_ms / 1000:.2f}" + ("" if r.status == "optimal" else f"*{r.gap:.0%}"))
+                print(f"{label + ' [' + form + ']':<40}" + "".join(f"{c:>12}" for c in cells) + f"   ({counts})")
+    print(f"load average at end: {loadavg()}")
 
 
 if __name__ == "__main__":

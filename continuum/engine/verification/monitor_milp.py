@@ -40,14 +40,40 @@ How it is solved (equivalent to the form above, faster):
   "spread" cuts Σ_j z[g,j] >= L_g (a group too big for any one unit) and relief covers
   (:func:`_relief_covers`): an overloaded unit must shed load, so the topics of the monitors leaving it
   must be received elsewhere; an extended formulation over the relief topic sets makes the LP pay for
-  them (on the 1000 x 20 robot-local fleet the root bound goes from 191 to 333, optimum 342).
+  them (on the 1000 x 20 robot-local fleet the root bound goes from 191 to 333, optimum 342). Host covers
+  (:func:`_host_covers`) are the receiving side: when the other units cannot hold every monitor (each
+  counted for the most monitors its capacity fits), unit j must host the rest, so the topics it receives
+  must hold that many monitors (cross-robot 500 x 5 fleet, where the cloud takes the overflow: root
+  bound 668 -> 824).
 * The matrix is assembled with numpy/scipy.sparse in one go; HiGHS (highspy) solves it, warm-started with
-  a repair heuristic, within a time limit (the allocation period); past it the best allocation found is
-  returned with its optimality gap.
+  a repair heuristic improved by local search (:func:`_improve`), within a time limit (the allocation
+  period) or a budget of branch-and-bound nodes (``work_limit``, reproducible); past it the best
+  allocation found, polished by the same local search, is returned with its optimality gap.
+* ``formulation`` keeps the earlier models selectable for comparison: ``"textbook"`` (the form above,
+  one x[i,j] per monitor), ``"classes"`` (classes, blocks, spread cuts, relief covers) and ``"covers"``
+  (default: + host covers and the local search). tests/engine/verification/test_monitor_milp_formulations.py
+  checks all three against brute force on small instances, and that every cut holds for every feasible
+  allocation.
 
-Measured by benchmarks/milp_scaling.py (shared 2-core machine): 1000 monitors on 20 units to optimality
-in 0.6 s (uniform monitors) and 2.0 s (heterogeneous), robot-local assertions; with 10 % of the monitors
-reading a second robot's topics everything is one block and 1000 x 20 stops at the time limit.
+Measured by benchmarks/milp_scaling.py --formulations covers,classes,textbook --time-limit 10 (shared
+2-core machine, load average 6-7: CPU seconds of the solving process; wall time was about twice that):
+
+* robot-local fleets (one block per robot), 1000 monitors x 20 units: optimal in 0.91 s (uniform) and
+  2.9 s (heterogeneous), "classes" 1.1 s and 4.2 s, the textbook model stops at the limit without a root
+  bound. 500 x 5 and 500 x 10 (a few robots sharing one or two intermediate units): stopped at the limit
+  with gap 9 % and 5 % (covers) against 24 % and 30 % (classes) and 53 % and 55 % (textbook).
+* Not met, cross-robot reads (10 % of the monitors read a second robot's topic, everything is one
+  block): 500 x 5/10/20 stop with gaps of 24-76 %, and at 1000 x 20 the root LP (~10 s CPU on its own)
+  does not finish within the limit. The root bound there (~635 at 1000 x 20, 304 at 500 x 10) is not
+  weak because of the y >= z linking: the LP receives each topic once, spread in fractions over the
+  intermediate units, and hosts a fraction of every monitor on each, so that cross-robot reads cost
+  nothing; an integer allocation partitions the robots among those units and pays for the reads that
+  cross the partition. A bound that sees this needs per-unit patterns (Dantzig-Wolfe / column
+  generation); not done. What the covers formulation improves there is the allocation returned at the
+  limit (local search: delay 2257 -> 1361 at 1000 x 20, 1581 -> 1258 at 500 x 10) and, where the cloud
+  must take the overflow, the root bound (host covers: 668 -> 824 at 500 x 5). The local search is far
+  from optimal, though: given 900 s (430 s CPU, 5521 nodes) HiGHS reaches delay 412 at 500 x 10 with a
+  bound of 333 (gap 19 %), so both sides of the gap still need work.
 """
 
 from __future__ import annotations
@@ -78,6 +104,7 @@ __all__ = [
 ]
 
 FORMAT = "continuum.monitorstats/v1"
+FORMULATIONS = ("covers", "classes", "textbook")  # see allocate()
 
 
 # ===================================================================================================
@@ -301,6 +328,11 @@ class Allocation:
     unresolved: dict[str, float] = field(default_factory=dict)
     blocks: int = 1  # independent blocks the model was split into (see _decomposed)
     reused: bool = False  # MonitorAllocator: same statistics as the previous period, not solved again
+    # Diagnostics (not part of to_dict): HiGHS's dual bounds on the model objective (delay + 1e-6·Σy -
+    # ε·monitors kept; summed over blocks), after the root node and at the end, and the B&B nodes.
+    root_bound: float = -math.inf
+    bound: float = -math.inf
+    nodes: int = 0
 
     def to_dict(self) -> dict:
         return {
@@ -337,7 +369,7 @@ class _Classes:
     allowed: np.ndarray | None = None  # class x unit, when candidate units are restricted
 
 
-def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool) -> _Classes:
+def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool, merge: bool = True) -> _Classes:
     node_ix = {j: b for b, j in enumerate(stats.nodes)}
     topic_ix = {k: t for t, k in enumerate(stats.topics)}
     by_key: dict[tuple, int] = {}
@@ -351,7 +383,7 @@ def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool) -> _Classes:
         )
         now_on = stats.current[i]
         cur = None if now_on is None else node_ix[now_on]
-        key = (topics, cur, cpu[a].tobytes())
+        key = (topics, cur, cpu[a].tobytes()) if merge else (a,)
         if key not in by_key:
             by_key[key] = len(members)
             members.append([])
@@ -386,6 +418,7 @@ def _build(
     slack: bool,
     delay_weight: float = 1.0,
     max_excess: float | None = None,
+    formulation: str = "covers",
 ) -> _Model:
     """Variables: n[c,j] (monitors of class c on unit j, integer), y[k,j] (topic k received on j),
     z[g,j] (some monitor of topic-set group g on j, binary), [s_j capacity slacks]."""
@@ -452,7 +485,7 @@ def _build(
             np.zeros(m),
         )
     cap = stats.capacity()
-    if not slack:  # spread cuts: valid only when capacities are hard
+    if not slack and formulation != "textbook":  # spread cuts: valid only when capacities are hard
         for g, need in _spread_bounds(cl, [cap[j] for j in stats.nodes], by="group"):
             add(
                 np.zeros(j_count, dtype=int),
@@ -477,24 +510,40 @@ def _build(
         add(np.zeros(len(columns), dtype=int), np.array(columns, dtype=int), np.array(coefs, dtype=float), 1,
             np.array([low]), np.array([high]))  # fmt: skip
 
-    if not slack:  # relief covers: valid only when capacities are hard
+    if not slack and formulation != "textbook":  # relief (and host) covers: valid only for hard capacities
         families, cover_cuts = _relief_covers(stats, cl)
+        if formulation == "covers":
+            host_families, host_cuts = _host_covers(stats, cl, max_sets=HOST_SETS)
+            families += host_families
+        else:
+            host_cuts = []
         for unit, topics, need in cover_cuts:
             columns = [y0 + k * j_count + b for k in topics for b in range(j_count) if b != unit]
+            row(columns, [1.0] * len(columns), float(need), np.inf)
+        for unit, topics, need in host_cuts:
+            columns = [y0 + k * j_count + unit for k in topics]
             row(columns, [1.0] * len(columns), float(need), np.inf)
         w = n
         for fam in families:
             fam.w0 = w
-            # exactly one relief set is chosen ...
+            # exactly one relief (host) set is chosen ...
             row([w + o for o in range(len(fam.sets))], [1.0] * len(fam.sets), 1.0, 1.0)
-            if fam.complete:  # ... a monitor of the unit leaves only if that set holds all its topics ...
-                for cls in fam.members:
+            if fam.complete and not fam.host:  # ... a monitor of the unit leaves only if that set holds
+                for cls in fam.members:  # all its topics ...
                     held = set(cl.group_topics[cl.group[cls]])
                     wcols = [w + o for o, topics in enumerate(fam.sets) if held <= set(topics)]
                     row([cls * j_count + fam.unit, *wcols], [1.0] + [size[cls]] * len(wcols), size[cls], np.inf)
-            # ... and each of its topics is received on some other unit
+            if fam.complete and fam.host:  # ... (host: a monitor runs on the unit only if the set holds all
+                for cls in fam.members:  # its topics) ...
+                    held = set(cl.group_topics[cl.group[cls]])
+                    wcols = [w + o for o, topics in enumerate(fam.sets) if held <= set(topics)]
+                    row([cls * j_count + fam.unit, *wcols], [1.0] + [-size[cls]] * len(wcols), -np.inf, 0.0)
+            # ... and each of its topics is received on some other unit (host: on the unit itself)
             for k in sorted({k for o in fam.sets for k in o}):
-                ycols = [y0 + k * j_count + b for b in range(j_count) if b != fam.unit]
+                if fam.host:
+                    ycols = [y0 + k * j_count + fam.unit]
+                else:
+                    ycols = [y0 + k * j_count + b for b in range(j_count) if b != fam.unit]
                 wcols = [w + o for o, topics in enumerate(fam.sets) if k in topics]
                 row(ycols + wcols, [1.0] * len(ycols) + [-1.0] * len(wcols), 0.0, np.inf)
             w += len(fam.sets)
@@ -545,6 +594,7 @@ class _Family:
     members: list[int]  # the classes counted in the unit's load
     universe: set[int] = field(default_factory=set)  # the topics the sets are drawn from
     w0: int = 0
+    host: bool = False  # a host family (see _host_covers): the sets are what the unit itself receives
 
 
 def _relief_covers(
@@ -605,6 +655,68 @@ def _relief_covers(
             families.append(_Family(r, minimal, False, members, set(universe)))
         else:
             cuts.extend((r, topics, need) for topics, need in unit_cuts[:max_cuts])
+    return families, cuts
+
+
+def _host_covers(
+    stats: MonitorStats, cl: _Classes, max_topics: int = 14, max_sets: int = 64, max_cuts: int = 128
+) -> tuple[list[_Family], list[tuple[int, list[int], int]]]:
+    """Host-cover inequalities for units that must host some monitors because the others cannot.
+
+    A unit j' != j hosts at most h[j'] monitors: the most of the smallest monitorCPU[·, j'] whose sum
+    fits in cap[j'] (topic CPU only lowers it). So unit j hosts at least R = N - Σ_{j' != j} h[j']
+    monitors, and a monitor runs on j only if j receives all its topics: with O the set of topics
+    received on j, #{monitors whose topics ⊆ O} >= R. This is the receiving side of the relief covers
+    (:func:`_relief_covers`, which look at what an overloaded unit must shed); the same subset machinery
+    gives its valid forms, with y[k,j] on j itself instead of Σ_{j' != r} y[k,j']:
+
+    * choose the host set (w, Σ w = 1), y[k,j] >= Σ_{O ∋ k} w[O], and, when every host set is listed,
+      n[c,j] <= |c|·Σ_{O ⊇ topics(c)} w[O] (the chosen O is the received set itself, which is a host set);
+    * else Σ_{k ∉ S} y[k,j] >= m(S), the fewest topics outside S that complete S to a host set.
+
+    With a universe cut to ``max_topics`` topics, the monitors reading a topic outside it are dropped and
+    R lowered by their number (they may all be on j): still valid. On the cross-robot fleets of
+    benchmarks/milp_scaling.py, where the slow cloud must take the overflow of every robot, the LP
+    relaxation otherwise receives a fraction of every topic there.
+    """
+    cap = stats.capacity()
+    sizes = np.array([len(m) for m in cl.members])
+    total = int(sizes.sum())
+    hosts = []
+    for b, unit in enumerate(stats.nodes):
+        per = np.repeat(cl.cpu[:, b], sizes)
+        per.sort()
+        hosts.append(int(np.searchsorted(np.cumsum(per), cap[unit] + 1e-9, side="right")))
+    families: list[_Family] = []
+    cuts: list[tuple[int, list[int], int]] = []
+    for b in range(len(stats.nodes)):
+        need = total - (sum(hosts) - hosts[b])
+        if need <= 0:
+            continue
+        members = list(range(len(cl.members)))
+        universe = sorted({k for c in members for k in cl.group_topics[cl.group[c]]})
+        if len(universe) > max_topics:
+            weight: dict[int, float] = {}
+            for c in members:
+                for k in cl.group_topics[cl.group[c]]:
+                    weight[k] = weight.get(k, 0.0) + sizes[c]
+            kept = set(sorted(universe, key=lambda k: (-weight[k], k))[:max_topics])
+            universe = sorted(kept)
+            members = [c for c in members if set(cl.group_topics[cl.group[c]]) <= kept]
+            need -= total - int(sizes[members].sum())
+            if need <= 0:
+                continue
+        every, minimal, unit_cuts = _relief_sets(
+            universe, [(cl.group_topics[cl.group[c]], float(sizes[c])) for c in members], float(need)
+        )
+        if not minimal:
+            continue  # no topic set hosts enough: the MILP proves it infeasible
+        if every and len(every) <= max_sets:
+            families.append(_Family(b, every, True, members, set(universe), host=True))
+        elif len(minimal) <= max_sets:
+            families.append(_Family(b, minimal, False, members, set(universe), host=True))
+        else:
+            cuts.extend((b, topics, need) for topics, need in unit_cuts[:max_cuts])
     return families, cuts
 
 
@@ -690,6 +802,9 @@ def _spread_bounds(cl: _Classes, cap: list[float], by: str) -> list[tuple[int, i
 # rounds short (one heterogeneous robot block: 3.0 s -> 0.9 s; the heterogeneous 1000 x 20 fleet 4.2 s -> 2.1 s).
 HIGHS_OPTIONS: dict[str, Any] = {"mip_pool_soft_limit": 100}
 
+# Largest host family written as an extended formulation (else the m(S) cuts).
+HOST_SETS = 512
+
 
 @dataclass
 class _Solved:
@@ -697,6 +812,9 @@ class _Solved:
     x: np.ndarray | None
     gap: float
     message: str
+    bound: float = -math.inf  # HiGHS's final dual bound (a lower bound on the model's objective)
+    root_bound: float = -math.inf  # the dual bound after the root node (LP relaxation + cuts)
+    nodes: int = 0
 
 
 def _solve(
@@ -734,6 +852,14 @@ def _solve(
         highspy.HighsVarType.kInteger if v else highspy.HighsVarType.kContinuous for v in model.integrality
     ]
     h.passModel(lp)
+    root = [-math.inf]
+
+    def watch(_kind: Any, _message: Any, out: Any, _inp: Any, _data: Any) -> None:
+        if out.mip_node_count == 0 and math.isfinite(out.mip_dual_bound):  # still at the root
+            root[0] = max(root[0], float(out.mip_dual_bound))
+
+    h.setCallback(watch, None)
+    h.startCallback(highspy.cb.HighsCallbackType.kCallbackMipInterrupt)
     if start is not None:
         sol = highspy.HighsSolution()
         sol.col_value = list(start)
@@ -744,14 +870,21 @@ def _solve(
     info = h.getInfo()
     has_x = info.primal_solution_status == 2  # kSolutionStatusFeasible
     x = np.array(h.getSolution().col_value) if has_x else None
-    gap_value = float(info.mip_gap) if has_x and math.isfinite(info.mip_gap) else 0.0
+    # no finite gap yet (stopped before the root bound): report 1.0, "nothing proven", never 0
+    gap_value = (float(info.mip_gap) if math.isfinite(info.mip_gap) else 1.0) if has_x else 0.0
+    bound = float(info.mip_dual_bound) if math.isfinite(info.mip_dual_bound) else -math.inf
+    extra: dict[str, Any] = {
+        "bound": bound,
+        "root_bound": root[0] if math.isfinite(root[0]) or info.mip_node_count > 1 else bound,
+        "nodes": int(info.mip_node_count),
+    }
     if status == highspy.HighsModelStatus.kOptimal:
-        return _Solved("optimal", x, gap_value, "optimal")
+        return _Solved("optimal", x, gap_value, "optimal", **extra)
     if status == highspy.HighsModelStatus.kInfeasible:
-        return _Solved("infeasible", None, 0.0, "infeasible")
+        return _Solved("infeasible", None, 0.0, "infeasible", **extra)
     if status in (highspy.HighsModelStatus.kTimeLimit, highspy.HighsModelStatus.kInterrupt) or has_x:
-        return _Solved("time_limit", x, gap_value, h.modelStatusToString(status))
-    return _Solved("error", None, 0.0, h.modelStatusToString(status))
+        return _Solved("time_limit", x, gap_value, h.modelStatusToString(status), **extra)
+    return _Solved("error", None, 0.0, h.modelStatusToString(status), **extra)
 
 
 def allocate(
@@ -765,6 +898,7 @@ def allocate(
     max_candidates: int | None = None,
     decompose: bool = True,
     work_limit: int | None = None,
+    formulation: str = "covers",
 ) -> Allocation:
     """Solve Eqs. 3.21-3.22 for one set of statistics; fall back to the minimum-overload allocation.
 
@@ -780,7 +914,16 @@ def allocate(
     same allocation on a loaded machine as on an idle one (reproducible simulations). ``status`` is then
     ``"time_limit"`` when the budget stopped the search (the status names are part of the API). Give
     ``time_limit=math.inf`` with it so that the clock never decides.
+
+    ``formulation`` picks the model, all with the same optimum (kept selectable so that
+    benchmarks/milp_scaling.py can compare them side by side): ``"textbook"`` is Eqs. 3.21-3.22 as
+    written (one x[i,j] per monitor, no cuts, no decomposition); ``"classes"`` the class counts, blocks,
+    spread cuts and relief covers; ``"covers"`` (default) adds the host covers (:func:`_host_covers`).
     """
+    if formulation not in FORMULATIONS:
+        raise InputError(
+            f"formulation must be one of {', '.join(FORMULATIONS)}, not {formulation!r}", field="formulation"
+        )
     if not isinstance(stats, MonitorStats):
         stats = MonitorStats.from_dict(stats)
     started = time.perf_counter()
@@ -792,21 +935,24 @@ def allocate(
     def left() -> float:  # every solve shares one time budget
         return max(0.05, time_limit - (time.perf_counter() - started))
 
-    cl = _classes(stats, cpu, lit)
-    if decompose and not lit:
-        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap, work_limit)
+    textbook = formulation == "textbook"
+    cl = _classes(stats, cpu, lit, merge=not textbook)
+    if decompose and not lit and not textbook:
+        diag: dict = {}
+        split = _decomposed(stats, cpu, cl, epsilon, max_candidates, left, mip_rel_gap, work_limit, formulation, diag)
         if split is not None and split[0] != "infeasible":
             status, gap, placement, blocks = split
             result = _result(stats, cpu, placement, True, status, gap, started, lit)
             result.blocks = blocks
-            return result
+            return _noted(result, diag.get("total"))
     if max_candidates is not None:
         cl.allowed = _candidates(stats, cl, max_candidates)
-    greedy, fits = _greedy(stats, cl)
-    model = _build(stats, cl, epsilon, slack=False)
+    greedy, fits = _greedy(stats, cl, epsilon if formulation == "covers" else None)
+    model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
     res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
-        return _result(stats, cpu, _placement(stats, cl, res.x), True, res.status, res.gap, started, lit)
+        placement, gap = _polished(model, stats, cl, res, epsilon if formulation == "covers" else None)
+        return _noted(_result(stats, cpu, placement, True, res.status, gap, started, lit), res)
     if res.status == "error":
         raise InputError(f"the allocation MILP failed: {res.message}")
     # Infeasible, or no allocation found in time: minimise the total excess first, then the delay among
@@ -824,6 +970,34 @@ def allocate(
         return _result(stats, cpu, placement, True, "time_limit", best.gap, started, lit)
     proven = res.status == "infeasible" or r1.status == "optimal"
     return _result(stats, cpu, placement, False, "overloaded" if proven else "time_limit", best.gap, started, lit)
+
+
+def _polished(
+    model: _Model, stats: MonitorStats, cl: _Classes, res: _Solved, epsilon: float | None
+) -> tuple[dict[str, str], float]:
+    """The solver's allocation and gap; when the budget stopped it (and ``epsilon`` is given), first
+    improved by the local search of :func:`_improve`, the gap then recomputed against HiGHS's bound."""
+    assert res.x is not None
+    placement = _placement(stats, cl, res.x)
+    if res.status != "time_limit" or epsilon is None:
+        return placement, res.gap
+    nodes = stats.nodes
+    delay = np.array([[stats.delay[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    better = _improve(stats, cl, placement, delay, tcpu, epsilon)
+    before = float(model.c @ _vector(model, stats, cl, placement))
+    after = float(model.c @ _vector(model, stats, cl, better))
+    if after >= before - 1e-9:
+        return placement, res.gap
+    if not math.isfinite(res.bound):
+        return better, res.gap
+    return better, max(0.0, (after - res.bound) / max(abs(after), 1e-9))
+
+
+def _noted(result: Allocation, res: _Solved | None) -> Allocation:
+    if res is not None:
+        result.root_bound, result.bound, result.nodes = res.root_bound, res.bound, res.nodes
+    return result
 
 
 # ===================================================================================================
@@ -901,6 +1075,8 @@ def _decomposed(
     left: Callable[[], float],
     gap: float,
     work_limit: int | None = None,
+    formulation: str = "covers",
+    diag: dict | None = None,
 ) -> tuple[str, float, dict[str, str], int] | None:
     """Solve independent blocks separately; exact, or None to fall back to the whole model.
 
@@ -915,6 +1091,7 @@ def _decomposed(
     parts = _blocks(cl)
     if len(parts) < 2:
         return None
+    diag = {} if diag is None else diag
     solved: dict[tuple[int, ...], tuple[str, float, dict[str, str]]] = {}
     cap = stats.capacity()
     while True:
@@ -927,14 +1104,16 @@ def _decomposed(
             sub_cl = _classes(sub, sub_cpu, False)
             if max_candidates is not None:
                 sub_cl.allowed = _candidates(sub, sub_cl, max_candidates)
-            greedy, fits = _greedy(sub, sub_cl)
-            model = _build(sub, sub_cl, epsilon, slack=False)
+            greedy, fits = _greedy(sub, sub_cl, epsilon if formulation == "covers" else None)
+            model = _build(sub, sub_cl, epsilon, slack=False, formulation=formulation)
             res = _solve(model, _vector(model, sub, sub_cl, greedy) if fits else None, left(), gap, work_limit)
             if res.status == "infeasible":
                 return "infeasible", 0.0, {}, 0
             if res.x is None:
                 return None
-            solved[key] = (res.status, res.gap, _placement(sub, sub_cl, res.x))
+            polish = epsilon if formulation == "covers" else None
+            solved[key] = (res.status, *_polished(model, sub, sub_cl, res, polish)[::-1])
+            diag[key] = res
         placement: dict[str, str] = {}
         for part in parts:
             placement.update(solved[tuple(part)][2])
@@ -958,6 +1137,17 @@ def _decomposed(
                     merged = True
         if not merged:
             statuses = [solved[tuple(part)] for part in parts]
+            final = [diag[tuple(part)] for part in parts]
+            diag.clear()
+            diag["total"] = _Solved(
+                "",
+                None,
+                0.0,
+                "",
+                sum(r.bound for r in final),
+                sum(r.root_bound for r in final),
+                sum(r.nodes for r in final),
+            )
             status = "optimal" if all(s[0] == "optimal" for s in statuses) else "time_limit"
             return status, max(s[1] for s in statuses), {i: placement[i] for i in stats.monitors}, len(parts)
         groups: dict[int, list[int]] = {}
@@ -982,10 +1172,11 @@ def _candidates(stats: MonitorStats, cl: _Classes, k: int) -> np.ndarray:
     return allowed
 
 
-def _greedy(stats: MonitorStats, cl: _Classes) -> tuple[dict[str, str], bool]:
+def _greedy(stats: MonitorStats, cl: _Classes, improve: float | None = None) -> tuple[dict[str, str], bool]:
     """A quick allocation: keep monitors where they are if everything fits, else place the largest
     monitors first on the unit that adds the least delay among those with room. ``fits`` tells whether
-    every capacity holds."""
+    every capacity holds. With ``improve`` (the ε of the objective), a fitting allocation is then
+    improved by local search (:func:`_improve`)."""
     cap = stats.capacity()
     nodes = stats.nodes
     topic_ix = {k: t for t, k in enumerate(stats.topics)}
@@ -1024,12 +1215,93 @@ def _greedy(stats: MonitorStats, cl: _Classes) -> tuple[dict[str, str], bool]:
 
     by_size = sorted(range(len(stats.monitors)), key=lambda a: -float(cl.cpu[cls_of[a]].max()))
     repaired = _repair(stats, cl, delay, tcpu)
-    if repaired is not None:
-        return repaired, True
-    kept, ok = attempt(by_size, stay=True)
-    if ok:
-        return kept, True
-    return attempt(by_size, stay=False)
+    if repaired is None:
+        repaired, ok = attempt(by_size, stay=True)
+        if not ok:
+            repaired, ok = attempt(by_size, stay=False)
+        if not ok:
+            return repaired, False
+    if improve is not None:
+        repaired = _improve(stats, cl, repaired, delay, tcpu, improve)
+    return repaired, True
+
+
+def _improve(
+    stats: MonitorStats,
+    cl: _Classes,
+    placement: Mapping[str, str],
+    delay: np.ndarray,
+    tcpu: np.ndarray,
+    epsilon: float,
+    max_passes: int = 20,
+) -> dict[str, str]:
+    """Local search on a capacity-feasible allocation (a better first incumbent for HiGHS; the optimum
+    is unchanged since the MILP still decides). A move takes every monitor on unit a that reads topic k
+    (or every monitor of one topic set) to one unit b, when that fits b's capacity and lowers the
+    objective: the delays of the topics a no longer needs minus those b starts receiving, plus ε per
+    monitor leaving its current unit. Moves are tried in a fixed order, so the result is deterministic."""
+    j_count, k_count = len(stats.nodes), len(stats.topics)
+    cap = np.array([stats.capacity()[j] for j in stats.nodes])
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    cls_of = np.zeros(len(stats.monitors), dtype=int)
+    for c, members in enumerate(cl.members):
+        cls_of[members] = c
+    allowed = cl.allowed if cl.allowed is not None else np.ones((len(cl.members), j_count), dtype=bool)
+    topics_of = [cl.group_topics[cl.group[c]] for c in cls_of]
+    place = np.array([node_ix[placement[i]] for i in stats.monitors])
+    readers = np.zeros((k_count, j_count), dtype=int)
+    load = np.zeros(j_count)
+    for a, b in enumerate(place):
+        load[b] += cl.cpu[cls_of[a], b]
+        for k in topics_of[a]:
+            readers[k, b] += 1
+    load += (tcpu * (readers > 0)).sum(axis=0)
+    current = np.array([-1 if cl.current[c] is None else cl.current[c] for c in cls_of])
+
+    cpu_of = cl.cpu[cls_of]  # monitor x unit
+
+    def try_move(movers: list[int], a: int) -> bool:
+        count: dict[int, int] = {}
+        for m in movers:
+            for k in topics_of[m]:
+                count[k] = count.get(k, 0) + 1
+        ks = np.fromiter(count, dtype=int, count=len(count))
+        freed = ks[readers[ks, a] == np.fromiter(count.values(), dtype=int, count=len(count))]
+        here = np.bincount(current[movers][current[movers] >= 0], minlength=j_count)
+        saved = float(delay[freed, a].sum()) + epsilon * here[a]
+        new = readers[ks] == 0  # topic x unit: not received there yet
+        gain = saved - (delay[ks] * new).sum(axis=0) - epsilon * here
+        extra = cpu_of[movers].sum(axis=0) + (tcpu[ks] * new).sum(axis=0)
+        ok = (gain > 1e-9) & (load + extra <= cap + 1e-9) & allowed[cls_of[movers]].all(axis=0)
+        ok[a] = False
+        if not ok.any():
+            return False
+        b = int(np.argmax(np.where(ok, gain, -np.inf)))
+        load[b] += extra[b]
+        load[a] -= float(cpu_of[movers, a].sum()) + float(tcpu[freed, a].sum())
+        place[movers] = b
+        for m in movers:
+            for k in topics_of[m]:
+                readers[k, a] -= 1
+                readers[k, b] += 1
+        return True
+
+    for _ in range(max_passes):
+        moved = False
+        for a in range(j_count):
+            for k in np.nonzero(readers[:, a])[0]:
+                movers = [int(m) for m in np.nonzero(place == a)[0] if k in topics_of[m]]
+                if movers and try_move(movers, a):
+                    moved = True
+            by_group: dict[int, list[int]] = {}
+            for m in np.nonzero(place == a)[0]:
+                by_group.setdefault(cl.group[cls_of[m]], []).append(int(m))
+            for movers in by_group.values():
+                if all(place[m] == a for m in movers) and try_move(movers, a):
+                    moved = True
+        if not moved:
+            break
+    return {i: stats.nodes[place[a]] for a, i in enumerate(stats.monitors)}
 
 
 def _repair(stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray) -> dict[str, str] | None:
@@ -1135,7 +1407,7 @@ def _vector(model: _Model, stats: MonitorStats, cl: _Classes, placement: Mapping
             k
             for k in range(len(stats.topics))
             for b in range(j_count)
-            if b != fam.unit and x[model.y0 + k * j_count + b]
+            if (b == fam.unit if fam.host else b != fam.unit) and x[model.y0 + k * j_count + b]
         }
         if fam.complete:
             chosen = next((o for o, topics in enumerate(fam.sets) if set(topics) == elsewhere & fam.universe), None)
