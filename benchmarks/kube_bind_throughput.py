@@ -32,7 +32,8 @@ then, once its pods run, pushes the same pods again (every pod exists and is bou
 pods and Deployments, unmeasured (first uses cost CPU: the client's models, TLS handshakes). Rounds alternate
 the order (gateway first, then plain first, ...) so drift of the loaded machine falls on both; the summary gives
 each figure's median and spread (min-max) over the rounds and the gateway / plain ratio of the medians (goal:
->= 1 for the rates, <= 1 for the CPU). Hollow nodes accept at most 110 pods each.
+>= 1 for the rates, <= 1 for the CPU and the time until Running), the spread of the load average and the
+hollow nodes' RSS after the runs. Hollow nodes accept at most 110 pods each.
 """
 
 from __future__ import annotations
@@ -261,7 +262,7 @@ def run_plain(kubeconfig: str, nodes: list[str], args, namespace: str) -> dict[s
 
 def spread(values: list[float], unit: str, digits: int = 1) -> str:
     """``median [min-max] unit`` of a figure over the rounds."""
-    return f"{statistics.median(values):.{digits}f} [{min(values):.{digits}f}-{max(values):.{digits}f}] {unit}"
+    return f"{statistics.median(values):.{digits}f} [{min(values):.{digits}f}-{max(values):.{digits}f}] {unit}".rstrip()
 
 
 def load() -> str:
@@ -351,6 +352,7 @@ def main() -> None:
                         flush=True,
                     )
                 figures["all Running s"] = all_s
+                figures["load 1 min"] = load1
                 rows.append([f"{r + 1}", label, figures["pods/s"], figures["Deployments/s"], figures["CPU ms/pod"],
                              figures["CPU ms/Deployment"], pods_t.wall, deploy_t.wall,
                              again.wall if again else "-", bound_s, deployed_s, all_s, load1])  # fmt: skip
@@ -378,11 +380,16 @@ def main() -> None:
         print(f"  gateway re-push of the {args.pods} pods (all exist): "
               f"{spread([f['re-push s'] for f in runs], 's', 2)}, "
               f"{spread([f['re-push CPU ms/pod'] for f in runs], 'ms CPU/pod', 3)}")  # fmt: skip
+        loads = [f["load 1 min"] for label in measured for f in measured[label]]
+        print(f"  load average (1 min) at the end of each client's push: {spread(loads, '')}")
         print(f"gateway / plain, pods/s: {med['pods/s']:.2f}x (ratio of the medians; goal >= 1)")
         if args.deployments:
-            print(f"gateway / plain, Deployments/s: {med['Deployments/s']:.2f}x")
+            print(f"gateway / plain, Deployments/s: {med['Deployments/s']:.2f}x (goal >= 1)")
         print(f"gateway / plain, CPU per pod: {med['CPU ms/pod']:.2f}x (goal <= 1)")
-        print(f"after the runs: {rss_line(cluster)[0]}")
+        if args.deployments:
+            print(f"gateway / plain, CPU per Deployment: {med['CPU ms/Deployment']:.2f}x (goal <= 1)")
+        print(f"gateway / plain, time until all Running: {med['all Running s']:.2f}x (goal <= 1)")
+        print(f"after the runs: {rss_line(cluster)[0]}; {load()}")
         observer.api_client.close()
     finally:
         cluster.down()

@@ -66,6 +66,15 @@ def read_json(fn, *args, **kwargs):
     return json.loads(data) if data else None
 
 
+def by_label(list_fn, namespace: str, label_selector: str, *, what: str, server: str = "") -> dict[str, dict]:
+    """The objects a namespaced list call (``list_fn``, e.g. ``CoreV1Api.list_namespaced_pod``) answers for
+    ``label_selector``, by name, as the server's JSON: what a push reads before its writes (the pods or
+    Deployments already there). Raw JSON, not models: a re-push lists every object it made, and parsing
+    thousands of V1Pods costs more CPU than the few fields read from them. Retried like any read."""
+    listing = call(read_json, list_fn, namespace, label_selector=label_selector, what=what, server=server)
+    return {item["metadata"]["name"]: item for item in (listing or {}).get("items") or []}
+
+
 def server_of(api_client) -> str:
     return getattr(getattr(api_client, "configuration", None), "host", "") or ""
 

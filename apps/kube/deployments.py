@@ -18,7 +18,7 @@ from kubernetes import client
 from kubernetes.client.exceptions import ApiException
 
 from . import nodes, parallel, pods
-from .connect import API_ERRORS, call, describe, read_json
+from .connect import API_ERRORS, by_label, call, describe, read_json
 
 #: Replaces answered 409 (changed meanwhile) retried against a fresh read before giving up.
 REPLACE_ATTEMPTS = 5
@@ -41,17 +41,15 @@ class Deployments:
         return nodes.node_problems(self.api_client)
 
     def existing(self, label_selector: str) -> dict[str, dict[str, Any]]:
-        """The namespace's Deployments matching ``label_selector``, by name, as the server's JSON (only the
-        hash annotation and the resourceVersion are read: parsing whole V1Deployments would cost more CPU)."""
-        listing = call(
-            read_json,
+        """The namespace's Deployments matching ``label_selector``, by name, as the server's JSON
+        (:func:`~apps.kube.connect.by_label`; only the hash annotation and the resourceVersion are read)."""
+        return by_label(
             self.apps.list_namespaced_deployment,
             self.namespace,
-            label_selector=label_selector,
+            label_selector,
             what=f"list Deployments in namespace {self.namespace}",
             server=self.server,
         )
-        return {d["metadata"]["name"]: d for d in (listing or {}).get("items") or []}
 
     def prepare(self, label_selector: str) -> tuple[dict[str, str | None], dict[str, Any]]:
         """Before a push, at once: the namespace made if missing, the nodes' problems

@@ -75,14 +75,16 @@ def our_pods(kube, namespace: str, pods) -> dict:
 
 
 class Spy:
-    """Wraps ``apps.kube.pods.call``: every call goes to the real API; records the creates in flight at once
-    (``peak``) and the attempts per call; ``before(what, fn)`` runs ``fn`` once just before the first attempt of
-    the call named ``what``; ``hold`` keeps each create in flight a little longer so overlap is observable."""
+    """Wraps ``apps.kube.pods.call`` (or ``module.call``): every call goes to the real API; records the pod
+    creates in flight at once (``peak``) and the attempts per call; ``before(what, fn)`` runs ``fn`` once just
+    before the first attempt of the call named ``what``; ``hold`` keeps each pod create in flight a little
+    longer so overlap is observable."""
 
-    def __init__(self, monkeypatch, hold: float = 0.0) -> None:
+    def __init__(self, monkeypatch, hold: float = 0.0, module=None) -> None:
         from apps.kube import pods as pods_module
 
-        self.real = pods_module.call
+        module = module or pods_module  # the gateway module whose calls are watched (pods, or deployments)
+        self.real = module.call
         self.hold = hold
         self.lock = threading.Lock()
         self.in_flight = 0
@@ -90,7 +92,7 @@ class Spy:
         self.attempts: dict[str, int] = {}
         self.hooks: dict[str, object] = {}
         self.threads: set[int] = set()
-        monkeypatch.setattr(pods_module, "call", self.call)
+        monkeypatch.setattr(module, "call", self.call)
 
     def before(self, what: str, fn) -> None:
         self.hooks[what] = fn
@@ -424,3 +426,123 @@ def test_deployments_are_applied_concurrently_once_each_and_run(kubeconfig, kube
         return sum(p.status.phase == "Running" and p.metadata.deletion_timestamp is None for p in pods) == 7
 
     wait_for("one Running pod per Deployment, placed by kube-scheduler", running)
+
+
+def deployment_pods(kube, namespace: str, name: str) -> list:
+    """The live (not terminating) pods of the Deployment ``name``."""
+    pods = kube.list_namespaced_pod(namespace, label_selector=f"continuum.io/deployment={name}").items
+    return [p for p in pods if p.metadata.deletion_timestamp is None]
+
+
+def test_a_deployment_create_that_timed_out_after_the_server_made_it_is_retried_without_a_duplicate(
+    kube, kube_namespace, kube_server, settings, monkeypatch
+):
+    """The create reached the server, its answer was lost (held by the proxy until the client timed out): the
+    retried create answers 409, the Deployment there is compared by hash and kept. One Deployment, one
+    ReplicaSet, one pod each."""
+    from kubernetes.client import AppsV1Api
+
+    from apps.kube import deployments as deployments_module
+    from apps.kube import gateway
+
+    settings.CONTINUUM_KUBE_RETRY_BASE_S = 0.05
+    spy = Spy(monkeypatch, module=deployments_module)
+    proxy = HoldingProxy(kube_server.port, hold=4.0)
+    try:
+        text = kubeconfig_text(f"https://127.0.0.1:{proxy.port}", kube_server.token, kube_server.ca_path.read_bytes())
+        with gateway.api_client(text, name="through a proxy") as api_client:
+            nodes = live_hollow_nodes(api_client)
+            pusher = gateway.Deployments(api_client, kube_namespace, "continuum.io/spec-hash")
+            pusher.ensure_namespace()
+            bodies = [deployment(kube_namespace, f"d{i}", nodes[i % len(nodes)]) for i in range(3)]
+
+            def lose_the_answer(kwargs):
+                kwargs["_request_timeout"] = (5, 1)  # the client gives up on the answer after 1 s
+                proxy.arm()
+
+            spy.before("create Deployment d1", lose_the_answer)
+            # One worker: the armed proxy holds exactly the create's answer, no other call's.
+            results, fatal = pusher.apply_all([(b, None) for b in bodies], workers=1)
+    finally:
+        proxy.close()
+    assert proxy.held == 1
+    assert fatal is None
+    # d1: timed out, retried, answered 409, read once and found to be this manifest (by its hash): kept as it is.
+    assert results == [(True, "created"), (True, "unchanged"), (True, "created")]
+    assert spy.attempts["create Deployment d1"] == 2
+    assert spy.attempts["read Deployment d1"] == 1
+    assert "replace Deployment d1" not in spy.attempts
+    apps = AppsV1Api(kube.api_client)
+    assert sorted(d.metadata.name for d in apps.list_namespaced_deployment(kube_namespace).items) == ["d0", "d1", "d2"]
+    for name in ("d0", "d1", "d2"):
+        sets = apps.list_namespaced_replica_set(kube_namespace, label_selector=f"continuum.io/deployment={name}").items
+        assert len(sets) <= 1, [s.metadata.name for s in sets]  # the controller may not have made it yet
+    wait_for(
+        "one Running pod per Deployment",
+        lambda: all(
+            [p.status.phase for p in deployment_pods(kube, kube_namespace, f"d{i}")] == ["Running"] for i in range(3)
+        ),
+    )
+    for name in ("d0", "d1", "d2"):
+        sets = apps.list_namespaced_replica_set(kube_namespace, label_selector=f"continuum.io/deployment={name}").items
+        assert len(sets) == 1, [s.metadata.name for s in sets]
+        assert len(deployment_pods(kube, kube_namespace, name)) == 1
+
+
+def rolled_out(apps, namespace: str, name: str) -> bool:
+    d = apps.read_namespaced_deployment(name, namespace)
+    return (d.status.observed_generation or 0) >= d.metadata.generation and (d.status.available_replicas or 0) == 1
+
+
+def test_a_deployment_replace_that_timed_out_after_the_server_did_it_is_retried_as_done(
+    kube, kube_namespace, kube_server, settings, monkeypatch
+):
+    """The replace reached the server, its answer was lost: the retried replace (same resourceVersion) answers
+    409, the fresh read carries our hash, so it is done. Still one Deployment, and one pod running the new
+    manifest once the rollout ends."""
+    from kubernetes.client import AppsV1Api
+
+    from apps.kube import deployments as deployments_module
+    from apps.kube import gateway
+
+    settings.CONTINUUM_KUBE_RETRY_BASE_S = 0.05
+    apps = AppsV1Api(kube.api_client)
+    proxy = HoldingProxy(kube_server.port, hold=4.0)
+    try:
+        text = kubeconfig_text(f"https://127.0.0.1:{proxy.port}", kube_server.token, kube_server.ca_path.read_bytes())
+        with gateway.api_client(text, name="through a proxy") as api_client:
+            nodes = live_hollow_nodes(api_client)
+            pusher = gateway.Deployments(api_client, kube_namespace, "continuum.io/spec-hash")
+            pusher.ensure_namespace()
+            old = deployment(kube_namespace, "d0", nodes[0], image="registry.k8s.io/pause:3.8")
+            made = apps.create_namespaced_deployment(kube_namespace, old)
+            # Once rolled out its status stops changing: the resourceVersion listed below is still current when
+            # the replace is sent, so the first replace is done (not refused as stale) and only its answer lost.
+            wait_for("the old Deployment to be available", lambda: rolled_out(apps, kube_namespace, "d0"))
+            new = deployment(kube_namespace, "d0", nodes[0])
+            current = pusher.existing("continuum.io/group=parallel")
+            spy = Spy(monkeypatch, module=deployments_module)
+
+            def lose_the_answer(kwargs):
+                kwargs["_request_timeout"] = (5, 1)
+                proxy.arm()
+
+            spy.before("replace Deployment d0", lose_the_answer)
+            results, fatal = pusher.apply_all([(new, current.get("d0"))], workers=1)
+    finally:
+        proxy.close()
+    assert proxy.held == 1
+    assert fatal is None
+    assert results == [(True, "updated")]
+    assert spy.attempts["replace Deployment d0"] == 2  # timed out, retried: 409 (the first one had been done) ...
+    assert spy.attempts["read Deployment d0"] == 1  # ... and read once: our hash is there
+    live = apps.list_namespaced_deployment(kube_namespace).items
+    assert [d.metadata.name for d in live] == ["d0"] and live[0].metadata.uid == made.metadata.uid
+    assert live[0].spec.template.spec.containers[0].image == "registry.k8s.io/pause:3.9"
+    wait_for(
+        "the rollout to end with one Running pod of the new manifest",
+        lambda: (
+            [(p.status.phase, p.spec.containers[0].image) for p in deployment_pods(kube, kube_namespace, "d0")]
+            == [("Running", "registry.k8s.io/pause:3.9")]
+        ),
+    )
