@@ -12,6 +12,7 @@ import shlex
 from pathlib import Path
 
 import dj_database_url
+from kombu import Queue
 
 BASE_DIR = Path(__file__).resolve().parent.parent
 VAR_DIR = Path(os.environ.get("CONTINUUM_VAR_DIR", BASE_DIR / "var"))
@@ -251,6 +252,14 @@ if not CELERY_BROKER_URL:
 CELERY_TASK_ALWAYS_EAGER = os.environ.get("CONTINUUM_JOBS_EAGER", "") == "1"
 CELERY_TASK_EAGER_PROPAGATES = False
 CELERY_TASK_DEFAULT_QUEUE = os.environ.get("CELERY_QUEUE", "continuum")
+# RT-Kube's reconcile (an eviction on the clock, thesis Eq. 3.19) has a queue of its own, so that it never waits
+# behind a long job: a worker started without -Q consumes both queues; production runs a dedicated one,
+# `celery -A continuum worker -Q continuum-rt -P threads -c 4` (docker-compose.yml: rt-worker), whose threads keep
+# each cluster's Kubernetes client and its TLS connection warm between evictions (apps/realtime/tasks.py).
+CONTINUUM_RT_QUEUE = os.environ.get("CONTINUUM_RT_QUEUE") or f"{CELERY_TASK_DEFAULT_QUEUE}-rt"
+CELERY_TASK_QUEUES = (Queue(CELERY_TASK_DEFAULT_QUEUE), Queue(CONTINUUM_RT_QUEUE))
+CELERY_TASK_ROUTES = {"continuum.rt_reconcile": {"queue": CONTINUUM_RT_QUEUE},
+                      "continuum.rt_warm": {"queue": CONTINUUM_RT_QUEUE}}  # fmt: skip
 CELERY_TASK_ACKS_LATE = True
 CELERY_TASK_REJECT_ON_WORKER_LOST = True
 CELERY_WORKER_PREFETCH_MULTIPLIER = 1

@@ -84,6 +84,10 @@ class Kube:
         """``read_json(fn, *args, **kwargs)`` retried on transient failures (see the module docstring)."""
         return call(read_json, fn, *args, what=what, server=self.server, idempotent=idempotent, **kwargs)
 
+    def version(self) -> dict:
+        """The API server's version: the cheapest read there is, used to open (warm) a connection."""
+        return self._json(client.VersionApi(self.api_client).get_code, what="read the API version") or {}
+
     # ---- namespaces and CRDs ---------------------------------------------------------------------------
     def ensure_namespace(self, namespace: str) -> None:
         try:
