@@ -758,7 +758,7 @@ def main() -> None:
     env = dict(os.environ, DEBUG="0")
     subprocess.run([sys.executable, "manage.py", "migrate", "-v0"], cwd=ROOT, env=env, check=True)
     profile_path = tempfile.mktemp(prefix="rt-worker-", suffix=".prof")
-    dev = server = gunicorn = worker = schedulers = ref = None
+    dev = server = gunicorn = worker = schedulers = ref = request_profile = None
     try:
         import django
 
@@ -808,6 +808,7 @@ def main() -> None:
         meter.pending, meter.waited = wait_reconciled()
         meter.recreated = wait_recreated(core, fleets, wall0) if dev is not None else None
         report(args, results, t0, fleets, meter, ref)
+        request_cpu, request_profile = profile_requests(fleets, args)
     finally:
         stop(gunicorn)
         stop(worker)
@@ -822,6 +823,17 @@ def main() -> None:
         if not args.keep:
             drop_database()
     print_profile(profile_path)
+    if request_profile is not None:
+        import io
+        import pstats
+
+        out = io.StringIO()
+        pstats.Stats(request_profile, stream=out).sort_stats("cumulative").print_stats(25)
+        lines = [line for line in out.getvalue().splitlines() if line.strip()]
+        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
+        print(f"\nThe report request in-process (test client, no HTTP): {request_cpu:.2f} ms CPU per batch of "
+              f"{args.batch} (profiler on: an upper bound); top 25 by cumulative time:")  # fmt: skip
+        print("\n".join(lines[start : start + 26]))
 
 
 def warm_worker(args, fleets: list[dict], rt_queue: str) -> None:
@@ -854,6 +866,39 @@ def wait_recreated(core, fleets: list[dict], since: float, timeout: float = 60) 
         if (made >= evicted and bound >= evicted) or time.monotonic() > deadline:
             return evicted, made, bound
         time.sleep(1.0)
+
+
+def profile_requests(fleets: list[dict], args, n: int = 200):
+    """The endpoint's request in this process (Django's test client: the whole middleware, auth, throttle, parse,
+    store; no HTTP server), ``n`` batches of ``--batch`` reports without a violation, under cProfile: (CPU ms per
+    request, its profile)."""
+    import cProfile
+
+    from django.test import Client
+
+    client = Client()
+    fleet = fleets[0]
+    headers = {"HTTP_AUTHORIZATION": f"Token {fleet['token']}"}
+    c = fleet["containers"][0]
+
+    def body(k: int) -> str:
+        reports = [{"node": c["node"], "containerName": c["pod"], "pod": c["pod"], "missedDeadlinesPeriod": 1,
+                    "missedDeadlinesTotal": 10**6 + k * args.batch + j, "sentAt": time.time()}
+                   for j in range(args.batch)]  # fmt: skip
+        return json.dumps({"cluster": fleet["cluster"], "reports": reports})
+
+    for k in range(20):  # warm: URLconf, DRF, the statement's plan
+        client.post("/api/v1/rt-reports/", body(k), content_type="application/json", **headers)
+    payloads = [body(100 + k) for k in range(n)]
+    prof = cProfile.Profile()
+    cpu = time.process_time()
+    prof.enable()
+    for payload in payloads:
+        response = client.post("/api/v1/rt-reports/", payload, content_type="application/json", **headers)
+    prof.disable()
+    cpu = time.process_time() - cpu
+    assert response.status_code == 201, response.content[:300]
+    return 1000 * cpu / n, prof
 
 
 def print_profile(path: str) -> None:
