@@ -1,23 +1,34 @@
 """Load on RT-Kube's monitoring endpoint: many robot fleets posting missed-deadline reports (thesis 3.4).
 
-Everything is real: PostgreSQL (a throw-away database), a kube-apiserver + etcd (the test suite's builder;
-pods are really bound by the RT scheduler and really evicted), gunicorn serving Continuum on 127.0.0.1, and a
-Celery worker (Redis broker, ``--broker``; a private queue) running the ``rt_reconcile`` task. Each fleet has
-its own token, cluster (nodes, RealTime objects, bound pods) and namespace. Every fleet posts batches of
-reports (Listing 3.37 specs) at a fixed rate; now and then one of its reports says a B container missed more
-deadlines than the threshold: the endpoint stores the batch and answers, and the worker evicts a stateless A
-pod of that node (DELETE with grace period 0) and taints the node. After the load, the run waits for every
-stored violation to be reconciled (an eviction decided is carried out) before it counts.
+Everything is real: PostgreSQL (a throw-away database), gunicorn serving Continuum on 127.0.0.1, the Celery worker
+that runs ``rt_reconcile`` on its RT queue (Redis broker, ``--broker``; private queues), and Kubernetes:
 
-Printed: reports sent / acknowledged / stored (none may be lost), throughput, request latency
-percentiles, and report-to-eviction percentiles (server stamps: report received -> eviction sent; client:
-report sent -> eviction answered, i.e. the violating request's round trip). Goal of the issue: >= 1000
-reports/s sustained on this 2-core machine, no report lost, p99 report-to-eviction < 100 ms.
+- ``--mode live`` (default): a :class:`continuum.devcluster.DevCluster` (etcd, kube-apiserver,
+  kube-controller-manager, kube-scheduler, one kubemark hollow node per RT node). Per fleet: a token, a cluster
+  row with its namespace and ``--nodes`` hollow RT nodes, per node a violator (a bare B pod) and ``--victims``
+  Deployments of one stateless A pod. Continuum's RT scheduler (one thread per cluster, in its own process, as
+  ``manage.py rt_scheduler`` runs) binds them; an evicted pod's replacement is made by its ReplicaSet (the real
+  controller-manager) and bound by the RT scheduler on a node the violation taint does not cover.
+- ``--mode apiserver``: a bare kube-apiserver + etcd (the test suite's builder), bare pods.
 
-    python benchmarks/rt_monitoring_load.py [--fleets 16 --rate 2000 --batch 25 --duration 20 --workers 8]
-        [--broker redis://127.0.0.1:6379/0 --celery-threads 4]   (BENCH_DB: the database's name)
+Each fleet posts batches of reports (Listing 3.37 specs) at a fixed rate; every ``--violation-every`` seconds one
+of its reports says a B container missed more deadlines than the threshold: the endpoint stores the batch,
+answers, and publishes the violation after the commit; the worker claims it, evicts a stateless A pod of that
+node (DELETE with grace period 0) and taints the node. After the load the run waits for every stored violation
+to be reconciled and for the replacements to exist.
+
+Printed: reports sent / acknowledged / stored (none may be lost), throughput, request latency percentiles,
+report-to-eviction percentiles (server stamps: report received -> eviction sent / answered; fleet stamps: report
+sent -> eviction sent), the stages of an eviction (published, picked by a worker thread, claimed, decided,
+tainted, DELETE sent and answered), side by side a plain client's DELETE of a pod on the same cluster during the
+load (the floor of the last stage), pods evicted / recreated / bound again, CPU seconds per part and per report,
+the load average, a cProfile of the worker's tasks and of the report request (in-process). Goal of issue 15:
+2,000 reports/s, none lost, p99 report -> eviction under 50 ms.
+
+    python benchmarks/rt_monitoring_load.py [--mode live --fleets 4 --nodes 3 --victims 4 --rate 2000 --batch 25
+        --duration 20 --violation-every 0.5 --workers 8 --celery-threads 4 --worker-nice 0]
+        [--broker redis://127.0.0.1:6379/0]   (BENCH_DB: the database's name)
 """
-
 from __future__ import annotations
 
 import argparse
@@ -61,6 +72,8 @@ def parse_args() -> argparse.Namespace:
                    help="Redis broker of the rt_reconcile task (a private queue on it)")  # fmt: skip
     p.add_argument("--celery-threads", type=int, default=4, help="Celery worker threads (evictions wait on the API)")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
+    p.add_argument("--worker-nice", type=int, default=0, help="nice value of the rt_reconcile worker (negative: "
+                   "ahead of the web workers for the CPU, as an RT component would run; needs root)")  # fmt: skip
     p.add_argument("--serve-schedulers", help=argparse.SUPPRESS)  # a child process: cluster ids
     p.add_argument("--serve-worker", help=argparse.SUPPRESS)  # a child process: the profile's path
     p.add_argument("--queue", help=argparse.SUPPRESS)
@@ -374,7 +387,7 @@ def serve_schedulers(ids: str) -> None:
     print(" ".join(f"{s.cluster_id}: {s.cycles} cycles, {s.errors} failed" for s in schedulers), flush=True)
 
 
-def serve_worker(profile_path: str, threads: int, queue: str) -> None:
+def serve_worker(profile_path: str, threads: int, queue: str, nice: int = 0) -> None:
     """The rt_reconcile worker (``celery worker -P threads``), every task profiled in the thread that runs it
     (cProfile per thread, merged at the end): where an eviction's CPU goes, waits included."""
     import cProfile
@@ -383,6 +396,8 @@ def serve_worker(profile_path: str, threads: int, queue: str) -> None:
 
     import django
 
+    if nice:
+        os.nice(nice)  # before any thread starts: Linux's nice value is per thread, inherited
     django.setup()
     from celery import signals
 
@@ -504,7 +519,7 @@ def start_worker(args, env: dict, profile_path: str, rt_queue: str) -> subproces
     log = open("/tmp/continuum-rt-load-celery.log", "w")  # noqa: SIM115 - lives as long as the worker
     return subprocess.Popen(
         [sys.executable, __file__, "--serve-worker", profile_path, "--queue", rt_queue, "--celery-threads",
-         str(args.celery_threads)],
+         str(args.celery_threads), "--worker-nice", str(args.worker_nice)],
         cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
     )  # fmt: skip
 
@@ -644,7 +659,8 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter, 
 
     print(
         f"\nRT monitoring endpoint under load: {args.fleets} fleets x {args.nodes} nodes, batches of {args.batch}, "
-        f"target {args.rate:g} reports/s for {args.duration:g} s, gunicorn -w {args.workers} --threads "
+        f"target {args.rate:g} reports/s for {args.duration:g} s, rt worker -P threads -c {args.celery_threads} "
+        f"(nice {args.worker_nice}), gunicorn -w {args.workers} --threads "
         f"{args.threads}, PostgreSQL, "
         + ("a live cluster (etcd, kube-apiserver, kube-controller-manager, kube-scheduler, kubemark hollow nodes)"
            if args.mode == "live" else "a bare kube-apiserver")
@@ -746,7 +762,7 @@ def main() -> None:
         serve_schedulers(args.serve_schedulers)
         return
     if args.serve_worker:
-        serve_worker(args.serve_worker, args.celery_threads, args.queue)
+        serve_worker(args.serve_worker, args.celery_threads, args.queue, args.worker_nice)
         return
     db_url = create_database()
     queue = f"bench-rtload-{os.getpid()}"  # private: no other worker on the broker takes its messages
