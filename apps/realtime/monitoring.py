@@ -250,13 +250,37 @@ def insert_rows(
         return [row[0] for row in cursor.fetchall()] if returning else cursor.rowcount
 
 
-def check_nodes(cluster: Cluster, reports: Sequence[Report]) -> dict[str, int]:
-    """The cluster's node ids by name; InputError naming the first report on a node the cluster lacks."""
-    node_ids = dict(ComputeNode.objects.filter(cluster=cluster).values_list("name", "id"))
+def check_nodes(
+    cluster: Cluster, reports: Sequence[Report], node_ids: Mapping[str, int] | None = None
+) -> Mapping[str, int]:
+    """The cluster's node ids by name (``node_ids``: read with the cluster already, see
+    :func:`with_node_ids`); InputError naming the first report on a node the cluster lacks."""
+    if node_ids is None:
+        node_ids = dict(ComputeNode.objects.filter(cluster=cluster).values_list("name", "id"))
     for i, r in enumerate(reports):
         if r.node not in node_ids:
             raise InputError(f"reports[{i}]: node {r.node!r} is not a node of cluster {cluster.name!r}", "reports")
     return node_ids
+
+
+def with_node_ids(clusters):
+    """``clusters`` (a queryset) annotated with their nodes' names and ids (``node_names``, ``node_pks``, in the
+    same order) on PostgreSQL: the report endpoint reads the cluster, its policy and its nodes in one round
+    trip instead of two. Elsewhere unchanged (:func:`node_ids_of` answers None, :func:`check_nodes` reads)."""
+    if connection.vendor != "postgresql":
+        return clusters
+    from django.contrib.postgres.expressions import ArraySubquery
+    from django.db.models import OuterRef
+
+    nodes = ComputeNode.objects.filter(cluster=OuterRef("pk")).order_by("pk")
+    return clusters.annotate(node_names=ArraySubquery(nodes.values("name")),
+                             node_pks=ArraySubquery(nodes.values("pk")))  # fmt: skip
+
+
+def node_ids_of(cluster: Cluster) -> dict[str, int] | None:
+    """The node ids by name :func:`with_node_ids` read with the cluster (None: not read)."""
+    names, pks = getattr(cluster, "node_names", None), getattr(cluster, "node_pks", None)
+    return None if names is None or pks is None else dict(zip(names, pks, strict=True))
 
 
 def ingest(
@@ -266,6 +290,7 @@ def ingest(
     policy: RTPolicy | None = None,
     received_at: datetime | None = None,
     defer: bool = False,
+    node_ids: Mapping[str, int] | None = None,
 ) -> dict[str, Any]:
     """Store the reports, then reconcile each new one over a threshold (or, with ``defer``, leave that to the
     caller: :func:`reconcile_stored` in the ``continuum.rt_reconcile`` task); returns what happened, with
@@ -283,7 +308,7 @@ def ingest(
     received = received_at or timezone.now()
     policy = policy or RTPolicy.for_cluster(cluster)
     monitor_policy = policy.monitor_policy()
-    node_ids = check_nodes(cluster, reports)
+    node_ids = check_nodes(cluster, reports, node_ids)
     first: dict[str, Report] = {}
     for r in reports:  # the same id twice in one batch: the first one counts
         first.setdefault(r.report_id, r)

@@ -50,3 +50,22 @@ def test_a_plain_worker_consumes_both_queues_and_only_rt_tasks_are_routed_to_the
     assert route({}, "continuum.rt_reconcile")["queue"].name == settings.CONTINUUM_RT_QUEUE
     assert route({}, "continuum.rt_warm")["queue"].name == settings.CONTINUUM_RT_QUEUE
     assert route({}, "continuum.rt_reconcile_overdue")["queue"].name == settings.CELERY_TASK_DEFAULT_QUEUE
+
+
+def test_the_endpoint_reads_the_cluster_and_its_nodes_in_one_query(api, rt_cluster):
+    from django.db import connection
+    from django.test.utils import CaptureQueriesContext
+
+    report = {"node": "node3", "containerName": "cam", "missedDeadlinesPeriod": 1, "missedDeadlinesTotal": 1}
+    batch = {"cluster": rt_cluster.pk, "reports": [report]}
+    with CaptureQueriesContext(connection) as queries:
+        response = api.post("/api/v1/rt-reports/", batch, format="json")
+    assert response.status_code == 201, response.data
+    [lookup] = [q["sql"] for q in queries if 'FROM "clusters_cluster"' in q["sql"]]
+    assert '"clusters_computenode"' in lookup  # the nodes come with the cluster ...
+    assert not [q for q in queries if q["sql"].lstrip().startswith('SELECT "clusters_computenode"')]  # ... only
+    # A node the cluster lacks is still a 400 naming the report, and nothing is stored.
+    batch["reports"][0]["node"] = "elsewhere"
+    response = api.post("/api/v1/rt-reports/", batch, format="json")
+    assert response.status_code == 400
+    assert "reports[0]: node 'elsewhere' is not a node of cluster" in str(response.data["reports"])
