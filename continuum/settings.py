@@ -363,6 +363,8 @@ if os.environ.get("CONTINUUM_CACHE_URL"):
 else:
     CACHES = {"default": {"BACKEND": "django.core.cache.backends.locmem.LocMemCache", "LOCATION": "continuum"}}
 # Unknown API token keys an address may send per period before it gets 429s (key guessing).
+# Seconds a process keeps a robot token it looked up (0: never); revocation: apps/tenancy/authentication.py.
+CONTINUUM_ROBOT_TOKEN_CACHE_S = float(os.environ.get("CONTINUUM_ROBOT_TOKEN_CACHE_S", "2"))
 CONTINUUM_THROTTLE_BAD_TOKENS = os.environ.get("CONTINUUM_THROTTLE_BAD_TOKENS", "60/min")
 # Failed logins (dashboard and admin) per address and user name within the window before the form refuses.
 CONTINUUM_LOGIN_FAILURES = int(os.environ.get("CONTINUUM_LOGIN_FAILURES", "10"))
