@@ -29,6 +29,7 @@ the load average, a cProfile of the worker's tasks and of the report request (in
         --duration 20 --violation-every 0.5 --workers 8 --celery-threads 4 --worker-nice 0]
         [--broker redis://127.0.0.1:6379/0]   (BENCH_DB: the database's name)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -407,14 +408,17 @@ def serve_worker(profile_path: str, threads: int, queue: str, nice: int = 0) -> 
     lock = threading.Lock()
 
     @signals.task_prerun.connect(weak=False)
-    def begin(**_) -> None:
+    def begin(sender=None, **_) -> None:
+        if getattr(sender, "name", "") != "continuum.rt_reconcile":  # the evictions only, not the warm-ups
+            return
         with lock:
             prof = profiles.setdefault(threading.get_ident(), cProfile.Profile())
         prof.enable()
 
     @signals.task_postrun.connect(weak=False)
-    def end(**_) -> None:
-        profiles[threading.get_ident()].disable()
+    def end(sender=None, **_) -> None:
+        if getattr(sender, "name", "") == "continuum.rt_reconcile":
+            profiles[threading.get_ident()].disable()
 
     @signals.worker_shutdown.connect(weak=False)
     def dump(**_) -> None:
@@ -865,9 +869,10 @@ def warm_worker(args, fleets: list[dict], rt_queue: str) -> None:
         rt_warm.apply_async(args=(ids,))
     broker = redis.Redis.from_url(args.broker)
     deadline = time.monotonic() + 120
-    while broker.llen(rt_queue) and time.monotonic() < deadline:  # kombu's Redis queue: a list of that name
+    # kombu's Redis queue is a list of that name; a message taken but not acknowledged yet (acks_late: until its
+    # task ends) is in the "unacked" hash: both empty = every warm-up done (the broker's db is this run's own).
+    while (broker.llen(rt_queue) or broker.hlen("unacked")) and time.monotonic() < deadline:
         time.sleep(0.2)
-    time.sleep(2.0)  # the last ones run
 
 
 def wait_recreated(core, fleets: list[dict], since: float, timeout: float = 60) -> tuple[int, int, int]:
@@ -934,6 +939,11 @@ def print_profile(path: str) -> None:
         start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
         print(f"\ncProfile of the rt_reconcile worker's tasks (every thread, waits included), top 18 by {order}:")
         print("\n".join(lines[start : start + 19]))
+    out = io.StringIO()
+    stats.stream = out
+    stats.sort_stats("tottime").print_callers(r"method 'acquire'|wait\)|_ssl._SSLSocket' objects}")
+    print("\nWho waits (callers of lock waits, socket reads and PostgreSQL waits):")
+    print("\n".join(line for line in out.getvalue().splitlines()[-40:] if line.strip()))
 
 
 if __name__ == "__main__":

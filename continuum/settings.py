@@ -277,6 +277,11 @@ CELERY_BROKER_TRANSPORT_OPTIONS |= {
     "unacked_restore_throttle": int(os.environ.get("CELERY_RESTORE_THROTTLE", 10)),
 }
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
+# Celery's Django fix-up closes a worker thread's database connections before and after EVERY task unless told to
+# reuse them: each RT-Kube eviction (continuum.rt_reconcile) then opened a new PostgreSQL connection on the clock.
+# Reused for this many tasks instead; a stale or broken one is still retired before each task as Django retires
+# it between requests (CONN_MAX_AGE, errors: continuum/celery.py, close_old_connections).
+CELERY_DB_REUSE_MAX = int(os.environ.get("CONTINUUM_DB_REUSE_MAX", "1000"))
 # `celery -A continuum beat`: lifts RT-Kube's expired node taints (the rt_scheduler process does it too).
 CELERY_BEAT_SCHEDULE = {"rt-lift-taints": {"task": "continuum.rt_lift_taints", "schedule": 5.0}}
 # A reported violation is stored in the request and reconciled by the continuum.rt_reconcile task; one whose

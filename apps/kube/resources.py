@@ -30,6 +30,12 @@ from continuum.engine.core.taints import Taint
 from . import nodes
 from .connect import KubeError, call, describe, read_json
 
+# The official client imports its API and model classes on first use (a module __getattr__ and import_module):
+# resolved here, when the gateway is imported (a worker's start), so that no eviction, binding or taint pays that
+# import on the clock, one thread at a time under the import lock (hundreds of ms on a busy machine).
+EAGER = (client.CoreV1Api, client.CustomObjectsApi, client.VersionApi, client.ApiextensionsV1Api,
+         client.V1DeleteOptions, client.V1Preconditions, client.V1Binding, client.V1ObjectMeta,
+         client.V1ObjectReference)  # fmt: skip
 MERGE_PATCH = "application/merge-patch+json"
 STRATEGIC_PATCH = "application/strategic-merge-patch+json"
 

@@ -165,14 +165,21 @@ def kube_for(cluster: Cluster) -> Kube:
     """A cached :class:`Kube` for the cluster (rebuilt when its kubeconfig or context changes)."""
     digest = hashlib.sha256(f"{cluster.kube_context}\n{cluster.kubeconfig}".encode()).hexdigest()
     key = (cluster.pk, digest)
+    kube = _CLIENTS.get(key)
+    if kube is not None:
+        return kube
+    # Built outside the lock (validating the kubeconfig and making the client takes tens of ms on a busy
+    # machine): another cluster's eviction must not wait for it. Two threads may build one each; one is kept.
+    built = Kube(api_client_for(cluster), cluster.name, component=RT_SCHEDULER_NAME)
     with _LOCK:
         kube = _CLIENTS.get(key)
         if kube is None:
             for old in [k for k in _CLIENTS if k[0] == cluster.pk]:
                 _CLIENTS.pop(old)
-            kube = Kube(api_client_for(cluster), cluster.name, component=RT_SCHEDULER_NAME)
-            _CLIENTS[key] = kube
-        return kube
+            kube = _CLIENTS[key] = built
+    if kube is not built:
+        built.api_client.close()
+    return kube
 
 
 def warm(cluster: Cluster) -> bool:
