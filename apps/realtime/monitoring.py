@@ -402,12 +402,13 @@ def reconcile_overdue(older_than_s: float = 30.0, limit: int = 1000) -> int:
         by_cluster.setdefault(cluster_id, []).append(pk)
     done = 0
     for cluster in Cluster.objects.select_related("rt_policy").filter(pk__in=by_cluster):
-        reconcile_stored(cluster, by_cluster[cluster.pk], _policy_of(cluster))
+        reconcile_stored(cluster, by_cluster[cluster.pk], policy_of(cluster))
         done += len(by_cluster[cluster.pk])
     return done
 
 
-def _policy_of(cluster: Cluster) -> RTPolicy:
+def policy_of(cluster: Cluster) -> RTPolicy:
+    """The cluster's RT policy: the one read with it (``select_related``) if any, else made with defaults."""
     try:
         return cluster.rt_policy
     except RTPolicy.DoesNotExist:

@@ -23,7 +23,7 @@ from apps.clusters.models import Cluster
 
 from .kube import has_api, warm
 from .models import RTEvent
-from .monitoring import event_summary, lift_expired_taints, reconcile_overdue, reconcile_stored
+from .monitoring import event_summary, lift_expired_taints, policy_of, reconcile_overdue, reconcile_stored
 
 log = logging.getLogger(__name__)
 #: Clusters whose clients a starting RT worker warms at most (the others are built at their first eviction).
@@ -47,7 +47,8 @@ def rt_reconcile(cluster_id: int, report_pks: list[int], queued_at: float | None
     if cluster is None:  # deleted meanwhile, with its reports
         return []
     stamps = {"queued": queued_at, "picked": picked} if isinstance(queued_at, int | float) else {"picked": picked}
-    return [e.pk for e in reconcile_stored(cluster, report_pks, stamps=stamps)]
+    # The policy came with the cluster (select_related): not read again on the clock.
+    return [e.pk for e in reconcile_stored(cluster, report_pks, policy_of(cluster), stamps=stamps)]
 
 
 @shared_task(name="continuum.rt_warm")
