@@ -8,7 +8,7 @@ that runs ``rt_reconcile`` on its RT queue (Redis broker, ``--broker``; private 
   row with its namespace and ``--nodes`` hollow RT nodes, per node a violator (a bare B pod) and ``--victims``
   Deployments of one stateless A pod. Continuum's RT scheduler (one thread per cluster, in its own process, as
   ``manage.py rt_scheduler`` runs) binds them; an evicted pod's replacement is made by its ReplicaSet (the real
-  controller-manager) and bound by the RT scheduler on a node the violation taint does not cover.
+  controller-manager) and bound again by the RT scheduler once the node's violation taint is lifted.
 - ``--mode apiserver``: a bare kube-apiserver + etcd (the test suite's builder), bare pods.
 
 Each fleet posts batches of reports (Listing 3.37 specs) at a fixed rate; every ``--violation-every`` seconds one
@@ -26,7 +26,7 @@ the load average, a cProfile of the worker's tasks and of the report request (in
 2,000 reports/s, none lost, p99 report -> eviction under 50 ms.
 
     python benchmarks/rt_monitoring_load.py [--mode live --fleets 4 --nodes 3 --victims 4 --rate 2000 --batch 25
-        --duration 20 --violation-every 0.5 --workers 8 --celery-threads 4 --worker-nice 0]
+        --duration 20 --violation-every 1 --taint-s 2 --workers 8 --celery-threads 4 --worker-nice 0]
         [--broker redis://127.0.0.1:6379/0]   (BENCH_DB: the database's name)
 """
 
@@ -60,11 +60,11 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--fleets", type=int, help="robot fleets, each with its cluster (live 4, apiserver 16)")
     p.add_argument("--nodes", type=int, help="RT nodes per fleet's cluster (live 3, apiserver 4)")
     p.add_argument("--victims", type=int, help="stateless A pods per node (live 4, apiserver 5)")
-    p.add_argument("--taint-s", type=float, default=5.0, help="how long a violating node stays tainted")
+    p.add_argument("--taint-s", type=float, help="how long a violating node stays tainted (live 2, apiserver 5)")
     p.add_argument("--rate", type=float, default=2000, help="reports per second, all fleets together")
     p.add_argument("--batch", type=int, default=25, help="reports per request")
     p.add_argument("--duration", type=float, default=20, help="seconds of load")
-    p.add_argument("--violation-every", type=float, help="seconds between violations, per fleet (live 0.5, "
+    p.add_argument("--violation-every", type=float, help="seconds between violations, per fleet (live 1, "
                    "apiserver 2)")  # fmt: skip
     p.add_argument("--workers", type=int, default=8, help="gunicorn worker processes (evictions wait on the API)")
     p.add_argument("--threads", type=int, default=1, help="threads per gunicorn worker (gthread when > 1)")
@@ -81,7 +81,7 @@ def parse_args() -> argparse.Namespace:
     args = p.parse_args()
     live = args.mode == "live"
     for name, on_live, on_bare in (("fleets", 4, 16), ("nodes", 3, 4), ("victims", 4, 5),
-                                   ("violation_every", 0.5, 2.0)):  # fmt: skip
+                                   ("violation_every", 1.0, 2.0), ("taint_s", 2.0, 5.0)):  # fmt: skip
         if getattr(args, name) is None:
             setattr(args, name, on_live if live else on_bare)
     if min(args.fleets, args.nodes, args.victims, args.rate, args.batch, args.duration, args.violation_every,
@@ -270,9 +270,10 @@ def rt_pod_spec(name: str) -> dict:
 
 def seed_live(args, kubeconfig: str) -> list[dict]:
     """Per fleet: a token, a cluster row on the live cluster (its own namespace and hollow nodes), an RT policy and
-    RealTime objects; per node a violator (a bare B pod whose WCET fits that node only) and ``--victims``
-    Deployments of one stateless A pod (WCETs on every node of the fleet, so that an evicted pod's replacement,
-    made by the ReplicaSet controller, can be bound on another node while the violating one is tainted). The
+    RealTime objects; per node a violator (a bare B pod) and ``--victims`` Deployments of one stateless A pod, all
+    with a WCET on that node only (so that every node has victims: the RT scheduler would pack them all onto one
+    node otherwise). An evicted pod's replacement, made by the ReplicaSet controller, stays pending while the
+    node's violation taint lasts (``--taint-s``) and is bound there again once the RT scheduler lifts it. The
     pods are bound by the RT scheduler processes (:func:`start_schedulers`)."""
     from django.contrib.auth.models import User
 
@@ -301,9 +302,7 @@ def seed_live(args, kubeconfig: str) -> list[dict]:
             for v in range(args.victims):
                 rt = RealTime.objects.create(cluster=cluster, namespace=ns, name=f"aux-{k}-{v}", criticality="A",
                                              period=100, deadline=100, stateless=True)  # fmt: skip
-                RealTimeWcet.objects.bulk_create(
-                    RealTimeWcet(realtime=rt, node=n, wcet=2 + v, position=i) for i, n in enumerate(nodes)
-                )
+                RealTimeWcet.objects.create(realtime=rt, node=node, wcet=2 + v)
                 deployments.append(rt.name)
         summary = sync.full_sync(cluster)
         errors = [e for part in summary.values() if isinstance(part, dict) for e in part.get("errors") or []]
