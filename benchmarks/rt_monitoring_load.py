@@ -26,7 +26,7 @@ the load average, a cProfile of the worker's tasks and of the report request (in
 2,000 reports/s, none lost, p99 report -> eviction under 50 ms.
 
     python benchmarks/rt_monitoring_load.py [--mode live --fleets 4 --nodes 3 --victims 4 --rate 2000 --batch 25
-        --duration 20 --violation-every 1 --taint-s 2 --workers 8 --celery-threads 4 --worker-nice 0]
+        --duration 20 --violation-every 1 --taint-s 2 --workers 8 --celery-threads 8 --worker-nice 0]
         [--broker redis://127.0.0.1:6379/0]   (BENCH_DB: the database's name)
 """
 
@@ -71,7 +71,7 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--concurrency", type=int, default=4, help="requests in flight per fleet at most")
     p.add_argument("--broker", default=os.environ.get("BENCH_BROKER", "redis://127.0.0.1:6379/0"),
                    help="Redis broker of the rt_reconcile task (a private queue on it)")  # fmt: skip
-    p.add_argument("--celery-threads", type=int, default=4, help="Celery worker threads (evictions wait on the API)")
+    p.add_argument("--celery-threads", type=int, default=8, help="Celery worker threads (evictions wait on the API)")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     p.add_argument("--worker-nice", type=int, default=0, help="nice value of the rt_reconcile worker (negative: "
                    "ahead of the web workers for the CPU, as an RT component would run; needs root)")  # fmt: skip
@@ -583,7 +583,9 @@ async def fleet_load(session, url: str, fleet: dict, args, t0: float, results: l
         body = []
         for c, missed in reports:
             totals[c["pod"]] += missed
-            body.append({"node": c["node"], "containerName": c["pod"], "pod": c["pod"],
+            # Each report has its robot's id (the idempotency key): two reports of a container saying the same in
+            # one batch are two reports, not a retried one.
+            body.append({"node": c["node"], "containerName": c["pod"], "pod": c["pod"], "id": f"f{idx}-{k}-{len(body)}",
                          "missedDeadlinesPeriod": missed, "missedDeadlinesTotal": totals[c["pod"]],
                          "sentAt": time.time()})  # fmt: skip
         payload = json.dumps({"cluster": fleet["cluster"], "reports": body})

@@ -254,7 +254,7 @@ CELERY_TASK_EAGER_PROPAGATES = False
 CELERY_TASK_DEFAULT_QUEUE = os.environ.get("CELERY_QUEUE", "continuum")
 # RT-Kube's reconcile (an eviction on the clock, thesis Eq. 3.19) has a queue of its own, so that it never waits
 # behind a long job: a worker started without -Q consumes both queues; production runs a dedicated one,
-# `celery -A continuum worker -Q continuum-rt -P threads -c 4` (docker-compose.yml: rt-worker), whose threads keep
+# `celery -A continuum worker -Q continuum-rt -P threads -c 8` (docker-compose.yml: rt-worker), whose threads keep
 # each cluster's Kubernetes client and its TLS connection warm between evictions (apps/realtime/tasks.py).
 CONTINUUM_RT_QUEUE = os.environ.get("CONTINUUM_RT_QUEUE") or f"{CELERY_TASK_DEFAULT_QUEUE}-rt"
 CELERY_TASK_QUEUES = (Queue(CELERY_TASK_DEFAULT_QUEUE), Queue(CONTINUUM_RT_QUEUE))
