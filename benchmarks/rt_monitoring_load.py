@@ -1,21 +1,33 @@
 """Load on RT-Kube's monitoring endpoint: many robot fleets posting missed-deadline reports (thesis 3.4).
 
-Everything is real: PostgreSQL (a throw-away database), a kube-apiserver + etcd (the test suite's builder;
-pods are really bound by the RT scheduler and really evicted), gunicorn serving Continuum on 127.0.0.1, and a
-Celery worker (Redis broker, ``--broker``; a private queue) running the ``rt_reconcile`` task. Each fleet has
-its own token, cluster (nodes, RealTime objects, bound pods) and namespace. Every fleet posts batches of
-reports (Listing 3.37 specs) at a fixed rate; now and then one of its reports says a B container missed more
-deadlines than the threshold: the endpoint stores the batch and answers, and the worker evicts a stateless A
-pod of that node (DELETE with grace period 0) and taints the node. After the load, the run waits for every
-stored violation to be reconciled (an eviction decided is carried out) before it counts.
+Everything is real: PostgreSQL (a throw-away database), gunicorn serving Continuum on 127.0.0.1, the Celery worker
+that runs ``rt_reconcile`` on its RT queue (Redis broker, ``--broker``; private queues), and Kubernetes:
 
-Printed: reports sent / acknowledged / stored (none may be lost), throughput, request latency
-percentiles, and report-to-eviction percentiles (server stamps: report received -> eviction sent; client:
-report sent -> eviction answered, i.e. the violating request's round trip). Goal of the issue: >= 1000
-reports/s sustained on this 2-core machine, no report lost, p99 report-to-eviction < 100 ms.
+- ``--mode live`` (default): a :class:`continuum.devcluster.DevCluster` (etcd, kube-apiserver,
+  kube-controller-manager, kube-scheduler, one kubemark hollow node per RT node). Per fleet: a token, a cluster
+  row with its namespace and ``--nodes`` hollow RT nodes, per node a violator (a bare B pod) and ``--victims``
+  Deployments of one stateless A pod. Continuum's RT scheduler (one thread per cluster, in its own process, as
+  ``manage.py rt_scheduler`` runs) binds them; an evicted pod's replacement is made by its ReplicaSet (the real
+  controller-manager) and bound again by the RT scheduler once the node's violation taint is lifted.
+- ``--mode apiserver``: a bare kube-apiserver + etcd (the test suite's builder), bare pods.
 
-    python benchmarks/rt_monitoring_load.py [--fleets 16 --rate 2000 --batch 25 --duration 20 --workers 8]
-        [--broker redis://127.0.0.1:6379/0 --celery-threads 4]   (BENCH_DB: the database's name)
+Each fleet posts batches of reports (Listing 3.37 specs) at a fixed rate; every ``--violation-every`` seconds one
+of its reports says a B container missed more deadlines than the threshold: the endpoint stores the batch,
+answers, and publishes the violation after the commit; the worker claims it, evicts a stateless A pod of that
+node (DELETE with grace period 0) and taints the node. After the load the run waits for every stored violation
+to be reconciled and for the replacements to exist.
+
+Printed: reports sent / acknowledged / stored (none may be lost), throughput, request latency percentiles,
+report-to-eviction percentiles (server stamps: report received -> eviction sent / answered; fleet stamps: report
+sent -> eviction sent), the stages of an eviction (published, picked by a worker thread, claimed, decided,
+tainted, DELETE sent and answered), side by side a plain client's DELETE of a pod on the same cluster during the
+load (the floor of the last stage), pods evicted / recreated / bound again, CPU seconds per part and per report,
+the load average, a cProfile of the worker's tasks and of the report request (in-process). Goal of issue 15:
+2,000 reports/s, none lost, p99 report -> eviction under 50 ms.
+
+    python benchmarks/rt_monitoring_load.py [--mode live --fleets 4 --nodes 3 --victims 4 --rate 2000 --batch 25
+        --duration 20 --violation-every 1 --taint-s 2 --workers 8 --celery-threads 8 --worker-nice 0]
+        [--broker redis://127.0.0.1:6379/0]   (BENCH_DB: the database's name)
 """
 
 from __future__ import annotations
@@ -29,6 +41,8 @@ import socket
 import statistics
 import subprocess
 import sys
+import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -40,21 +54,40 @@ DB_NAME = os.environ.get("BENCH_DB", "continuum_bench_rtload")
 
 def parse_args() -> argparse.Namespace:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--fleets", type=int, default=16)
-    p.add_argument("--nodes", type=int, default=4, help="RT nodes per fleet's cluster")
-    p.add_argument("--victims", type=int, default=5, help="stateless A pods per node")
+    p.add_argument("--mode", choices=("live", "apiserver"), default="live",
+                   help="live: a DevCluster (etcd, apiserver, controller-manager, scheduler, kubemark hollow nodes; "
+                        "victims are Deployments' pods); apiserver: a bare kube-apiserver, bare pods")  # fmt: skip
+    p.add_argument("--fleets", type=int, help="robot fleets, each with its cluster (live 4, apiserver 16)")
+    p.add_argument("--nodes", type=int, help="RT nodes per fleet's cluster (live 3, apiserver 4)")
+    p.add_argument("--victims", type=int, help="stateless A pods per node (live 4, apiserver 5)")
+    p.add_argument("--taint-s", type=float, help="how long a violating node stays tainted (live 2, apiserver 5)")
     p.add_argument("--rate", type=float, default=2000, help="reports per second, all fleets together")
     p.add_argument("--batch", type=int, default=25, help="reports per request")
     p.add_argument("--duration", type=float, default=20, help="seconds of load")
-    p.add_argument("--violation-every", type=float, default=2.0, help="seconds between violations, per fleet")
+    p.add_argument("--violation-every", type=float, help="seconds between violations, per fleet (live 1, "
+                   "apiserver 2)")  # fmt: skip
     p.add_argument("--workers", type=int, default=8, help="gunicorn worker processes (evictions wait on the API)")
     p.add_argument("--threads", type=int, default=1, help="threads per gunicorn worker (gthread when > 1)")
     p.add_argument("--concurrency", type=int, default=4, help="requests in flight per fleet at most")
     p.add_argument("--broker", default=os.environ.get("BENCH_BROKER", "redis://127.0.0.1:6379/0"),
                    help="Redis broker of the rt_reconcile task (a private queue on it)")  # fmt: skip
-    p.add_argument("--celery-threads", type=int, default=4, help="Celery worker threads (evictions wait on the API)")
+    p.add_argument("--celery-threads", type=int, default=8, help="Celery worker threads (evictions wait on the API)")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
-    return p.parse_args()
+    p.add_argument("--worker-nice", type=int, default=0, help="nice value of the rt_reconcile worker (negative: "
+                   "ahead of the web workers for the CPU, as an RT component would run; needs root)")  # fmt: skip
+    p.add_argument("--serve-schedulers", help=argparse.SUPPRESS)  # a child process: cluster ids
+    p.add_argument("--serve-worker", help=argparse.SUPPRESS)  # a child process: the profile's path
+    p.add_argument("--queue", help=argparse.SUPPRESS)
+    args = p.parse_args()
+    live = args.mode == "live"
+    for name, on_live, on_bare in (("fleets", 4, 16), ("nodes", 3, 4), ("victims", 4, 5),
+                                   ("violation_every", 1.0, 2.0), ("taint_s", 2.0, 5.0)):  # fmt: skip
+        if getattr(args, name) is None:
+            setattr(args, name, on_live if live else on_bare)
+    if min(args.fleets, args.nodes, args.victims, args.rate, args.batch, args.duration, args.violation_every,
+           args.workers, args.threads, args.concurrency, args.celery_threads) <= 0:  # fmt: skip
+        p.error("counts, rates and durations must be positive")
+    return args
 
 
 def pct(values: list[float], q: float) -> float:
@@ -92,9 +125,11 @@ def postgres_backends() -> list[int]:
 class CpuMeter:
     """CPU seconds used by each part while the load runs (the machine is shared: wall times alone mislead)."""
 
-    def __init__(self, gunicorn_pid: int, kube_pids: list[int], worker_pid: int) -> None:
-        self.parts = {"gunicorn": lambda: children(gunicorn_pid), "kube-apiserver+etcd": lambda: kube_pids,
+    def __init__(self, gunicorn_pid: int, kube_pids: list[int], worker_pid: int, extra: dict | None = None) -> None:
+        self.parts = {"gunicorn": lambda: children(gunicorn_pid), "Kubernetes": lambda: kube_pids,
                       "celery worker": lambda: [worker_pid]}  # fmt: skip
+        for name, pids in (extra or {}).items():
+            self.parts[name] = lambda pids=pids: pids
         self.start: dict[str, dict[int, float]] = {}
 
     def _sample(self) -> dict[str, dict[int, float]]:
@@ -213,6 +248,237 @@ def seed(args, kubeconfig: str) -> list[dict]:
     return fleets
 
 
+# ---- the live cluster (--mode live) ------------------------------------------------------------------------
+RT_TOLERATION = {"key": "RealTime", "operator": "Equal", "value": "RT", "effect": "NoSchedule"}
+
+
+def progress(line: str) -> None:
+    print(f"  [cluster] {line}", file=sys.stderr, flush=True)
+
+
+def live_nodes(args) -> dict:
+    """The cluster file: ``--nodes`` RT hollow nodes (criticality A) per fleet, 1 CPU each as kubemark reports."""
+    return {"format": "continuum.cluster/v1", "nodes": [
+        {"name": f"f{f}-n{n}", "arch": "amd64", "cpu": 1, "memory_mib": 3840, "rt": True, "criticality": "A"}
+        for f in range(args.fleets) for n in range(args.nodes)]}  # fmt: skip
+
+
+def rt_pod_spec(name: str) -> dict:
+    return {"schedulerName": "RT-scheduler", "tolerations": [RT_TOLERATION],
+            "containers": [{"name": name, "image": "registry.invalid/ros:1"}]}  # fmt: skip
+
+
+def seed_live(args, kubeconfig: str) -> list[dict]:
+    """Per fleet: a token, a cluster row on the live cluster (its own namespace and hollow nodes), an RT policy and
+    RealTime objects; per node a violator (a bare B pod) and ``--victims`` Deployments of one stateless A pod, all
+    with a WCET on that node only (so that every node has victims: the RT scheduler would pack them all onto one
+    node otherwise). An evicted pod's replacement, made by the ReplicaSet controller, stays pending while the
+    node's violation taint lasts (``--taint-s``) and is bound there again once the RT scheduler lifts it. The
+    pods are bound by the RT scheduler processes (:func:`start_schedulers`)."""
+    from django.contrib.auth.models import User
+
+    from apps.clusters.models import Cluster, ComputeNode
+    from apps.realtime import sync
+    from apps.realtime.kube import kube_for
+    from apps.realtime.models import RealTime, RealTimeWcet, RTPolicy
+    from apps.tenancy.models import Fleet, FleetToken
+
+    fleets = []
+    for f in range(args.fleets):
+        fleet = Fleet.objects.create(name=f"fleet-{f}")
+        robot = User.objects.create_user(f"robot-{f}")
+        token = FleetToken.objects.create(fleet=fleet, user=robot, scope=FleetToken.Scope.ROBOT)
+        ns = f"bench-f{f}"
+        cluster = Cluster.objects.create(fleet=fleet, name=f"cluster-{f}", namespace=ns, kubeconfig=kubeconfig)
+        RTPolicy.objects.create(cluster=cluster, threshold_period=10, taint_duration_s=args.taint_s)
+        nodes = [ComputeNode.objects.create(cluster=cluster, name=f"f{f}-n{n}", cpu=1, memory_mib=3840, rt=True,
+                                            criticality="A") for n in range(args.nodes)]  # fmt: skip
+        containers, deployments = [], []
+        for k, node in enumerate(nodes):
+            rt = RealTime.objects.create(cluster=cluster, namespace=ns, name=f"ctl-{node.name}", criticality="B",
+                                         period=100, deadline=100)  # fmt: skip
+            RealTimeWcet.objects.create(realtime=rt, node=node, wcet=10)
+            containers.append({"pod": rt.name, "node": node.name, "violator": True})
+            for v in range(args.victims):
+                rt = RealTime.objects.create(cluster=cluster, namespace=ns, name=f"aux-{k}-{v}", criticality="A",
+                                             period=100, deadline=100, stateless=True)  # fmt: skip
+                RealTimeWcet.objects.create(realtime=rt, node=node, wcet=2 + v)
+                deployments.append(rt.name)
+        summary = sync.full_sync(cluster)
+        errors = [e for part in summary.values() if isinstance(part, dict) for e in part.get("errors") or []]
+        if errors:
+            raise SystemExit(f"RT sync failed: {errors[:3]}")
+        kube = kube_for(cluster)
+        kube.ensure_namespace(ns)
+        for c in containers:
+            body = {"apiVersion": "v1", "kind": "Pod", "metadata": {"name": c["pod"], "labels": {
+                "rt-scheduling": c["pod"]}}, "spec": rt_pod_spec(c["pod"])}  # fmt: skip
+            kube.create_pod(ns, body)
+        apps_api = plain_apps_api(kubeconfig)
+        for name in deployments:
+            labels = {"app": name, "rt-scheduling": name, "rt.monitoring/stateless": "true"}
+            apps_api.create_namespaced_deployment(ns, {
+                "metadata": {"name": name},
+                "spec": {"replicas": 1, "selector": {"matchLabels": {"app": name}},
+                         "template": {"metadata": {"labels": labels}, "spec": rt_pod_spec(name)}},
+            })  # fmt: skip
+        fleets.append({"token": token.plaintext, "cluster": cluster.pk, "namespace": ns, "containers": containers,
+                       "pods": len(containers) + len(deployments)})  # fmt: skip
+    return fleets
+
+
+def plain_apps_api(kubeconfig: str):
+    import yaml
+    from kubernetes import client, config
+
+    return client.AppsV1Api(config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False))
+
+
+def plain_core_api(kubeconfig: str):
+    """A plain client of the official library (as ``kubectl`` would be): the reference's floor."""
+    import yaml
+    from kubernetes import client, config
+
+    return client.CoreV1Api(config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False))
+
+
+def wait_bound(core, fleets: list[dict], timeout: float = 600) -> None:
+    """Until every fleet's pods are bound and Running (the RT scheduler binds, the hollow kubelets run them)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        missing = []
+        for f in fleets:
+            pods = core.list_namespaced_pod(f["namespace"]).items
+            running = [p for p in pods if p.spec.node_name and p.status.phase == "Running"]
+            if len(running) < f["pods"]:
+                missing.append(f"{f['namespace']}: {len(running)}/{f['pods']}")
+        if not missing:
+            return
+        if time.monotonic() > deadline:
+            raise SystemExit(f"setup: pods not Running after {timeout:.0f} s: {missing}")
+        time.sleep(1.0)
+
+
+def start_schedulers(env: dict, fleets: list[dict]) -> subprocess.Popen:
+    """One process with an RT scheduler thread per fleet's cluster (as ``manage.py rt_scheduler`` runs it)."""
+    ids = ",".join(str(f["cluster"]) for f in fleets)
+    log = open("/tmp/continuum-rt-load-schedulers.log", "w")  # noqa: SIM115 - lives as long as the process
+    return subprocess.Popen([sys.executable, __file__, "--serve-schedulers", ids], cwd=ROOT, env=env, stdout=log,
+                            stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+
+
+def serve_schedulers(ids: str) -> None:
+    import signal
+    import threading
+
+    import django
+
+    django.setup()
+    from apps.realtime.scheduler import RTScheduler
+
+    stop = threading.Event()
+    schedulers = [RTScheduler(int(i)) for i in ids.split(",")]
+    signal.signal(signal.SIGTERM, lambda *_: [stop.set()] + [s.wake.set() for s in schedulers])
+    threads = [threading.Thread(target=s.run, args=(stop,), daemon=True) for s in schedulers]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    print(" ".join(f"{s.cluster_id}: {s.cycles} cycles, {s.errors} failed" for s in schedulers), flush=True)
+
+
+def serve_worker(profile_path: str, threads: int, queue: str, nice: int = 0) -> None:
+    """The rt_reconcile worker (``celery worker -P threads``), every task profiled in the thread that runs it
+    (cProfile per thread, merged at the end): where an eviction's CPU goes, waits included."""
+    import cProfile
+    import pstats
+    import threading
+
+    import django
+
+    if nice:
+        os.nice(nice)  # before any thread starts: Linux's nice value is per thread, inherited
+    django.setup()
+    from celery import signals
+
+    from continuum.celery import app
+
+    profiles: dict[int, cProfile.Profile] = {}
+    lock = threading.Lock()
+
+    @signals.task_prerun.connect(weak=False)
+    def begin(sender=None, **_) -> None:
+        if getattr(sender, "name", "") != "continuum.rt_reconcile":  # the evictions only, not the warm-ups
+            return
+        with lock:
+            prof = profiles.setdefault(threading.get_ident(), cProfile.Profile())
+        prof.enable()
+
+    @signals.task_postrun.connect(weak=False)
+    def end(sender=None, **_) -> None:
+        if getattr(sender, "name", "") == "continuum.rt_reconcile":
+            profiles[threading.get_ident()].disable()
+
+    @signals.worker_shutdown.connect(weak=False)
+    def dump(**_) -> None:
+        stats = None
+        for prof in profiles.values():
+            stats = pstats.Stats(prof) if stats is None else stats.add(prof)
+        if stats is not None:
+            stats.dump_stats(profile_path)
+
+    app.worker_main(["worker", "-P", "threads", "-c", str(threads), "-Q", queue, "--without-gossip",
+                     "--without-mingle", "--without-heartbeat", "-l", "WARNING"])  # fmt: skip
+
+
+class Reference(threading.Thread):
+    """The floor, side by side: a plain client (official library, warm connection) deletes a reference pod with
+    grace period 0 every ``every`` seconds during the load, on the same cluster; its round trips (ms)."""
+
+    def __init__(self, kubeconfig: str, namespace: str, every: float = 0.25) -> None:
+        super().__init__(daemon=True)
+        from kubernetes import client
+
+        self.core = plain_core_api(kubeconfig)
+        self.client = client
+        self.namespace, self.every = namespace, every
+        self.stop = threading.Event()
+        self.deletes: list[float] = []
+        self.errors = 0
+
+    def prepare(self, n: int) -> None:
+        body = {"apiVersion": "v1", "kind": "Namespace", "metadata": {"name": self.namespace}}
+        self.core.create_namespace(body)
+        for i in range(n):
+            spec = {"tolerations": [RT_TOLERATION], "containers": [{"name": "c", "image": "registry.invalid/ros:1"}]}
+            self.core.create_namespaced_pod(self.namespace, {"metadata": {"name": f"ref-{i}"}, "spec": spec})
+        self.core.read_namespaced_pod("ref-0", self.namespace)  # the connection is open and warm
+        self.left = list(range(n))
+
+    def run(self) -> None:
+        body = self.client.V1DeleteOptions(grace_period_seconds=0)
+        while self.left and not self.stop.wait(self.every):
+            name = f"ref-{self.left.pop()}"
+            began = time.perf_counter()
+            try:
+                self.core.delete_namespaced_pod(name, self.namespace, body=body, _preload_content=False)
+                self.deletes.append(1000 * (time.perf_counter() - began))
+            except Exception:  # a reference that fails is counted, not fatal
+                self.errors += 1
+
+
+def count_recreated(core, fleets: list[dict], since: float) -> tuple[int, int]:
+    """(pods a ReplicaSet created after ``since`` (epoch), how many of them are bound to a node)."""
+    made = bound = 0
+    for f in fleets:
+        for p in core.list_namespaced_pod(f["namespace"]).items:
+            owners = p.metadata.owner_references or []
+            if any(o.kind == "ReplicaSet" for o in owners) and p.metadata.creation_timestamp.timestamp() >= since:
+                made += 1
+                bound += bool(p.spec.node_name)
+    return made, bound
+
+
 def start_gunicorn(args, env: dict, port: int) -> subprocess.Popen:
     log = open("/tmp/continuum-rt-load-gunicorn.log", "w")  # noqa: SIM115 - lives as long as the server
     proc = subprocess.Popen(
@@ -250,12 +516,13 @@ def start_gunicorn(args, env: dict, port: int) -> subprocess.Popen:
     raise SystemExit("gunicorn did not listen")
 
 
-def start_worker(args, env: dict) -> subprocess.Popen:
-    """The Celery worker that runs ``rt_reconcile`` (threads: the evictions wait on the API, not the CPU)."""
+def start_worker(args, env: dict, profile_path: str, rt_queue: str) -> subprocess.Popen:
+    """The Celery worker that runs ``rt_reconcile`` on its queue (threads: the evictions wait on the API, not
+    the CPU), as production's rt-worker does, its tasks profiled (:func:`serve_worker`)."""
     log = open("/tmp/continuum-rt-load-celery.log", "w")  # noqa: SIM115 - lives as long as the worker
     return subprocess.Popen(
-        [sys.executable, "-m", "celery", "-A", "continuum", "worker", "-P", "threads", "-c", str(args.celery_threads),
-         "-Q", env["CELERY_QUEUE"], "--without-gossip", "--without-mingle", "--without-heartbeat", "-l", "WARNING"],
+        [sys.executable, __file__, "--serve-worker", profile_path, "--queue", rt_queue, "--celery-threads",
+         str(args.celery_threads), "--worker-nice", str(args.worker_nice)],
         cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
     )  # fmt: skip
 
@@ -316,7 +583,9 @@ async def fleet_load(session, url: str, fleet: dict, args, t0: float, results: l
         body = []
         for c, missed in reports:
             totals[c["pod"]] += missed
-            body.append({"node": c["node"], "containerName": c["pod"], "pod": c["pod"],
+            # Each report has its robot's id (the idempotency key): two reports of a container saying the same in
+            # one batch are two reports, not a retried one.
+            body.append({"node": c["node"], "containerName": c["pod"], "pod": c["pod"], "id": f"f{idx}-{k}-{len(body)}",
                          "missedDeadlinesPeriod": missed, "missedDeadlinesTotal": totals[c["pod"]],
                          "sentAt": time.time()})  # fmt: skip
         payload = json.dumps({"cluster": fleet["cluster"], "reports": body})
@@ -363,7 +632,7 @@ async def drive(url: str, fleets: list[dict], args, meter: CpuMeter) -> tuple[li
 
 
 # ---- report -------------------------------------------------------------------------------------------------
-def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) -> None:
+def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter, ref: Reference | None = None) -> None:
     from apps.realtime.models import MonitoringReport, RTEvent
 
     sent = sum(r["n"] for r in results)
@@ -395,9 +664,12 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
 
     print(
         f"\nRT monitoring endpoint under load: {args.fleets} fleets x {args.nodes} nodes, batches of {args.batch}, "
-        f"target {args.rate:g} reports/s for {args.duration:g} s, gunicorn -w {args.workers} --threads "
-        f"{args.threads}, PostgreSQL, kube-apiserver"
-    )
+        f"target {args.rate:g} reports/s for {args.duration:g} s, rt worker -P threads -c {args.celery_threads} "
+        f"(nice {args.worker_nice}), gunicorn -w {args.workers} --threads "
+        f"{args.threads}, PostgreSQL, "
+        + ("a live cluster (etcd, kube-apiserver, kube-controller-manager, kube-scheduler, kubemark hollow nodes)"
+           if args.mode == "live" else "a bare kube-apiserver")
+    )  # fmt: skip
     print(f"  machine: {os.cpu_count()} cores, shared; load average {meter.load_before[0]:.2f} before, "
           f"{meter.load_after[0]:.2f} after")  # fmt: skip
     cpu = meter.cpu
@@ -435,6 +707,24 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
         if trans_json:
             print(f"  HTTP_trans(JSON) incl. queueing (ms): mean {statistics.fmean(trans_json):.1f}  "
                   f"max {max(trans_json):.1f}")  # fmt: skip
+    stage_table(ok)
+    total_cpu = sum(cpu.values())
+    print(f"  CPU per report, every part together: {1e6 * total_cpu / max(1, acked):.0f} us "
+          f"({total_cpu:.1f} CPU-s for {acked} reports)")  # fmt: skip
+    if ref is not None and ref.deletes:
+        d = sorted(ref.deletes)
+        print(f"  reference, same cluster, same time: a plain client's DELETE (grace 0, warm connection), "
+              f"{len(d)} pods (ms): p50 {pct(d, 50):.1f}  p95 {pct(d, 95):.1f}  p99 {pct(d, 99):.1f}  "
+              f"max {d[-1]:.1f}; errors {ref.errors}")  # fmt: skip
+        if server_done:
+            print(f"  eviction path / plain DELETE: p50 {pct(server_done, 50) / pct(d, 50):.1f}x, "
+                  f"p99 {pct(server_done, 99) / pct(d, 99):.1f}x (report received -> eviction answered)")  # fmt: skip
+    if getattr(meter, "recreated", None):
+        evicted, made, bound = meter.recreated
+        print(f"  pods evicted {evicted}; recreated by their ReplicaSets (kube-controller-manager) {made}, of which "
+              f"bound again by the RT scheduler {bound}")  # fmt: skip
+    print(f"  load average (1 min) {meter.load_before[0]:.2f} before the load, {meter.load_after[0]:.2f} after; now "
+          f"{Path('/proc/loadavg').read_text().strip()}")  # fmt: skip
     print(
         "  thesis (Table 4.35, 18 containers, one robot, congested WiFi): 92.03 ms mean, 408.29 ms worst "
         "from the crossing miss (incl. the 10 Hz update wait)"
@@ -449,48 +739,212 @@ def report(args, results: list, t0: float, fleets: list[dict], meter: CpuMeter) 
           f"p99 report sent -> eviction sent {p99:.1f} ms < 50 ms): {'met' if goal15 else 'NOT met'}")  # fmt: skip
 
 
+def stage_table(events: list[dict]) -> None:
+    """Where the time goes, from each eviction's stage stamps (ms after the report's reception, server side)."""
+    from apps.realtime.monitoring import STAGES
+
+    stages = [e["response"].get("stages") or {} for e in events]
+    rows, prev = [], None
+    for name in STAGES:
+        at = sorted(st[name] for st in stages if name in st)
+        if not at:
+            continue
+        step = sorted(st[name] - st[prev] for st in stages if name in st and prev in st) if prev else at
+        rows.append(f"    {name:<9} at p50 {pct(at, 50):7.1f}  p99 {pct(at, 99):7.1f} | this stage p50 "
+                    f"{pct(step, 50):6.1f}  p99 {pct(step, 99):6.1f}")  # fmt: skip
+        prev = name
+    if rows:
+        print("  stages of an eviction (ms after the report was received; then the stage's own time):")
+        print("\n".join(rows))
+        print("    (queued: stored and committed, message published; picked: a worker thread took it; claimed: the "
+              "report claimed, node row locked, its pods read; decided: victim chosen; tainted: the taint "
+              "written (skipped when ours is on the node); sent/answered: the DELETE)")  # fmt: skip
+
+
 def main() -> None:
     args = parse_args()
+    if args.serve_schedulers:
+        serve_schedulers(args.serve_schedulers)
+        return
+    if args.serve_worker:
+        serve_worker(args.serve_worker, args.celery_threads, args.queue, args.worker_nice)
+        return
     db_url = create_database()
-    os.environ["DATABASE_URL"] = db_url
-    os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
-    os.environ["LOG_LEVEL"] = "WARNING"
-    from tests.kubeapi import KubeAPIServer, build_kube_apiserver
-
     queue = f"bench-rtload-{os.getpid()}"  # private: no other worker on the broker takes its messages
-    env = dict(os.environ, DATABASE_URL=db_url, DEBUG="0", LOG_LEVEL="WARNING", CELERY_BROKER_URL=args.broker,
-               CELERY_QUEUE=queue)  # fmt: skip
-    env.pop("CONTINUUM_JOBS_EAGER", None)
+    rt_queue = f"{queue}-rt"  # settings: CONTINUUM_RT_QUEUE defaults to the default queue's name + "-rt"
+    os.environ.update(DATABASE_URL=db_url, LOG_LEVEL="WARNING", CELERY_BROKER_URL=args.broker, CELERY_QUEUE=queue)
+    os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
+    os.environ.pop("CONTINUUM_JOBS_EAGER", None)
+    os.environ.pop("CONTINUUM_RT_QUEUE", None)
+    env = dict(os.environ, DEBUG="0")
     subprocess.run([sys.executable, "manage.py", "migrate", "-v0"], cwd=ROOT, env=env, check=True)
-    server = KubeAPIServer(build_kube_apiserver()).start()
-    gunicorn = worker = None
+    profile_path = tempfile.mktemp(prefix="rt-worker-", suffix=".prof")
+    dev = server = gunicorn = worker = schedulers = ref = request_profile = None
     try:
         import django
 
         django.setup()
         began = time.monotonic()
-        fleets = seed(args, server.kubeconfig())
-        print(f"setup: {len(fleets)} fleets, {sum(len(f['containers']) for f in fleets)} pods bound by the RT "
-              f"scheduler in {time.monotonic() - began:.1f} s")  # fmt: skip
+        if args.mode == "live":
+            from continuum.devcluster import DevCluster, build_binaries, hollow_nodes
+
+            dev = DevCluster(tempfile.mkdtemp(prefix="bench-rtload-"))
+            n = args.fleets * args.nodes
+            dev.up(hollow_nodes(live_nodes(args)), build_binaries(progress=progress), timeout=max(900, 15 * n),
+                   progress=progress)  # fmt: skip
+            kubeconfig = dev.kubeconfig()
+            kube_pids = list(dev.processes().values())
+            fleets = seed_live(args, kubeconfig)
+            schedulers = start_schedulers(env, fleets)
+            core = plain_core_api(kubeconfig)
+            wait_bound(core, fleets)
+            ref = Reference(kubeconfig, "bench-ref")
+            ref.prepare(int(args.duration / ref.every) + 8)
+            print(f"setup: live cluster of {n} hollow nodes; {len(fleets)} fleets, {sum(f['pods'] for f in fleets)} "
+                  f"pods Running, bound by the RT schedulers, in {time.monotonic() - began:.1f} s")  # fmt: skip
+        else:
+            from tests.kubeapi import KubeAPIServer, build_kube_apiserver
+
+            server = KubeAPIServer(build_kube_apiserver()).start()
+            kubeconfig = server.kubeconfig()
+            kube_pids = [p.pid for p in server.procs]
+            fleets = seed(args, kubeconfig)
+            print(f"setup: {len(fleets)} fleets, {sum(len(f['containers']) for f in fleets)} pods bound by the RT "
+                  f"scheduler in {time.monotonic() - began:.1f} s")  # fmt: skip
         port = free_port()
         gunicorn = start_gunicorn(args, env, port)
-        worker = start_worker(args, env)
+        worker = start_worker(args, env, profile_path, rt_queue)
+        warm_worker(args, fleets, rt_queue)
         from django.db import connection
 
         connection.close()
-        meter = CpuMeter(gunicorn.pid, [p.pid for p in server.procs], worker.pid)
+        extra = {"RT schedulers": [schedulers.pid]} if schedulers else {}
+        meter = CpuMeter(gunicorn.pid, kube_pids, worker.pid, extra)
+        wall0 = time.time()
+        if ref is not None:
+            ref.start()
         results, t0 = asyncio.run(drive(f"http://127.0.0.1:{port}/api/v1/rt-reports/", fleets, args, meter))
+        if ref is not None:
+            ref.stop.set()
         meter.pending, meter.waited = wait_reconciled()
-        report(args, results, t0, fleets, meter)
+        meter.recreated = wait_recreated(core, fleets, wall0) if dev is not None else None
+        report(args, results, t0, fleets, meter, ref)
+        request_cpu, request_profile = profile_requests(fleets, args)
     finally:
         stop(gunicorn)
         stop(worker)
-        server.stop()
+        stop(schedulers)
+        if server is not None:
+            server.stop()
+        if dev is not None:
+            dev.down()
         from django.db import connections
 
         connections.close_all()
         if not args.keep:
             drop_database()
+    print_profile(profile_path)
+    if request_profile is not None:
+        import io
+        import pstats
+
+        out = io.StringIO()
+        pstats.Stats(request_profile, stream=out).sort_stats("cumulative").print_stats(25)
+        lines = [line for line in out.getvalue().splitlines() if line.strip()]
+        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
+        print(f"\nThe report request in-process (test client, no HTTP): {request_cpu:.2f} ms CPU per batch of "
+              f"{args.batch} (profiler on: an upper bound); top 25 by cumulative time:")  # fmt: skip
+        print("\n".join(lines[start : start + 26]))
+
+
+def warm_worker(args, fleets: list[dict], rt_queue: str) -> None:
+    """Wait until the worker takes messages, then once per worker thread a ``rt_warm`` of every fleet's cluster:
+    each thread's database connection and each cluster's API connection are open before the load (a
+    long-running RT worker has them open; a cold one pays them at its first evictions)."""
+    import redis
+
+    from apps.realtime.tasks import rt_warm
+
+    ids = [f["cluster"] for f in fleets]
+    for _ in range(2 * args.celery_threads):
+        rt_warm.apply_async(args=(ids,))
+    broker = redis.Redis.from_url(args.broker)
+    deadline = time.monotonic() + 120
+    # kombu's Redis queue is a list of that name; a message taken but not acknowledged yet (acks_late: until its
+    # task ends) is in the "unacked" hash: both empty = every warm-up done (the broker's db is this run's own).
+    while (broker.llen(rt_queue) or broker.hlen("unacked")) and time.monotonic() < deadline:
+        time.sleep(0.2)
+
+
+def wait_recreated(core, fleets: list[dict], since: float, timeout: float = 60) -> tuple[int, int, int]:
+    """(evictions sent, pods their ReplicaSets made since ``since``, how many of those are bound), once every
+    eviction's replacement exists and is bound or ``timeout`` passed."""
+    from apps.realtime.models import RTEvent
+
+    evicted = RTEvent.objects.filter(kind="eviction", eviction_done_at__isnull=False).count()
+    deadline = time.monotonic() + timeout
+    while True:
+        made, bound = count_recreated(core, fleets, int(since))
+        if (made >= evicted and bound >= evicted) or time.monotonic() > deadline:
+            return evicted, made, bound
+        time.sleep(1.0)
+
+
+def profile_requests(fleets: list[dict], args, n: int = 200):
+    """The endpoint's request in this process (Django's test client: the whole middleware, auth, throttle, parse,
+    store; no HTTP server), ``n`` batches of ``--batch`` reports without a violation, under cProfile: (CPU ms per
+    request, its profile)."""
+    import cProfile
+
+    from django.test import Client
+
+    client = Client()
+    fleet = fleets[0]
+    headers = {"HTTP_AUTHORIZATION": f"Token {fleet['token']}"}
+    c = fleet["containers"][0]
+
+    def body(k: int) -> str:
+        reports = [{"node": c["node"], "containerName": c["pod"], "pod": c["pod"], "missedDeadlinesPeriod": 1,
+                    "missedDeadlinesTotal": 10**6 + k * args.batch + j, "sentAt": time.time()}
+                   for j in range(args.batch)]  # fmt: skip
+        return json.dumps({"cluster": fleet["cluster"], "reports": reports})
+
+    for k in range(20):  # warm: URLconf, DRF, the statement's plan
+        client.post("/api/v1/rt-reports/", body(k), content_type="application/json", **headers)
+    payloads = [body(100 + k) for k in range(n)]
+    prof = cProfile.Profile()
+    cpu = time.process_time()
+    prof.enable()
+    for payload in payloads:
+        response = client.post("/api/v1/rt-reports/", payload, content_type="application/json", **headers)
+    prof.disable()
+    cpu = time.process_time() - cpu
+    assert response.status_code == 201, response.content[:300]
+    return 1000 * cpu / n, prof
+
+
+def print_profile(path: str) -> None:
+    import io
+    import pstats
+
+    if not Path(path).exists():
+        print("\n(no profile of the worker: it ran no task or did not stop cleanly)")
+        return
+    stats = pstats.Stats(path, stream=io.StringIO())
+    Path(path).unlink()
+    for order in ("cumulative", "tottime"):
+        out = io.StringIO()
+        stats.stream = out
+        stats.sort_stats(order).print_stats(18)
+        lines = [line for line in out.getvalue().splitlines() if line.strip()]
+        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
+        print(f"\ncProfile of the rt_reconcile worker's tasks (every thread, waits included), top 18 by {order}:")
+        print("\n".join(lines[start : start + 19]))
+    out = io.StringIO()
+    stats.stream = out
+    stats.sort_stats("tottime").print_callers(r"method 'acquire'|wait\)|_ssl._SSLSocket' objects}")
+    print("\nWho waits (callers of lock waits, socket reads and PostgreSQL waits):")
+    print("\n".join(line for line in out.getvalue().splitlines()[-40:] if line.strip()))
 
 
 if __name__ == "__main__":

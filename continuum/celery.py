@@ -3,7 +3,7 @@
 import os
 
 from celery import Celery
-from celery.signals import worker_ready
+from celery.signals import task_prerun, worker_ready
 
 os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
 
@@ -18,3 +18,12 @@ def watch_for_lost_jobs(**_) -> None:
     from apps.jobs.liveness import watch
 
     watch()
+
+
+@task_prerun.connect
+def retire_old_connections(**_) -> None:
+    """Before each task, what Django does before each request: close this thread's database connection if it is
+    older than CONN_MAX_AGE or broke (CELERY_DB_REUSE_MAX keeps it across tasks otherwise)."""
+    from django.db import close_old_connections
+
+    close_old_connections()

@@ -12,6 +12,7 @@ import shlex
 from pathlib import Path
 
 import dj_database_url
+from kombu import Queue
 
 BASE_DIR = Path(__file__).resolve().parent.parent
 VAR_DIR = Path(os.environ.get("CONTINUUM_VAR_DIR", BASE_DIR / "var"))
@@ -251,6 +252,14 @@ if not CELERY_BROKER_URL:
 CELERY_TASK_ALWAYS_EAGER = os.environ.get("CONTINUUM_JOBS_EAGER", "") == "1"
 CELERY_TASK_EAGER_PROPAGATES = False
 CELERY_TASK_DEFAULT_QUEUE = os.environ.get("CELERY_QUEUE", "continuum")
+# RT-Kube's reconcile (an eviction on the clock, thesis Eq. 3.19) has a queue of its own, so that it never waits
+# behind a long job: a worker started without -Q consumes both queues; production runs a dedicated one,
+# `celery -A continuum worker -Q continuum-rt -P threads -c 8` (docker-compose.yml: rt-worker), whose threads keep
+# each cluster's Kubernetes client and its TLS connection warm between evictions (apps/realtime/tasks.py).
+CONTINUUM_RT_QUEUE = os.environ.get("CONTINUUM_RT_QUEUE") or f"{CELERY_TASK_DEFAULT_QUEUE}-rt"
+CELERY_TASK_QUEUES = (Queue(CELERY_TASK_DEFAULT_QUEUE), Queue(CONTINUUM_RT_QUEUE))
+CELERY_TASK_ROUTES = {"continuum.rt_reconcile": {"queue": CONTINUUM_RT_QUEUE},
+                      "continuum.rt_warm": {"queue": CONTINUUM_RT_QUEUE}}  # fmt: skip
 CELERY_TASK_ACKS_LATE = True
 CELERY_TASK_REJECT_ON_WORKER_LOST = True
 CELERY_WORKER_PREFETCH_MULTIPLIER = 1
@@ -268,6 +277,11 @@ CELERY_BROKER_TRANSPORT_OPTIONS |= {
     "unacked_restore_throttle": int(os.environ.get("CELERY_RESTORE_THROTTLE", 10)),
 }
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
+# Celery's Django fix-up closes a worker thread's database connections before and after EVERY task unless told to
+# reuse them: each RT-Kube eviction (continuum.rt_reconcile) then opened a new PostgreSQL connection on the clock.
+# Reused for this many tasks instead; a stale or broken one is still retired before each task as Django retires
+# it between requests (CONN_MAX_AGE, errors: continuum/celery.py, close_old_connections).
+CELERY_DB_REUSE_MAX = int(os.environ.get("CONTINUUM_DB_REUSE_MAX", "1000"))
 # `celery -A continuum beat`: lifts RT-Kube's expired node taints (the rt_scheduler process does it too).
 CELERY_BEAT_SCHEDULE = {"rt-lift-taints": {"task": "continuum.rt_lift_taints", "schedule": 5.0}}
 # A reported violation is stored in the request and reconciled by the continuum.rt_reconcile task; one whose
@@ -363,6 +377,8 @@ if os.environ.get("CONTINUUM_CACHE_URL"):
 else:
     CACHES = {"default": {"BACKEND": "django.core.cache.backends.locmem.LocMemCache", "LOCATION": "continuum"}}
 # Unknown API token keys an address may send per period before it gets 429s (key guessing).
+# Seconds a process keeps a robot token it looked up (0: never); revocation: apps/tenancy/authentication.py.
+CONTINUUM_ROBOT_TOKEN_CACHE_S = float(os.environ.get("CONTINUUM_ROBOT_TOKEN_CACHE_S", "2"))
 CONTINUUM_THROTTLE_BAD_TOKENS = os.environ.get("CONTINUUM_THROTTLE_BAD_TOKENS", "60/min")
 # Failed logins (dashboard and admin) per address and user name within the window before the form refuses.
 CONTINUUM_LOGIN_FAILURES = int(os.environ.get("CONTINUUM_LOGIN_FAILURES", "10"))

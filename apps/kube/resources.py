@@ -30,6 +30,12 @@ from continuum.engine.core.taints import Taint
 from . import nodes
 from .connect import KubeError, call, describe, read_json
 
+# The official client imports its API and model classes on first use (a module __getattr__ and import_module):
+# resolved here, when the gateway is imported (a worker's start), so that no eviction, binding or taint pays that
+# import on the clock, one thread at a time under the import lock (hundreds of ms on a busy machine).
+EAGER = (client.CoreV1Api, client.CustomObjectsApi, client.VersionApi, client.ApiextensionsV1Api,
+         client.V1DeleteOptions, client.V1Preconditions, client.V1Binding, client.V1ObjectMeta,
+         client.V1ObjectReference)  # fmt: skip
 MERGE_PATCH = "application/merge-patch+json"
 STRATEGIC_PATCH = "application/strategic-merge-patch+json"
 
@@ -83,6 +89,10 @@ class Kube:
     def _json(self, fn, *args, what: str, idempotent: bool = True, **kwargs):
         """``read_json(fn, *args, **kwargs)`` retried on transient failures (see the module docstring)."""
         return call(read_json, fn, *args, what=what, server=self.server, idempotent=idempotent, **kwargs)
+
+    def version(self) -> dict:
+        """The API server's version: the cheapest read there is, used to open (warm) a connection."""
+        return self._json(client.VersionApi(self.api_client).get_code, what="read the API version") or {}
 
     # ---- namespaces and CRDs ---------------------------------------------------------------------------
     def ensure_namespace(self, namespace: str) -> None:

@@ -63,12 +63,15 @@ class ClusterScoped(FleetScopedMixin):
     fleet_lookup = "cluster__fleet"
 
 
-def _visible_cluster(request, pk) -> Cluster:
+def _visible_cluster(request, pk, with_nodes: bool = False) -> Cluster:
     try:
         auth = getattr(request, "auth", None)
         # A fleet token (every robot's report) names its one fleet: no subquery to compile and run.
         scope = {"fleet_id": auth.fleet_id} if isinstance(auth, FleetToken) else {"fleet__in": visible_fleets(request)}
-        return Cluster.objects.select_related("rt_policy").get(pk=int(pk), **scope)
+        clusters = Cluster.objects.select_related("rt_policy")
+        if with_nodes:  # the report endpoint: its nodes in the same round trip
+            clusters = monitoring.with_node_ids(clusters)
+        return clusters.get(pk=int(pk), **scope)
     except (Cluster.DoesNotExist, TypeError, ValueError) as exc:
         raise ValidationError({"cluster": [f"no cluster {pk!r} among your fleets' clusters"]}) from exc
 
@@ -244,7 +247,8 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
             reports = monitoring.parse_batch(payload)
             # With a Kubernetes API, the reconcile (evictions, taints) runs in the rt_reconcile task: the answer
             # waits for the batch to be stored, never for Kubernetes.
-            result = monitoring.ingest(cluster, reports, policy=policy, received_at=received, defer=has_api(cluster))
+            result = monitoring.ingest(cluster, reports, policy=policy, received_at=received, defer=has_api(cluster),
+                                       node_ids=monitoring.node_ids_of(cluster))  # fmt: skip
         except InputError as exc:
             raise ValidationError({exc.field or "reports": [str(exc)]}) from exc
         pending = result.pop("pending")
@@ -259,7 +263,7 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
         if pk is not None:
             if isinstance(pk, bool) or not isinstance(pk, int | str):
                 raise ValidationError({"cluster": ["the id of one of your clusters"]})
-            return _visible_cluster(request, pk)
+            return _visible_cluster(request, pk, with_nodes=True)
         clusters = list(Cluster.objects.select_related("rt_policy").filter(fleet__in=visible_fleets(request))[:2])
         if len(clusters) != 1:
             raise ValidationError({"cluster": ["name the cluster (id): you have several or none"]})

@@ -12,15 +12,17 @@ from __future__ import annotations
 
 import copy
 import hashlib
+import logging
 import threading
 from collections.abc import Iterable
 from datetime import datetime
 
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster
-from apps.kube.gateway import KUBE_ERRORS, Kube, cores, mib, problem  # noqa: F401 - KUBE_ERRORS, problem: for RT-Kube
+from apps.kube.gateway import KUBE_ERRORS, Kube, cores, mib, problem
 from continuum.engine.rtkube.rt_model import RT_SCHEDULER_NAME
 
+log = logging.getLogger(__name__)
 REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL = "rt.scheduling", "v1", "realtimes"
 MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL = "rt.monitoring", "v1alpha1", "monitorings"
 #: Node labels that carry the RT attributes Continuum keeps (spec 03 3.3 [PROPOSAL]).
@@ -163,14 +165,32 @@ def kube_for(cluster: Cluster) -> Kube:
     """A cached :class:`Kube` for the cluster (rebuilt when its kubeconfig or context changes)."""
     digest = hashlib.sha256(f"{cluster.kube_context}\n{cluster.kubeconfig}".encode()).hexdigest()
     key = (cluster.pk, digest)
+    kube = _CLIENTS.get(key)
+    if kube is not None:
+        return kube
+    # Built outside the lock (validating the kubeconfig and making the client takes tens of ms on a busy
+    # machine): another cluster's eviction must not wait for it. Two threads may build one each; one is kept.
+    built = Kube(api_client_for(cluster), cluster.name, component=RT_SCHEDULER_NAME)
     with _LOCK:
         kube = _CLIENTS.get(key)
         if kube is None:
             for old in [k for k in _CLIENTS if k[0] == cluster.pk]:
                 _CLIENTS.pop(old)
-            kube = Kube(api_client_for(cluster), cluster.name, component=RT_SCHEDULER_NAME)
-            _CLIENTS[key] = kube
-        return kube
+            kube = _CLIENTS[key] = built
+    if kube is not built:
+        built.api_client.close()
+    return kube
+
+
+def warm(cluster: Cluster) -> bool:
+    """Build the cluster's client (:func:`kube_for`) and open a connection to its API with one cheap read (the
+    server's version), so that the first eviction pays no TLS handshake; whether the API answered."""
+    try:
+        kube_for(cluster).version()
+    except KUBE_ERRORS as exc:
+        log.info("cluster %s: API not warmed: %s", cluster.pk, problem(exc))
+        return False
+    return True
 
 
 def has_api(cluster: Cluster) -> bool:
