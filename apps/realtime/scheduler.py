@@ -420,9 +420,12 @@ class RTScheduler:
             connection.close()
 
     def _read(self, kube: Kube, ns: str | None) -> tuple[list[dict], list[dict]]:
-        """Nodes and pods: from the informers when both are in sync, else listed (two reads at once)."""
-        if self.use_watch and self._background_sync and self.nodes.synced and self.pods.synced:
-            return self.nodes.snapshot(), self.pods.snapshot()
+        """Nodes and pods: the pods from the informer when it is in sync, else listed; the nodes listed (one
+        small read). Not from the node informer: a taint the monitor wrote before creating a pod is in the API
+        before the pod, but the node watch may report it after the pod watch reports the pod (two streams);
+        a list after the pod's event is a consistent read that has it."""
+        if self.use_watch and self._background_sync and self.pods.synced:
+            return kube.list_nodes(), self.pods.snapshot()
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
         return api_nodes, pods
 
@@ -438,14 +441,16 @@ class RTScheduler:
         ):
             result.synced = self._sync(cluster, kube)
         ns = sync.namespaces_of(cluster, self.namespace)
-        api_nodes, pods = self._read(kube, ns)
-        pods = [p for p in pods if not is_terminated(p)]
         if (
-            not any(waits_for_us(p) for p in pods)
-            and self._writes is not None
+            self._writes is not None
+            and self._background_sync
+            and self.pods.synced
             and time.monotonic() - self._last_record < self.period
+            and not any(waits_for_us(p) and not is_terminated(p) for p in self.pods.snapshot())
         ):
             return result  # nothing to decide; the ledger rows are written at most once a period meanwhile
+        api_nodes, pods = self._read(kube, ns)
+        pods = [p for p in pods if not is_terminated(p)]
         nodes = rt_nodes(cluster, api_nodes)
         names = [n.name for n in nodes]
         realtimes: dict[tuple[str, str], RealTime] = {}
@@ -755,14 +760,13 @@ class RTScheduler:
                 handlers["informer"].unsynced()
             return api_client_for(cluster)
 
-        # The list handler is known after the first connect: a stable wrapper dispatches to it.
-        probe = target(Cluster.objects.get(pk=self.cluster_id))
+        informer = target in (self._watch_pods, self._watch_nodes)  # listed first, then watched
         try:
             gateway.follow(
                 connect,
                 lambda api_client: handlers["pick"](api_client),
                 lambda event: handlers["on_event"](event),
-                on_list=(lambda items: handlers["on_list"](items)) if probe[2] is not None else None,
+                on_list=(lambda items: handlers["on_list"](items)) if informer else None,
                 stop=stop,
                 retries=None,
                 backoff=1.0,
