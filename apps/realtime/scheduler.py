@@ -309,6 +309,12 @@ class RTScheduler:
         self._rewrite = threading.Event()
         self._background_sync = False
         self._last_record = 0.0
+        #: The views memo (see _views): its key (RealTime generation, node names), the rows, engines and views.
+        self._rt_generation = 0
+        self._memo_key: tuple | None = None
+        self._realtimes: dict[tuple[str, str], RealTime] = {}
+        self._engines: dict[tuple[str, str], RTContainer | InputError] = {}
+        self._memo: dict[str, tuple[tuple, PodView]] = {}
         self.write_errors = 0
         self.writes = 0
         #: pod key -> monotonic time the watch first reported it pending (the start of its latency).
@@ -390,6 +396,7 @@ class RTScheduler:
             "monitorings": sync.push_monitorings(cluster, kube),
         }
         self.last_sync = time.monotonic()
+        self._rt_generation += 1  # the RealTime rows are read again
         self._rewrite.set()  # every ledger row is written at the next record
         return synced
 
@@ -453,23 +460,20 @@ class RTScheduler:
         pods = [p for p in pods if not is_terminated(p)]
         nodes = rt_nodes(cluster, api_nodes)
         names = [n.name for n in nodes]
-        realtimes: dict[tuple[str, str], RealTime] = {}
-        if any(RT_LABEL in ((p["metadata"].get("labels")) or {}) for p in pods):
-            rows = cluster.realtimes.prefetch_related("wcets__node")
-            if ns is not None:
-                rows = rows.filter(namespace=ns)
-            realtimes = {(r.namespace, r.name): r for r in rows}
-        engines: dict[tuple[str, str], RTContainer | InputError] = {}
-        views = [view_pod(p, realtimes, names, engines) for p in pods]
+        views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
         if not pending:
             self._persist(cluster, views, {}, None, [])
             return result
-        ledger = rt_kube.Ledger.for_nodes(nodes)
-        for v in views:
-            node = (v.pod.get("spec") or {}).get("nodeName")
-            if node and node in names and v.container is not None:
-                ledger.reserve(v.container, node)
+        known = set(names)
+        ledger = rt_kube.Ledger.with_reservations(
+            nodes,
+            (
+                (v.container, node)
+                for v in views
+                if v.container is not None and (node := (v.pod.get("spec") or {}).get("nodeName")) in known
+            ),
+        )
         schedulable = [v for v in pending if v.container is not None]
         # The vectorised pass (same choices as rt_kube.schedule); explanations bounded past FULL_UP_TO nodes.
         plan = rt_kube_vec.schedule(
@@ -512,6 +516,40 @@ class RTScheduler:
             raise KubeError(stopped)
         log.debug("RT cycle: %d pending, %d bound in %.3f s", len(pending), len(result.bound), time.monotonic() - began)
         return result
+
+    def _views(self, cluster: Cluster, ns: str | None, pods: list[dict], names: list[str]) -> list[PodView]:
+        """Each pod's view, remembered from the last cycle while the pod (uid, resourceVersion, node), the node
+        names and the RealTime rows are the same: a cycle for a few new pods does not parse the bound ones
+        again. The RealTime rows are read again after each sync and each RealTime event (every cycle when the
+        cycle runs on its own)."""
+        if not self._background_sync:
+            self._rt_generation += 1
+        memo_key = (self._rt_generation, tuple(names))
+        if self._memo_key != memo_key:
+            rows = cluster.realtimes.prefetch_related("wcets__node")
+            if ns is not None:
+                rows = rows.filter(namespace=ns)
+            self._realtimes = {(r.namespace, r.name): r for r in rows}
+            self._engines = {}
+            self._memo = {}
+            self._memo_key = memo_key
+        memo: dict[str, tuple[tuple, PodView]] = {}
+        views = []
+        for p in pods:
+            meta = p["metadata"]
+            key = pod_key(p)
+            ident = (meta.get("uid"), meta.get("resourceVersion"), (p.get("spec") or {}).get("nodeName"))
+            known = self._memo.get(key)
+            if known is not None and known[0] == ident:
+                view = known[1]
+                if view.pod is not p:
+                    view = PodView(p, view.realtime, view.container, view.problem)
+            else:
+                view = view_pod(p, self._realtimes, names, self._engines)
+            memo[key] = (ident, view)
+            views.append(view)
+        self._memo = memo
+        return views
 
     def _bind_all(
         self, kube: Kube, placed: list[tuple[PodView, Decision]], decided: float | None = None
@@ -819,6 +857,7 @@ class RTScheduler:
 
     def _watch_realtimes(self, cluster: Cluster):
         def changed(event: dict) -> None:
+            self._rt_generation += 1  # a RealTime changed (here or there): its rows are read again
             obj = event.get("raw_object") or {}
             meta = obj.get("metadata") or {}
             rv = meta.get("resourceVersion")
