@@ -332,7 +332,7 @@ def test_every_placement_respects_the_filters(data, b_arg):
 
 def test_a_ledger_built_at_once_equals_one_built_by_reserve():
     nodes = [node("N1"), node("N2")]
-    placed = [(rtc(f"c{i}", "AB"[i % 2], {"N1": 1 + i % 3, "N2": 2}, cpu=0.1 * i), f"N{1 + i % 2}") for i in range(9)]
+    placed = [(rtc(f"c{i}", "AB"[i % 2], {"N1": 1 + i % 3, "N2": 2}, cpu=0.1 * (i + 1)), f"N{1 + i % 2}") for i in range(9)]
     one_by_one = Ledger.for_nodes(nodes)
     for c, n in placed:
         one_by_one.reserve(c, n)
