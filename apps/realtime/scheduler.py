@@ -1,20 +1,25 @@
 """The secondary RT scheduler as a long-running process (thesis 3.4, Fig. 3.34; spec 03 4.4, 16.3).
 
 ``python manage.py rt_scheduler --cluster ID`` runs :meth:`RTScheduler.run`: a level-triggered loop that
-wakes on watch events (pods with ``schedulerName: RT-scheduler``, RealTime and Monitoring objects) or
-every ``period`` seconds, and in each cycle
+wakes on relevant watch events (a pod waiting for ``schedulerName: RT-scheduler``, a pod gone or bound
+elsewhere, a node changed, RealTime and Monitoring objects) or every ``period`` seconds, and in each cycle
 
 1. lifts the monitor's node taints whose time is up;
-2. mirrors RealTime objects, node RT attributes and Monitoring counters (every ``sync_period``, or at once
-   after a watch event on RealTime objects);
-3. reads nodes and pods, and records the pods in the ledger (:class:`~apps.realtime.models.RTPod`);
-4. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
+2. reads the pods (the informer cache the pod watch keeps, :mod:`apps.realtime.informer`; listed when the
+   watch is off or reconnecting) and the nodes (listed: see ``_read``);
+3. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
    with the bound pods' reservations in the ledger, and binds each placed pod (Binding API);
-5. explains every pod left pending on the pod itself (``PodScheduled`` condition and a
-   ``FailedScheduling`` Event, only when the reason changes) and stores each decision
+4. records the pods in the ledger (:class:`~apps.realtime.models.RTPod`) and stores each new decision
    (:class:`~apps.realtime.models.RTDecision`) with the verdict of every node on a cluster of at most
    ``rt_kube_vec.FULL_UP_TO`` nodes, else bounded: the top candidates with their scores, the count of nodes
-   each filter rejected and an example of each (any node's verdict on demand: ``planning.why_not``).
+   each filter rejected and an example of each (any node's verdict on demand: ``planning.why_not``);
+5. explains every pod left pending on the pod itself (``PodScheduled`` condition and a
+   ``FailedScheduling`` Event, only when the reason changes).
+
+The RT sync (RealTime objects, node RT attributes, Monitoring counters; every ``sync_period``, or at once
+after a watch event on RealTime objects) runs in its own thread while the loop runs with the watch on, and
+steps 4 and 5 in background threads after the binds (see :class:`RTScheduler`): the path watch event ->
+decision -> Binding holds no database write. A cycle called on its own does every step inline.
 
 A pending pod is retried every cycle, i.e. as soon as capacity frees up (a pod deleted, a taint lifted, a
 node added). A failing cycle (API unreachable, database hiccup) is logged and retried with an exponential
