@@ -91,6 +91,12 @@ class Informer:
         with self._lock:
             self._assumed[key] = (uid, node)
 
+    def forget(self, key: str, uid: str) -> None:
+        """The Binding of pod ``key`` (of ``uid``) failed: it is pending again (unless the watch says otherwise)."""
+        with self._lock:
+            if self._assumed.get(key, ("",))[0] == uid:
+                del self._assumed[key]
+
     def assumed(self, key: str) -> str | None:
         with self._lock:
             a = self._assumed.get(key)

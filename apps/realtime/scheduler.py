@@ -249,6 +249,19 @@ class CycleResult:
     synced: dict[str, Any] | None = None
 
 
+@dataclass
+class _Decided:
+    """What a cycle decided, kept until its Bindings answered (see RTScheduler._conclude)."""
+
+    cluster: Cluster
+    kube: Kube
+    plan: Any
+    by_key: dict[str, PodView]
+    pending: list[PodView]
+    views: list[PodView]
+    total: int
+
+
 #: Bounded: a database slower than the binds makes the loop wait (back-pressure), never grow without end.
 WRITE_QUEUE = 64
 #: Per-pod timings kept for the benchmark (the latest ones).
@@ -312,6 +325,8 @@ class RTScheduler:
         self._binder: ThreadPoolExecutor | None = None
         self._writes: queue.Queue | None = None
         self._rewrite = threading.Event()
+        #: Pipelined mode: (decided cycle, its binds, why they stopped) once a cycle's last Binding answered.
+        self._done: queue.SimpleQueue = queue.SimpleQueue()
         self._background_sync = False
         self._last_record = 0.0
         #: The views memo (see _views): its key (RealTime generation, node names), the rows, engines and views.
@@ -376,6 +391,10 @@ class RTScheduler:
             self.stopping.set()
             self._binder.shutdown(wait=True)
             self._binder = None
+            try:  # the outcomes of the last Bindings: recorded and explained before the threads end
+                self._conclude_finished(CycleResult())
+            except Exception as exc:
+                log.warning("RT scheduler: concluding the last binds failed (%s)", problem(exc))
             self._explainer.shutdown(wait=True)  # the explanations of the last cycle are sent
             self._explainer = None
             self._writes.put(None)  # the writer stores what is queued, then ends
@@ -447,6 +466,7 @@ class RTScheduler:
         kube = kube_for(cluster)
         policy = RTPolicy.for_cluster(cluster)
         result = CycleResult()
+        self._conclude_finished(result)
         result.lifted = monitoring.lift_expired_taints(cluster)
         if not self._background_sync and (
             self.sync_due.is_set() or time.monotonic() - self.last_sync >= self.sync_period
@@ -487,12 +507,50 @@ class RTScheduler:
         decided = time.monotonic()
         by_key = {v.key: v for v in pending}
         placed = [(by_key[d.item], d) for d in plan.decisions if d.node is not None]
-        binds, stopped = self._bind_all(kube, placed, decided)
+        cycle = _Decided(cluster, kube, plan, by_key, pending, views, len(nodes))
+        if self._pipelined():
+            # The Bindings go out and the loop goes on (kube-scheduler's assume, then bind asynchronously): the
+            # pods are assumed bound at once, so the next cycle's ledger holds them; the outcomes are concluded
+            # by the cycle after the last Binding answered.
+            for v, d in placed:
+                self.pods.assume(v.key, v.pod["metadata"].get("uid", ""), d.node or "")
+            if not placed:
+                self._conclude(cycle, {}, None, result)
+            else:
+                self._bind_async(kube, placed, decided, lambda binds, stopped: self._done.put((cycle, binds, stopped)))
+        else:
+            binds, stopped = self._bind_all(kube, placed, decided)
+            self._conclude(cycle, binds, stopped, result)
+        log.debug("RT cycle: %d pending, %d bound in %.3f s", len(pending), len(result.bound), time.monotonic() - began)
+        return result
+
+    def _pipelined(self) -> bool:
+        return self._binder is not None and self._background_sync
+
+    def _conclude_finished(self, result: CycleResult) -> None:
+        """The outcomes of every earlier cycle whose Bindings all answered (pipelined mode)."""
+        stopped = None
+        while True:
+            try:
+                cycle, binds, why = self._done.get_nowait()
+            except queue.Empty:
+                break
+            try:
+                self._conclude(cycle, binds, why, result)
+            except KubeError as exc:
+                stopped = stopped or exc
+        if stopped is not None:
+            raise stopped
+
+    def _conclude(self, cycle: _Decided, binds: dict, stopped: str | None, result: CycleResult) -> None:
+        """A cycle's outcomes once its Bindings answered: the result, the rows (off the path from the watch
+        event to the Binding: the writer thread while run() loops; which decisions are new is judged here,
+        before _explain marks them told) and the explanations."""
         outcomes, bound_rows = [], {}
-        for d in plan.decisions:
-            v = by_key[d.item]
+        for d in cycle.plan.decisions:
+            v = cycle.by_key[d.item]
             if d.node is None:
-                message = pending_message(d, len(nodes))
+                message = pending_message(d, cycle.total)
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, message))
                 result.pending[v.key] = message
                 continue
@@ -505,22 +563,17 @@ class RTScheduler:
                 meta = v.pod["metadata"]
                 bound_rows[(meta["namespace"], meta["name"])] = (d.node, v.container.utilization(d.node))
             else:
-                ledger.release(d.item)
                 result.failed[v.key] = message
                 outcomes.append((v, d, RTDecision.Outcome.FAILED, message))
-        for v in pending:
+        for v in cycle.pending:
             if v.container is None:
                 d = Decision(v.key, None)
                 result.pending[v.key] = v.problem
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, v.problem))
-        # The rows, once the binds are done: off the path from the watch event to the Binding (the writer
-        # thread while run() loops). Which decisions are new is judged now, before _explain marks them told.
-        self._persist(cluster, views, bound_rows, plan, self._fresh(outcomes))
-        self._explain(kube, outcomes)
+        self._persist(cycle.cluster, cycle.views, bound_rows, cycle.plan, self._fresh(outcomes))
+        self._explain(cycle.kube, outcomes)
         if stopped:  # the pods bound before it are recorded; the cycle fails and is retried with back-off
             raise KubeError(stopped)
-        log.debug("RT cycle: %d pending, %d bound in %.3f s", len(pending), len(result.bound), time.monotonic() - began)
-        return result
 
     def _views(self, cluster: Cluster, ns: str | None, pods: list[dict], names: list[str]) -> list[PodView]:
         """Each pod's view, remembered from the last cycle while the pod (uid, resourceVersion, node), the node
@@ -596,6 +649,50 @@ class RTScheduler:
             results, stopped = [f.result() for f in futures], None
         stopped = stopped or (reason[0] if reason else None)
         return {d.item: r for (_, d), r in zip(placed, results, strict=True)}, stopped
+
+    def _bind_async(self, kube: Kube, placed: list[tuple[PodView, Decision]], decided: float, finished) -> None:
+        """The Bindings of a cycle on the binder pool, without waiting; ``finished(binds, stopped)`` is called
+        (in a binder thread) when the last one answered. A failed Binding un-assumes its pod (pending again)."""
+        left = [len(placed)]
+        binds: dict[str, tuple[bool | None, str]] = {}
+        reason: list[str] = []
+        lock = threading.Lock()
+
+        def one(item: tuple[PodView, Decision]) -> None:
+            v, d = item
+            meta, node = v.pod["metadata"], d.node or ""
+            ok: bool | None
+            if reason:
+                ok, message = None, reason[0]
+            else:
+                sent = time.monotonic()
+                try:
+                    ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
+                except API_ERRORS as exc:
+                    with lock:
+                        if not reason:
+                            reason.append(problem(exc))
+                    ok, message = None, reason[0]
+                except Exception as exc:  # a bug: the pod is retried, the cycle's outcome says why
+                    log.exception("RT scheduler: binding %s failed", v.key)
+                    ok, message = False, f"binding failed: {exc}"
+                if ok:
+                    answered = time.monotonic()
+                    seen = self._seen.pop(v.key, decided)
+                    self.timings.append((decided - seen, sent - decided, answered - sent))
+            if not ok:
+                self.pods.forget(v.key, meta.get("uid", ""))
+            with lock:
+                binds[d.item] = (ok, message)
+                left[0] -= 1
+                last = left[0] == 0
+            if last:
+                finished(binds, reason[0] if reason else None)
+                self.wake.set()
+
+        assert self._binder is not None
+        for item in placed:
+            self._binder.submit(one, item)
 
     # ---- bookkeeping ---------------------------------------------------------------------------------------
     def _fresh(self, outcomes: list) -> list:
