@@ -105,9 +105,10 @@ def waits_for_us(pod: dict) -> bool:
     return not spec.get("nodeName") and spec.get("schedulerName") == RT_SCHEDULER_NAME
 
 
-def rt_nodes(cluster: Cluster, api_nodes: list[dict]) -> list[RTNode]:
-    """The engine's nodes: capacity and taints from the API, RT attributes from Continuum's node rows."""
-    rows = {n.name: n for n in cluster.nodes.all()}
+def rt_nodes(cluster: Cluster, api_nodes: list[dict], rows: dict[str, ComputeNode] | None = None) -> list[RTNode]:
+    """The engine's nodes: capacity and taints from the API, RT attributes from Continuum's node rows (``rows``:
+    as read already, by name)."""
+    rows = rows if rows is not None else {n.name: n for n in cluster.nodes.all()}
     out = []
     for obj in api_nodes:
         name = obj["metadata"]["name"]
@@ -331,6 +332,10 @@ class RTScheduler:
         self._last_record = 0.0
         #: The views memo (see _views): its key (RealTime generation, node names), the rows, engines and views.
         self._rt_generation = 0
+        #: See _state: (cluster, policy, node rows), when read, and the monotonic time the next taint expires.
+        self._state_cache: tuple[Cluster, RTPolicy, dict[str, ComputeNode]] | None = None
+        self._state_at = 0.0
+        self._expiry_at: float | None = None
         self._memo_key: tuple | None = None
         self._realtimes: dict[tuple[str, str], RealTime] = {}
         self._engines: dict[tuple[str, str], RTContainer | InputError] = {}
@@ -371,10 +376,8 @@ class RTScheduler:
                     failures = 0
                     if self.on_cycle:
                         self.on_cycle(result)
-                    cluster = Cluster.objects.get(pk=self.cluster_id)
-                    expiry = monitoring.next_taint_expiry(cluster)
-                    if expiry is not None:
-                        wait = min(wait, expiry + 0.01)
+                    if self._expiry_at is not None:
+                        wait = min(wait, max(0.0, self._expiry_at - time.monotonic()) + 0.01)
                 except Exception as exc:  # a failing cycle must never end the process
                     failures += 1
                     self.errors += 1
@@ -462,12 +465,14 @@ class RTScheduler:
 
     def cycle(self) -> CycleResult:
         began = time.monotonic()
-        cluster = Cluster.objects.get(pk=self.cluster_id)
+        cluster, policy, rows = self._state()
         kube = kube_for(cluster)
-        policy = RTPolicy.for_cluster(cluster)
         result = CycleResult()
         self._conclude_finished(result)
-        result.lifted = monitoring.lift_expired_taints(cluster)
+        if not self._background_sync or (self._expiry_at is not None and began >= self._expiry_at):
+            result.lifted = monitoring.lift_expired_taints(cluster)
+            if self._background_sync:
+                cluster, policy, rows = self._state(fresh=True)  # the node rows lost the taint
         if not self._background_sync and (
             self.sync_due.is_set() or time.monotonic() - self.last_sync >= self.sync_period
         ):
@@ -483,7 +488,7 @@ class RTScheduler:
             return result  # nothing to decide; the ledger rows are written at most once a period meanwhile
         api_nodes, pods = self._read(kube, ns)
         pods = [p for p in pods if not is_terminated(p)]
-        nodes = rt_nodes(cluster, api_nodes)
+        nodes = rt_nodes(cluster, api_nodes, rows)
         names = [n.name for n in nodes]
         views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
@@ -523,6 +528,20 @@ class RTScheduler:
             self._conclude(cycle, binds, stopped, result)
         log.debug("RT cycle: %d pending, %d bound in %.3f s", len(pending), len(result.bound), time.monotonic() - began)
         return result
+
+    def _state(self, fresh: bool = False) -> tuple[Cluster, RTPolicy, dict[str, ComputeNode]]:
+        """The cluster, its RT policy, its node rows and when its next taint expires: read at each cycle when a
+        cycle runs on its own, at most once every ``period`` / 2 while run() loops with the watch (a change of
+        the policy or of a node's RT attributes applies within that; a taint is lifted when it expires)."""
+        now = time.monotonic()
+        if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period / 2:
+            cluster = Cluster.objects.get(pk=self.cluster_id)
+            rows = {n.name: n for n in cluster.nodes.all()}
+            expiry = monitoring.next_taint_expiry(cluster)
+            self._state_cache = (cluster, RTPolicy.for_cluster(cluster), rows)
+            self._expiry_at = None if expiry is None else now + expiry
+            self._state_at = now
+        return self._state_cache
 
     def _pipelined(self) -> bool:
         return self._binder is not None and self._background_sync
