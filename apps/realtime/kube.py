@@ -19,6 +19,7 @@ from datetime import datetime
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster
 from apps.kube.gateway import KUBE_ERRORS, Kube, cores, mib, problem  # noqa: F401 - KUBE_ERRORS, problem: for RT-Kube
+from apps.kube.parallel import concurrency
 from continuum.engine.rtkube.rt_model import RT_SCHEDULER_NAME
 
 REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL = "rt.scheduling", "v1", "realtimes"
@@ -168,7 +169,9 @@ def kube_for(cluster: Cluster) -> Kube:
         if kube is None:
             for old in [k for k in _CLIENTS if k[0] == cluster.pk]:
                 _CLIENTS.pop(old)
-            kube = Kube(api_client_for(cluster), cluster.name, component=RT_SCHEDULER_NAME)
+            # Shared by the RT scheduler's Binding pool, its Events, its cycle's reads and the RT sync: a
+            # connection each, kept warm (see apps.realtime.scheduler).
+            kube = Kube(api_client_for(cluster, pool=2 * concurrency() + 4), cluster.name, component=RT_SCHEDULER_NAME)
             _CLIENTS[key] = kube
         return kube
 
