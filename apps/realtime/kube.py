@@ -171,7 +171,7 @@ def kube_for(cluster: Cluster) -> Kube:
                 _CLIENTS.pop(old)
             # Shared by the RT scheduler's Binding pool, its Events, its cycle's reads and the RT sync: a
             # connection each, kept warm (see apps.realtime.scheduler).
-            kube = Kube(api_client_for(cluster, pool=2 * concurrency() + 4), cluster.name, component=RT_SCHEDULER_NAME)
+            kube = Kube(api_client_for(cluster, pool=3 * concurrency() + 4), cluster.name, component=RT_SCHEDULER_NAME)
             _CLIENTS[key] = kube
         return kube
 

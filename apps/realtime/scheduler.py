@@ -5,8 +5,8 @@ wakes on relevant watch events (a pod waiting for ``schedulerName: RT-scheduler`
 elsewhere, a node changed, RealTime and Monitoring objects) or every ``period`` seconds, and in each cycle
 
 1. lifts the monitor's node taints whose time is up;
-2. reads the pods (the informer cache the pod watch keeps, :mod:`apps.realtime.informer`; listed when the
-   watch is off or reconnecting) and the nodes (listed: see ``_read``);
+2. reads the pods and nodes (the informer caches the watches keep, :mod:`apps.realtime.informer`; listed
+   when the watch is off or reconnecting), the monitor's active node taints added from the database;
 3. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
    with the bound pods' reservations in the ledger, and binds each placed pod (Binding API);
 4. records the pods in the ledger (:class:`~apps.realtime.models.RTPod`) and stores each new decision
@@ -29,6 +29,7 @@ thread as soon as the API reports them (the same code path as the REST endpoint)
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import queue
 import threading
@@ -79,7 +80,7 @@ from .kube import (
     problem,
     requests_of,
 )
-from .models import MonitoringReport, RealTime, RTDecision, RTPlan, RTPod, RTPolicy
+from .models import MonitoringReport, NodeTaint, RealTime, RTDecision, RTPlan, RTPod, RTPolicy
 
 log = logging.getLogger("continuum.rt_scheduler")
 STATELESS_LABEL = "rt.monitoring/stateless"
@@ -357,7 +358,8 @@ class RTScheduler:
         stop = stop or self.stopping
         failures = 0
         self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
-        self._binder = ThreadPoolExecutor(max_workers=concurrency(), thread_name_prefix="rt-bind")
+        # Twice a push's bound: a Binding is one short write, and binds queued here wait with their pods.
+        self._binder = ThreadPoolExecutor(max_workers=2 * concurrency(), thread_name_prefix="rt-bind")
         self._writes = queue.Queue(maxsize=WRITE_QUEUE)
         writer = threading.Thread(target=self._write_loop, args=(self._writes,), daemon=True, name="rt-writer")
         writer.start()
@@ -454,14 +456,30 @@ class RTScheduler:
             connection.close()
 
     def _read(self, kube: Kube, ns: str | None) -> tuple[list[dict], list[dict]]:
-        """Nodes and pods: the pods from the informer when it is in sync, else listed; the nodes listed (one
-        small read). Not from the node informer: a taint the monitor wrote before creating a pod is in the API
-        before the pod, but the node watch may report it after the pod watch reports the pod (two streams);
-        a list after the pod's event is a consistent read that has it."""
-        if self.use_watch and self._background_sync and self.pods.synced:
-            return kube.list_nodes(), self.pods.snapshot()
+        """Nodes and pods: from the informers when both are in sync, else listed (two reads at once)."""
+        if self.use_watch and self._background_sync and self.pods.synced and self.nodes.synced:
+            return self.nodes.snapshot(), self.pods.snapshot()
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
         return api_nodes, pods
+
+    def _monitor_taints(self, cluster: Cluster, nodes: list[RTNode]) -> list[RTNode]:
+        """The nodes with the monitor's active taints added from the database. The monitor taints a node in the
+        API, commits the taint's row, then creates the evicted pod's replacement: the pod watch may report the
+        replacement before the node watch reports the taint (two streams), the committed row is already there."""
+        active: dict[str, list[Taint]] = {}
+        for name, key, value, effect in NodeTaint.objects.filter(
+            cluster=cluster, lifted_at__isnull=True, expires_at__gt=timezone.now()
+        ).values_list("node__name", "key", "value", "effect"):
+            active.setdefault(name, []).append(Taint(key, value, effect))
+        if not active:
+            return nodes
+        out = []
+        for n in nodes:
+            extra = [
+                t for t in active.get(n.name, []) if not any((t.key, t.effect) == (h.key, h.effect) for h in n.taints)
+            ]
+            out.append(dataclasses.replace(n, taints=(*n.taints, *extra)) if extra else n)
+        return out
 
     def cycle(self) -> CycleResult:
         began = time.monotonic()
@@ -489,6 +507,8 @@ class RTScheduler:
         api_nodes, pods = self._read(kube, ns)
         pods = [p for p in pods if not is_terminated(p)]
         nodes = rt_nodes(cluster, api_nodes, rows)
+        if self._background_sync:
+            nodes = self._monitor_taints(cluster, nodes)
         names = [n.name for n in nodes]
         views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
