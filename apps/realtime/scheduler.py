@@ -554,7 +554,7 @@ class RTScheduler:
         cycle runs on its own, at most once every ``period`` / 2 while run() loops with the watch (a change of
         the policy or of a node's RT attributes applies within that; a taint is lifted when it expires)."""
         now = time.monotonic()
-        if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period / 2:
+        if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period:
             cluster = Cluster.objects.get(pk=self.cluster_id)
             rows = {n.name: n for n in cluster.nodes.all()}
             expiry = monitoring.next_taint_expiry(cluster)
