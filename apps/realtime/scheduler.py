@@ -551,7 +551,7 @@ class RTScheduler:
 
     def _state(self, fresh: bool = False) -> tuple[Cluster, RTPolicy, dict[str, ComputeNode]]:
         """The cluster, its RT policy, its node rows and when its next taint expires: read at each cycle when a
-        cycle runs on its own, at most once every ``period`` / 2 while run() loops with the watch (a change of
+        cycle runs on its own, at most once every ``period`` while run() loops with the watch (a change of
         the policy or of a node's RT attributes applies within that; a taint is lifted when it expires)."""
         now = time.monotonic()
         if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period:
