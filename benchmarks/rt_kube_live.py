@@ -280,8 +280,10 @@ def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
     def announce() -> None:
         if ready.wait(timeout=300):
             deadline = time.monotonic() + 60
-            while not (scheduler.pods.synced and scheduler.nodes.synced) and time.monotonic() < deadline:
-                time.sleep(0.05)  # its informers listed and watching
+            while not (scheduler.pods.synced and scheduler.nodes.synced and scheduler.last_sync) and (
+                time.monotonic() < deadline
+            ):
+                time.sleep(0.05)  # its informers listed and watching, its first RT sync done (as before a cycle's)
             time.sleep(0.5)
             cpu.append(time.process_time())
             print("ready", flush=True)
