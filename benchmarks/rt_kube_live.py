@@ -24,6 +24,16 @@ and the time to all Running (RT-Kube packs pods onto the busiest admissible node
 start them than after kube-scheduler's spreading). Pods are force-deleted between runs. Last, a cProfile of
 the RT scheduler's loop over its last run, from the end of its first (idle) cycle (top 15 by own and by
 cumulative time; its Binding and Event threads show as waits) and the load average.
+
+Each rt run also prints, from the scheduler process itself, its CPU seconds (all threads, from idle to stop)
+per pod and where each pod's time went inside it: watch event received -> decided -> Binding sent -> Binding
+answered (p50, p99).
+
+``--sweep`` measures how the time grows: a fresh cluster for each of ``--sweep-nodes`` (default 10,20,40), on
+it ``--rounds`` rt/kube pairs for each of ``--sweep-pods`` (default 100,300,600; those that fit), no profile;
+it prints every point (pods/s, p50, p99, their rt/kube ratios, the scheduler's CPU per pod) and the log-log
+growth exponents of the time to all bound and of the scheduler's CPU against pods and against nodes.
+The database is ``BENCH_DB`` (default ``continuum_bench_rtlive``).
 """
 
 from __future__ import annotations
@@ -31,6 +41,7 @@ from __future__ import annotations
 import argparse
 import cProfile
 import io
+import json
 import os
 import pstats
 import signal
@@ -45,7 +56,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 PG = os.environ.get("BENCH_PG", "postgres://postgres@127.0.0.1:5432")
-DB_NAME = "continuum_bench_rtlive"
+DB_NAME = os.environ.get("BENCH_DB", "continuum_bench_rtlive")
 NAMESPACE = "bench-rt"
 PERIOD_MS, WCET_MS = 100.0, 3.0  # utilisation 0.03 per pod: 31 pods fit the 0.95 threshold of a 1-CPU node
 CPU_REQUEST_M = 20  # millicores: 31 pods use 620m of a hollow node's 1 CPU
@@ -209,42 +220,57 @@ def create_pods(kube, bodies: list[dict], threads: int) -> float:
 
 class RTRun:
     """The RT scheduler in its own process, as ``manage.py rt_scheduler`` runs it (this script with
-    ``--serve-scheduler``), its thread profiled; started and idle (a cycle done, watches connected) before the
-    first pod is created, stopped with SIGTERM after the run."""
+    ``--serve-scheduler``), its loop thread profiled (unless ``profile`` is False); started and idle (a cycle
+    done, its informers listed and watching) before the first pod is created, stopped with SIGTERM after the
+    run."""
 
-    def __init__(self, cluster_id: int) -> None:
-        self.profile_path = tempfile.mktemp(prefix="rt-scheduler-", suffix=".prof")
-        self.proc = subprocess.Popen(
-            [sys.executable, __file__, "--serve-scheduler", str(cluster_id), "--profile", self.profile_path],
-            cwd=ROOT, stdout=subprocess.PIPE, text=True,
-        )  # fmt: skip
+    def __init__(self, cluster_id: int, profile: bool = True) -> None:
+        self.profile_path = tempfile.mktemp(prefix="rt-scheduler-", suffix=".prof") if profile else ""
+        command = [sys.executable, __file__, "--serve-scheduler", str(cluster_id)]
+        if profile:
+            command += ["--profile", self.profile_path]
+        self.proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline() if self.proc.stdout else ""
         if not line.startswith("ready"):
             self.proc.kill()
             raise RuntimeError(f"the RT scheduler did not start: {line!r}")
 
-    def end(self) -> tuple[pstats.Stats, str]:
-        """(its profile, its last line: cycles and failures)."""
+    def end(self) -> tuple[pstats.Stats | None, dict]:
+        """(its profile, its summary: cycles, failures, CPU seconds, per-pod stage timings)."""
         self.proc.send_signal(signal.SIGTERM)
         out, _ = self.proc.communicate(timeout=120)
-        stats = pstats.Stats(self.profile_path, stream=io.StringIO())
-        os.unlink(self.profile_path)
-        return stats, out.strip().splitlines()[-1] if out.strip() else ""
+        stats = None
+        if self.profile_path:
+            stats = pstats.Stats(self.profile_path, stream=io.StringIO())
+            os.unlink(self.profile_path)
+        last = out.strip().splitlines()[-1] if out.strip() else "{}"
+        return stats, json.loads(last)
 
 
-def serve_scheduler(cluster_id: int, profile_path: str) -> None:
-    """The child: RTScheduler.run (default periods, watch on) profiled, until SIGTERM."""
+def percentiles(values: list[float]) -> tuple[float, float]:
+    """(p50, p99) of the values (0, 0 when empty)."""
+    if not values:
+        return 0.0, 0.0
+    values = sorted(values)
+    return statistics.median(values), values[min(len(values) - 1, round(0.99 * (len(values) - 1)))]
+
+
+def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
+    """The child: RTScheduler.run (default periods, watch on), profiled when asked, until SIGTERM; its last
+    line a JSON summary (CPU seconds of the whole process from ready to stop, per-pod stage timings)."""
     import django
 
     django.setup()
     from apps.realtime.scheduler import RTScheduler
 
     ready = threading.Event()
-    profile = cProfile.Profile()
+    profile = cProfile.Profile() if profile_path else None
+    cpu: list[float] = []
 
     def cycled(result) -> None:
-        if not ready.is_set():  # profiled from the end of its first cycle (imports, first sync: not measured)
-            profile.enable()
+        if not ready.is_set():  # measured from the end of its first cycle (imports, first sync: not measured)
+            if profile is not None:
+                profile.enable()
             ready.set()
 
     scheduler = RTScheduler(cluster_id, on_cycle=cycled)
@@ -253,31 +279,51 @@ def serve_scheduler(cluster_id: int, profile_path: str) -> None:
 
     def announce() -> None:
         if ready.wait(timeout=300):
-            time.sleep(1.0)  # its watches connected
+            deadline = time.monotonic() + 60
+            while not (scheduler.pods.synced and scheduler.nodes.synced and scheduler.last_sync) and (
+                time.monotonic() < deadline
+            ):
+                time.sleep(0.05)  # its informers listed and watching, its first RT sync done (as before a cycle's)
+            time.sleep(0.5)
+            cpu.append(time.process_time())
             print("ready", flush=True)
 
     threading.Thread(target=announce, daemon=True).start()
     scheduler.run(stop)
-    profile.disable()
-    profile.dump_stats(profile_path)
-    print(f"{scheduler.cycles} cycles, {scheduler.errors} failed (last: {scheduler.last_error or '-'})", flush=True)
+    if profile is not None:
+        profile.disable()
+        profile.dump_stats(profile_path)
+    timings = list(scheduler.timings)
+    stages = {
+        name: percentiles([t[i] for t in timings])
+        for i, name in enumerate(("event->decided", "decided->bind sent", "bind sent->answered"))
+    }
+    summary = {"cycles": scheduler.cycles, "errors": scheduler.errors, "last_error": scheduler.last_error,
+               "cpu_s": time.process_time() - (cpu[0] if cpu else 0.0), "bound": len(timings), "stages": stages,
+               "writes": scheduler.writes, "write_errors": scheduler.write_errors,
+               "pods": scheduler.pods.stats()}  # fmt: skip
+    print(json.dumps(summary), flush=True)
 
 
-def one_run(label: str, args, kube, observer: Observer, cluster_id: int) -> tuple:
-    """(seconds to all bound, seconds to all Running, seconds creating, the RT scheduler's profile and summary)
-    from the first create."""
-    bodies = [pod_body(i, args.realtimes, label == "rt") for i in range(args.pods)]
-    run = RTRun(cluster_id) if label == "rt" else None
-    profile = None
+def one_run(label: str, pods: int, args, kube, observer: Observer, cluster_id: int, profile: bool) -> dict:
+    """One side placing ``pods`` pods: seconds (from the first create) to all bound and all Running, seconds
+    creating, per-pod create -> bound p50 and p99, and for ``rt`` the scheduler's profile and summary."""
+    bodies = [pod_body(i, args.realtimes, label == "rt") for i in range(pods)]
+    run = RTRun(cluster_id, profile) if label == "rt" else None
+    stats, summary = None, None
     observer.start()
     try:
         t0 = time.monotonic()
         create_s = create_pods(kube, bodies, args.threads)
-        last_bound, last_running = observer.wait(args.pods, args.timeout)
+        last_bound, last_running = observer.wait(pods, args.timeout)
     finally:
         if run is not None:
-            profile = run.end()
-    return last_bound - t0, last_running - t0, create_s, profile
+            stats, summary = run.end()
+    p50, p99 = percentiles(observer.latencies())
+    out = {"bound_s": last_bound - t0, "running_s": last_running - t0, "create_s": create_s, "p50": p50,
+           "p99": p99, "profile": stats, "summary": summary}  # fmt: skip
+    observer.clear()
+    return out
 
 
 def print_profile(stats: pstats.Stats, summary: str) -> None:
@@ -287,8 +333,153 @@ def print_profile(stats: pstats.Stats, summary: str) -> None:
         stats.sort_stats(order).print_stats(15)
         lines = [line for line in out.getvalue().splitlines() if line.strip()]
         start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
-        print(f"\ncProfile of the RT scheduler's loop (its process, its last run: {summary}), top 15 by {order}:")
+        print(f"\ncProfile of the RT scheduler's loop thread (its process, its last run: {summary}), top 15 by "
+              f"{order}:")  # fmt: skip
         print("\n".join(lines[start : start + 16]))
+
+
+def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: int, profile: bool, label: str):
+    """``rounds`` rt/kube pairs in alternating order; per side the medians over rounds (and the runs' rows)."""
+    measured: dict[str, list[dict]] = {"rt": [], "kube": []}
+    for r in range(rounds):
+        for side in ("rt", "kube") if r % 2 == 0 else ("kube", "rt"):
+            m = one_run(side, pods, args, kube, observer, cluster_id, profile)
+            measured[side].append(m)
+            extra = ""
+            if m["summary"]:
+                sm = m["summary"]
+                stages = ", ".join(f"{k} p50 {1000 * v[0]:.0f} ms p99 {1000 * v[1]:.0f} ms"
+                                   for k, v in sm["stages"].items())  # fmt: skip
+                extra = (f"; scheduler process CPU {sm['cpu_s']:.2f} s = {1000 * sm['cpu_s'] / pods:.1f} ms/pod, "
+                         f"{sm['cycles']} cycles, {sm['errors']} failed; in the scheduler: {stages}")  # fmt: skip
+            print(f"  {label} round {r + 1} {side}: {pods} pods bound in {m['bound_s']:.2f} s "
+                  f"({pods / m['bound_s']:.1f} pods/s), all Running after {m['running_s']:.2f} s (creates took "
+                  f"{m['create_s']:.2f} s); create -> bound p50 {1000 * m['p50']:.0f} ms, p99 {1000 * m['p99']:.0f} "
+                  f"ms; load average {os.getloadavg()[0]:.2f}{extra}", flush=True)  # fmt: skip
+    keys = ("bound_s", "running_s", "create_s", "p50", "p99")
+    med = {side: {k: statistics.median(m[k] for m in runs) for k in keys} for side, runs in measured.items()}
+    cpu = [m["summary"]["cpu_s"] for m in measured["rt"] if m["summary"]]
+    med["rt"]["cpu_s"] = statistics.median(cpu) if cpu else 0.0
+    last = next((m for m in reversed(measured["rt"]) if m["profile"] is not None), None)
+    return med, measured, last
+
+
+def single(args, dev_kubeconfig: str, doc: dict) -> None:
+    from apps.realtime.kube import kube_for
+    from benchmarks._bench import table
+
+    cluster = register(doc, dev_kubeconfig, args.realtimes)
+    kube = kube_for(cluster)
+    observer = Observer(dev_kubeconfig)
+    med, measured, last = compare(args.pods, args.rounds, args, kube, observer, cluster.pk, True, "")
+    rows = []
+    for side, runs in measured.items():
+        for i, m in enumerate(runs):
+            rows.append([i + 1, side, args.pods / m["bound_s"], m["bound_s"], m["running_s"], m["create_s"],
+                         m["bound_s"] - m["create_s"], 1000 * m["p50"], 1000 * m["p99"]])  # fmt: skip
+    print()
+    print(table(["round", "scheduler", "pods/s to bound", "s to all bound", "s to all Running", "s creating",
+                 "s bound after last create", "create->bound p50 ms", "p99 ms"], rows))  # fmt: skip
+    rt, ks = med["rt"], med["kube"]
+    print(
+        f"rt: {args.pods / rt['bound_s']:.1f} pods/s to bound, all Running in {rt['running_s']:.2f} s, create -> "
+        f"bound p50 {1000 * rt['p50']:.0f} ms p99 {1000 * rt['p99']:.0f} ms, scheduler process CPU "
+        f"{1000 * rt['cpu_s'] / args.pods:.1f} ms/pod; kube-scheduler: {args.pods / ks['bound_s']:.1f} pods/s, all "
+        f"Running in {ks['running_s']:.2f} s, p50 {1000 * ks['p50']:.0f} ms p99 {1000 * ks['p99']:.0f} ms "
+        "(medians over rounds)"
+    )
+    print_ratios(rt, ks)
+    print(
+        "(pods/s to bound includes the creates, which both sides make alike but which the apiserver serves "
+        "beside each scheduler's writes; the create -> bound latencies are per pod)"
+    )
+    if last is not None:
+        sm = last["summary"]
+        print_profile(last["profile"], f"{sm['cycles']} cycles, {sm['errors']} failed")
+    observer.api_client.close()
+
+
+def print_ratios(rt: dict, ks: dict) -> None:
+    print(f"rt / kube-scheduler, pods/s to bound: {ks['bound_s'] / rt['bound_s']:.2f}x (goal >= 1); time to all "
+          f"Running: {ks['running_s'] / rt['running_s']:.2f}x; create -> bound p50: {ks['p50'] / rt['p50']:.2f}x, "
+          f"p99: {ks['p99'] / rt['p99']:.2f}x (> 1: rt faster)")  # fmt: skip
+
+
+def sweep(args) -> None:
+    """For each --sweep-nodes a fresh cluster; on it, for each --sweep-pods that fits, --rounds rt/kube pairs.
+    Prints every point and the growth exponents (log-log slopes) of the time to all bound and of the rt
+    scheduler's CPU, against pods at each node count and against nodes at each pod count."""
+    from django.db import connections
+
+    from apps.realtime.kube import kube_for
+    from benchmarks._bench import fit_exponent, table
+    from continuum.devcluster import DevCluster, build_binaries, hollow_nodes
+
+    per_node = int(0.95 * PERIOD_MS / WCET_MS)
+    points: dict[tuple[int, int], dict] = {}
+    for n in args.sweep_nodes:
+        doc = cluster_doc(n)
+        dev = DevCluster(tempfile.mkdtemp(prefix="bench-rtlive-"))
+        try:
+            dev.up(hollow_nodes(doc), build_binaries(progress=progress), timeout=max(900, 15 * n), progress=progress)
+            cluster = register(doc, dev.kubeconfig(), args.realtimes)
+            kube = kube_for(cluster)
+            observer = Observer(dev.kubeconfig())
+            for pods in args.sweep_pods:
+                if pods > n * per_node:
+                    print(f"  ({pods} pods do not fit {n} nodes: skipped)", flush=True)
+                    continue
+                med, _, _ = compare(pods, args.rounds, args, kube, observer, cluster.pk, False, f"{n} nodes:")
+                points[(n, pods)] = med
+            observer.api_client.close()
+        finally:
+            dev.down()
+            connections.close_all()
+        _reset_database()
+    rows = []
+    for (n, pods), med in sorted(points.items()):
+        rt, ks = med["rt"], med["kube"]
+        rows.append([n, pods, pods / rt["bound_s"], pods / ks["bound_s"], ks["bound_s"] / rt["bound_s"],
+                     1000 * rt["p50"], 1000 * ks["p50"], ks["p50"] / rt["p50"], 1000 * rt["p99"], 1000 * ks["p99"],
+                     ks["p99"] / rt["p99"], 1000 * rt["cpu_s"] / pods])  # fmt: skip
+    print()
+    print(table(["nodes", "pods", "rt pods/s", "kube pods/s", "rate rt/kube", "rt p50 ms", "kube p50 ms",
+                 "p50 kube/rt", "rt p99 ms", "kube p99 ms", "p99 kube/rt", "rt CPU ms/pod"], rows))  # fmt: skip
+    print("(ratios > 1: rt faster; CPU: the RT scheduler process, all threads, from idle to stop)")
+    print("\ngrowth exponents k in time ~ x^k (least squares over log-log points):")
+    for n in args.sweep_nodes:
+        xs = [p for p in args.sweep_pods if (n, p) in points]
+        if len(xs) >= 2:
+            for side in ("rt", "kube"):
+                k = fit_exponent(xs, [points[(n, p)][side]["bound_s"] for p in xs])
+                print(f"  {n} nodes, {side}: time to all bound ~ pods^{k:.2f}")
+            k = fit_exponent(xs, [points[(n, p)]["rt"]["cpu_s"] for p in xs])
+            print(f"  {n} nodes, rt scheduler CPU ~ pods^{k:.2f}")
+    for pods in args.sweep_pods:
+        ns = [n for n in args.sweep_nodes if (n, pods) in points]
+        if len(ns) >= 2:
+            for side in ("rt", "kube"):
+                k = fit_exponent(ns, [points[(n, pods)][side]["bound_s"] for n in ns])
+                print(f"  {pods} pods, {side}: time to all bound ~ nodes^{k:.2f}")
+            k = fit_exponent(ns, [points[(n, pods)]["rt"]["cpu_s"] for n in ns])
+            print(f"  {pods} pods, rt scheduler CPU ~ nodes^{k:.2f}")
+
+
+def _reset_database() -> None:
+    """Empty the benchmark's tables for the next cluster (the schema stays)."""
+    from django.core.management import call_command
+
+    call_command("flush", "--noinput", verbosity=0)
+
+
+def ints(text: str) -> list[int]:
+    try:
+        values = [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"comma-separated positive integers expected, got {text!r}") from None
+    if not values or min(values) < 1:
+        raise argparse.ArgumentTypeError(f"comma-separated positive integers expected, got {text!r}")
+    return values
 
 
 def main() -> None:
@@ -299,6 +490,9 @@ def main() -> None:
     p.add_argument("--rounds", type=int, default=2, help="rt/kube pairs, order alternating")
     p.add_argument("--threads", type=int, default=8, help="pod creates in flight (both sides)")
     p.add_argument("--timeout", type=float, default=900, help="seconds to wait for all pods to run")
+    p.add_argument("--sweep", action="store_true", help="measure every --sweep-nodes x --sweep-pods point")
+    p.add_argument("--sweep-nodes", type=ints, default=[10, 20, 40], help="node counts of --sweep (a cluster each)")
+    p.add_argument("--sweep-pods", type=ints, default=[100, 300, 600], help="pod counts of --sweep")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     p.add_argument("--serve-scheduler", type=int, help=argparse.SUPPRESS)  # the child process: a cluster id
     p.add_argument("--profile", help=argparse.SUPPRESS)
@@ -308,9 +502,11 @@ def main() -> None:
         return
     per_node = int(0.95 * PERIOD_MS / WCET_MS)
     if min(args.nodes, args.pods, args.realtimes, args.rounds, args.threads) < 1:
-        sys.exit("--nodes, --pods, --realtimes, --rounds and --threads must be positive")
-    if args.pods > args.nodes * per_node:
-        sys.exit(f"{args.pods} pods do not fit {args.nodes} RT nodes of {per_node} pods each")
+        print("--nodes, --pods, --realtimes, --rounds and --threads must be positive", file=sys.stderr)
+        sys.exit(2)
+    if not args.sweep and args.pods > args.nodes * per_node:
+        print(f"{args.pods} pods do not fit {args.nodes} RT nodes of {per_node} pods each", file=sys.stderr)
+        sys.exit(2)
     load_before = os.getloadavg()
     os.environ["DATABASE_URL"] = create_database()
     os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
@@ -322,63 +518,31 @@ def main() -> None:
     django.setup()
     from django.db import connections
 
-    from apps.realtime.kube import kube_for
-    from benchmarks._bench import table
     from continuum.devcluster import DevCluster, build_binaries, hollow_nodes
 
-    doc = cluster_doc(args.nodes)
-    dev = DevCluster(tempfile.mkdtemp(prefix="bench-rtlive-"))
     try:
-        began = time.monotonic()
-        dev.up(hollow_nodes(doc), build_binaries(progress=progress), timeout=max(900, 15 * args.nodes),
-               progress=progress)  # fmt: skip
-        print(f"== RT-Kube live: {args.pods} pods on {args.nodes} hollow RT nodes, {args.rounds} round(s); cluster "
-              f"up in {time.monotonic() - began:.1f} s; load average {load_before[0]:.2f} {load_before[1]:.2f} "
-              f"{load_before[2]:.2f} ==", flush=True)  # fmt: skip
-        cluster = register(doc, dev.kubeconfig(), args.realtimes)
-        kube = kube_for(cluster)
-        observer = Observer(dev.kubeconfig())
-        measured: dict[str, list[tuple[float, ...]]] = {"rt": [], "kube": []}
-        rows, last_rt = [], None
-        for r in range(args.rounds):
-            for label in ("rt", "kube") if r % 2 == 0 else ("kube", "rt"):
-                bound_s, running_s, create_s, profile = one_run(label, args, kube, observer, cluster.pk)
-                last_rt = profile or last_rt
-                lat = observer.latencies()
-                p50, p99 = statistics.median(lat), lat[min(len(lat) - 1, round(0.99 * (len(lat) - 1)))]
-                measured[label].append((bound_s, running_s, bound_s - create_s, p50, p99))
-                rows.append([r + 1, label, args.pods / bound_s, bound_s, running_s, create_s, bound_s - create_s,
-                             1000 * p50, 1000 * p99])  # fmt: skip
-                print(f"  round {r + 1} {label}: {args.pods} pods bound in {bound_s:.2f} s "
-                      f"({args.pods / bound_s:.1f} pods/s), all Running after {running_s:.2f} s (creates took "
-                      f"{create_s:.2f} s); create -> bound p50 {1000 * p50:.0f} ms, p99 {1000 * p99:.0f} ms; "
-                      f"load average {os.getloadavg()[0]:.2f}", flush=True)  # fmt: skip
-                observer.clear()
-        print()
-        print(table(["round", "scheduler", "pods/s to bound", "s to all bound", "s to all Running", "s creating",
-                     "s bound after last create", "create->bound p50 ms", "p99 ms"], rows))  # fmt: skip
-        med = {k: [statistics.median(x[i] for x in v) for i in range(5)] for k, v in measured.items()}
-        rt, ks = med["rt"], med["kube"]
-        print(
-            f"rt: {args.pods / rt[0]:.1f} pods/s to bound, all Running in {rt[1]:.2f} s, create -> bound p50 "
-            f"{1000 * rt[3]:.0f} ms p99 {1000 * rt[4]:.0f} ms; kube-scheduler: {args.pods / ks[0]:.1f} pods/s, all "
-            f"Running in {ks[1]:.2f} s, p50 {1000 * ks[3]:.0f} ms p99 {1000 * ks[4]:.0f} ms (medians over rounds)"
-        )
-        print(f"rt / kube-scheduler, pods/s to bound: {ks[0] / rt[0]:.2f}x (goal >= 1); time to all Running: "
-              f"{ks[1] / rt[1]:.2f}x; create -> bound p50: {ks[3] / rt[3]:.2f}x, p99: {ks[4] / rt[4]:.2f}x "
-              "(> 1: rt faster)")  # fmt: skip
-        print(
-            "(pods/s to bound includes the creates, which both sides make alike but which the apiserver serves "
-            "beside each scheduler's writes; the create -> bound latencies are per pod)"
-        )
-        if last_rt is not None:
-            print_profile(*last_rt)
+        if args.sweep:
+            print(f"== RT-Kube live sweep: nodes {args.sweep_nodes} x pods {args.sweep_pods}, {args.rounds} round(s) "
+                  f"per point; load average {load_before[0]:.2f} {load_before[1]:.2f} {load_before[2]:.2f} ==",
+                  flush=True)  # fmt: skip
+            sweep(args)
+        else:
+            doc = cluster_doc(args.nodes)
+            dev = DevCluster(tempfile.mkdtemp(prefix="bench-rtlive-"))
+            try:
+                began = time.monotonic()
+                dev.up(hollow_nodes(doc), build_binaries(progress=progress), timeout=max(900, 15 * args.nodes),
+                       progress=progress)  # fmt: skip
+                print(f"== RT-Kube live: {args.pods} pods on {args.nodes} hollow RT nodes, {args.rounds} round(s); "
+                      f"cluster up in {time.monotonic() - began:.1f} s; load average {load_before[0]:.2f} "
+                      f"{load_before[1]:.2f} {load_before[2]:.2f} ==", flush=True)  # fmt: skip
+                single(args, dev.kubeconfig(), doc)
+            finally:
+                dev.down()
         after = os.getloadavg()
         print(f"\nload average: {load_before[0]:.2f} {load_before[1]:.2f} {load_before[2]:.2f} before, "
               f"{after[0]:.2f} {after[1]:.2f} {after[2]:.2f} after (1/5/15 min; 2 cores)")  # fmt: skip
-        observer.api_client.close()
     finally:
-        dev.down()
         connections.close_all()
         if not args.keep:
             drop_database()

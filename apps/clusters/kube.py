@@ -16,10 +16,11 @@ from apps.kube.gateway import KubeError, Progress
 from .models import Cluster, ComputeNode
 
 
-def api_client_for(cluster: Cluster):
+def api_client_for(cluster: Cluster, pool: int | None = None):
     """An API client for ``cluster`` from its validated kubeconfig and context (no global state). The one
-    builder every caller uses (schedule pushes, container pushes, RT-Kube, HEFT4K)."""
-    return gateway.api_client(cluster.kubeconfig, cluster.kube_context, name=cluster.name)
+    builder every caller uses (schedule pushes, container pushes, RT-Kube, HEFT4K); ``pool``: see
+    :func:`apps.kube.connect.api_client`."""
+    return gateway.api_client(cluster.kubeconfig, cluster.kube_context, name=cluster.name, pool=pool)
 
 
 def target_for(cluster: Cluster):

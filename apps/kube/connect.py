@@ -153,10 +153,15 @@ def configuration_for(target: KubeTarget) -> client.Configuration:
     return configuration
 
 
-def api_client(text: str, context: str = "", *, name: str = "") -> client.ApiClient:
+def api_client(text: str, context: str = "", *, name: str = "", pool: int | None = None) -> client.ApiClient:
     """An API client from a kubeconfig's text and context, validated first (no global state). The one builder
-    every caller uses (schedule pushes, container pushes, RT-Kube, the node watcher, node sync)."""
-    return client.ApiClient(configuration_for(target(text, context, name=name)))
+    every caller uses (schedule pushes, container pushes, RT-Kube, the node watcher, node sync). ``pool``: the
+    connections kept per server when more threads share the client than a push has workers (a smaller pool
+    opens and discards a TLS connection per extra request)."""
+    configuration = configuration_for(target(text, context, name=name))
+    if pool:
+        configuration.connection_pool_maxsize = max(configuration.connection_pool_maxsize, pool)
+    return client.ApiClient(configuration)
 
 
 def describe(exc: BaseException, server: str = "") -> str:

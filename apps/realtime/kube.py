@@ -20,6 +20,7 @@ from datetime import datetime
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster
 from apps.kube.gateway import KUBE_ERRORS, Kube, cores, mib, problem
+from apps.kube.parallel import concurrency
 from continuum.engine.rtkube.rt_model import RT_SCHEDULER_NAME
 
 log = logging.getLogger(__name__)
@@ -170,7 +171,9 @@ def kube_for(cluster: Cluster) -> Kube:
         return kube
     # Built outside the lock (validating the kubeconfig and making the client takes tens of ms on a busy
     # machine): another cluster's eviction must not wait for it. Two threads may build one each; one is kept.
-    built = Kube(api_client_for(cluster), cluster.name, component=RT_SCHEDULER_NAME)
+    # Shared by the RT scheduler's Binding pool, its Events, its cycle's reads and the RT sync: a connection
+    # each, kept warm (see apps.realtime.scheduler).
+    built = Kube(api_client_for(cluster, pool=3 * concurrency() + 4), cluster.name, component=RT_SCHEDULER_NAME)
     with _LOCK:
         kube = _CLIENTS.get(key)
         if kube is None:

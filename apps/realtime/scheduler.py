@@ -1,20 +1,25 @@
 """The secondary RT scheduler as a long-running process (thesis 3.4, Fig. 3.34; spec 03 4.4, 16.3).
 
 ``python manage.py rt_scheduler --cluster ID`` runs :meth:`RTScheduler.run`: a level-triggered loop that
-wakes on watch events (pods with ``schedulerName: RT-scheduler``, RealTime and Monitoring objects) or
-every ``period`` seconds, and in each cycle
+wakes on relevant watch events (a pod waiting for ``schedulerName: RT-scheduler``, a pod gone or bound
+elsewhere, a node changed, RealTime and Monitoring objects) or every ``period`` seconds, and in each cycle
 
 1. lifts the monitor's node taints whose time is up;
-2. mirrors RealTime objects, node RT attributes and Monitoring counters (every ``sync_period``, or at once
-   after a watch event on RealTime objects);
-3. reads nodes and pods, and records the pods in the ledger (:class:`~apps.realtime.models.RTPod`);
-4. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
+2. reads the pods and nodes (the informer caches the watches keep, :mod:`apps.realtime.informer`; listed
+   when the watch is off or reconnecting), the monitor's active node taints added from the database;
+3. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
    with the bound pods' reservations in the ledger, and binds each placed pod (Binding API);
-5. explains every pod left pending on the pod itself (``PodScheduled`` condition and a
-   ``FailedScheduling`` Event, only when the reason changes) and stores each decision
+4. records the pods in the ledger (:class:`~apps.realtime.models.RTPod`) and stores each new decision
    (:class:`~apps.realtime.models.RTDecision`) with the verdict of every node on a cluster of at most
    ``rt_kube_vec.FULL_UP_TO`` nodes, else bounded: the top candidates with their scores, the count of nodes
-   each filter rejected and an example of each (any node's verdict on demand: ``planning.why_not``).
+   each filter rejected and an example of each (any node's verdict on demand: ``planning.why_not``);
+5. explains every pod left pending on the pod itself (``PodScheduled`` condition and a
+   ``FailedScheduling`` Event, only when the reason changes).
+
+The RT sync (RealTime objects, node RT attributes, Monitoring counters; every ``sync_period``, or at once
+after a watch event on RealTime objects) runs in its own thread while the loop runs with the watch on, and
+steps 4 and 5 in background threads after the binds (see :class:`RTScheduler`): the path watch event ->
+decision -> Binding holds no database write. A cycle called on its own does every step inline.
 
 A pending pod is retried every cycle, i.e. as soon as capacity frees up (a pod deleted, a taint lifted, a
 node added). A failing cycle (API unreachable, database hiccup) is logged and retried with an exponential
@@ -24,9 +29,12 @@ thread as soon as the API reports them (the same code path as the REST endpoint)
 
 from __future__ import annotations
 
+import dataclasses
 import logging
+import queue
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -39,7 +47,7 @@ from django.utils import timezone
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube import gateway
-from apps.kube.gateway import API_ERRORS, KubeError, node_fields
+from apps.kube.gateway import API_ERRORS, KubeError, allocatable, node_fields
 from apps.kube.parallel import concurrency, gather, run_bounded
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
@@ -57,6 +65,7 @@ from continuum.engine.rtkube.rt_model import (
 )
 
 from . import monitoring, sync
+from .informer import Informer
 from .kube import (
     KUBE_ERRORS,
     MONITORING_GROUP,
@@ -71,7 +80,7 @@ from .kube import (
     problem,
     requests_of,
 )
-from .models import MonitoringReport, RealTime, RTDecision, RTPlan, RTPod, RTPolicy
+from .models import MonitoringReport, NodeTaint, RealTime, RTDecision, RTPlan, RTPod, RTPolicy
 
 log = logging.getLogger("continuum.rt_scheduler")
 STATELESS_LABEL = "rt.monitoring/stateless"
@@ -91,9 +100,16 @@ def is_terminated(pod: dict) -> bool:
     )
 
 
-def rt_nodes(cluster: Cluster, api_nodes: list[dict]) -> list[RTNode]:
-    """The engine's nodes: capacity and taints from the API, RT attributes from Continuum's node rows."""
-    rows = {n.name: n for n in cluster.nodes.all()}
+def waits_for_us(pod: dict) -> bool:
+    """Not bound yet, and named for this scheduler (terminated pods are filtered out before)."""
+    spec = pod.get("spec") or {}
+    return not spec.get("nodeName") and spec.get("schedulerName") == RT_SCHEDULER_NAME
+
+
+def rt_nodes(cluster: Cluster, api_nodes: list[dict], rows: dict[str, ComputeNode] | None = None) -> list[RTNode]:
+    """The engine's nodes: capacity and taints from the API, RT attributes from Continuum's node rows (``rows``:
+    as read already, by name)."""
+    rows = rows if rows is not None else {n.name: n for n in cluster.nodes.all()}
     out = []
     for obj in api_nodes:
         name = obj["metadata"]["name"]
@@ -206,6 +222,26 @@ def pending_message(decision: Decision, total: int) -> str:
     return head + "; ".join(f"{node}: {why}" for node, why in sorted(reasons.items()))
 
 
+def pod_relevant(old: dict | None, new: dict | None) -> bool:
+    """Whether a pod's change may change a scheduling decision (the watch wakes the loop only then): a pod
+    waiting for this scheduler, a pod gone or terminated (capacity freed), a pod bound by someone else."""
+    if new is None:
+        return True
+    spec = new.get("spec") or {}
+    if is_terminated(new):
+        return old is None or not is_terminated(old)
+    if not spec.get("nodeName"):
+        return spec.get("schedulerName") == RT_SCHEDULER_NAME
+    return old is None or (old.get("spec") or {}).get("nodeName") != spec.get("nodeName")
+
+
+def node_relevant(old: dict | None, new: dict | None) -> bool:
+    """A node added, removed, or changed in what the filters read (not its heartbeats)."""
+    if old is None or new is None:
+        return True
+    return (node_fields(old), allocatable(old)) != (node_fields(new), allocatable(new))
+
+
 @dataclass
 class CycleResult:
     bound: list[tuple[str, str]] = field(default_factory=list)
@@ -215,8 +251,43 @@ class CycleResult:
     synced: dict[str, Any] | None = None
 
 
+@dataclass
+class _Decided:
+    """What a cycle decided, kept until its Bindings answered (see RTScheduler._conclude)."""
+
+    cluster: Cluster
+    kube: Kube
+    plan: Any
+    by_key: dict[str, PodView]
+    pending: list[PodView]
+    views: list[PodView]
+    total: int
+
+
+#: Bounded: a database slower than the binds makes the loop wait (back-pressure), never grow without end.
+WRITE_QUEUE = 64
+#: Per-pod timings kept for the benchmark (the latest ones).
+TIMINGS = 20_000
+
+
 class RTScheduler:
-    """One cluster's RT scheduler (see the module docstring). ``namespace``: None = the cluster's, ``"*"`` = all."""
+    """One cluster's RT scheduler (see the module docstring). ``namespace``: None = the cluster's, ``"*"`` = all.
+
+    While :meth:`run` loops with the watch on, the path from a pod's watch event to its Binding is kept free
+    of anything else, as kube-scheduler's is:
+
+    - nodes and pods are read from informer caches filled by the watches (:mod:`apps.realtime.informer`),
+      not listed per cycle; a cycle starts as soon as a relevant event arrives (no period to wait for), and
+      takes every pod pending by then (a burst is decided together);
+    - the Bindings go out on a persistent pool of ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` threads sharing one
+      client; a bound pod is assumed bound in the cache until deleted, so it is never bound twice;
+    - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread;
+    - the ledger rows and the decisions ("why" of the dashboard) are written by a writer thread after the
+      binds, from a bounded queue (drained in batches: one upsert of the ledger for several cycles);
+    - Events and pending explanations are sent in the background.
+
+    A cycle called on its own (``--once``, tests) does all of it inline, listing from the API.
+    """
 
     def __init__(
         self,
@@ -245,10 +316,37 @@ class RTScheduler:
         self.threads: list[threading.Thread] = []
         self._watches = gateway.Watches()
         self.ingested = 0
+        #: The informer caches (filled while run() loops with the watch on; else the cycle lists the API).
+        self.pods = Informer(pod_relevant)
+        self.nodes = Informer(node_relevant)
         #: While run() loops: the Events and pending explanations of a cycle are sent from this one thread
         #: (each batch with its calls overlapping) while the next cycle already decides and binds, as
         #: kube-scheduler's event broadcaster does. A cycle called on its own sends them before returning.
         self._explainer: ThreadPoolExecutor | None = None
+        #: While run() loops: the Binding threads (warm, one client) and the writer of rows (see the class doc).
+        self._binder: ThreadPoolExecutor | None = None
+        self._writes: queue.Queue | None = None
+        self._rewrite = threading.Event()
+        #: Pipelined mode: (decided cycle, its binds, why they stopped) once a cycle's last Binding answered.
+        self._done: queue.SimpleQueue = queue.SimpleQueue()
+        self._background_sync = False
+        self._last_record = 0.0
+        #: The views memo (see _views): its key (RealTime generation, node names), the rows, engines and views.
+        self._rt_generation = 0
+        #: See _state: (cluster, policy, node rows), when read, and the monotonic time the next taint expires.
+        self._state_cache: tuple[Cluster, RTPolicy, dict[str, ComputeNode]] | None = None
+        self._state_at = 0.0
+        self._expiry_at: float | None = None
+        self._memo_key: tuple | None = None
+        self._realtimes: dict[tuple[str, str], RealTime] = {}
+        self._engines: dict[tuple[str, str], RTContainer | InputError] = {}
+        self._memo: dict[str, tuple[tuple, PodView]] = {}
+        self.write_errors = 0
+        self.writes = 0
+        #: pod key -> monotonic time the watch first reported it pending (the start of its latency).
+        self._seen: dict[str, float] = {}
+        #: Per bound pod: (seen -> decided, decided -> Binding sent, Binding sent -> answered) in seconds.
+        self.timings: deque[tuple[float, float, float]] = deque(maxlen=TIMINGS)
         #: (namespace, name) -> the ledger row's fields as this process last wrote them: a row unchanged since
         #: is not written again (a cycle of 1,000 pods would upsert them all), except at each sync, when every
         #: row is written (what another writer changed meanwhile is reconciled at most sync_period late).
@@ -259,21 +357,29 @@ class RTScheduler:
         """Cycle until ``stop`` is set (or ``max_cycles`` ran); never raises for a failing cycle."""
         stop = stop or self.stopping
         failures = 0
+        self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
+        # Twice a push's bound: a Binding is one short write, and binds queued here wait with their pods.
+        self._binder = ThreadPoolExecutor(max_workers=2 * concurrency(), thread_name_prefix="rt-bind")
+        self._writes = queue.Queue(maxsize=WRITE_QUEUE)
+        writer = threading.Thread(target=self._write_loop, args=(self._writes,), daemon=True, name="rt-writer")
+        writer.start()
         if self.use_watch:
             self._start_watches(stop)
-        self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
+            self._background_sync = True
+            t = threading.Thread(target=self._sync_loop, args=(stop,), daemon=True, name="rt-sync")
+            t.start()
+            self.threads.append(t)
         try:
             while not stop.is_set():
                 wait = self.period
+                self.wake.clear()  # events from here on wake the next cycle (this one reads the cache after)
                 try:
                     result = self.cycle()
                     failures = 0
                     if self.on_cycle:
                         self.on_cycle(result)
-                    cluster = Cluster.objects.get(pk=self.cluster_id)
-                    expiry = monitoring.next_taint_expiry(cluster)
-                    if expiry is not None:
-                        wait = min(wait, expiry + 0.01)
+                    if self._expiry_at is not None:
+                        wait = min(wait, max(0.0, self._expiry_at - time.monotonic()) + 0.01)
                 except Exception as exc:  # a failing cycle must never end the process
                     failures += 1
                     self.errors += 1
@@ -285,12 +391,21 @@ class RTScheduler:
                 if max_cycles is not None and self.cycles >= max_cycles:
                     break
                 self.wake.wait(wait)
-                self.wake.clear()
         finally:
             stop.set()
             self.stopping.set()
+            self._binder.shutdown(wait=True)
+            self._binder = None
+            try:  # the outcomes of the last Bindings: recorded and explained before the threads end
+                self._conclude_finished(CycleResult())
+            except Exception as exc:
+                log.warning("RT scheduler: concluding the last binds failed (%s)", problem(exc))
             self._explainer.shutdown(wait=True)  # the explanations of the last cycle are sent
             self._explainer = None
+            self._writes.put(None)  # the writer stores what is queued, then ends
+            writer.join(timeout=60)
+            self._writes = None
+            self._background_sync = False
             self._close_watches()
             deadline = time.monotonic() + 10
             for t in self.threads:
@@ -302,58 +417,179 @@ class RTScheduler:
         """Interrupt the watch connections (a blocked read would otherwise wait for the server's timeout)."""
         self._watches.close_all()
 
+    def _sync(self, cluster: Cluster, kube: Kube) -> dict[str, Any]:
+        self.sync_due.clear()
+        synced = {
+            "nodes": sync.sync_node_rt(cluster, kube),
+            "realtimes": sync.sync_realtimes(cluster, kube, self.namespace),
+            "monitorings": sync.push_monitorings(cluster, kube),
+        }
+        self.last_sync = time.monotonic()
+        self._rt_generation += 1  # the RealTime rows are read again
+        self._rewrite.set()  # every ledger row is written at the next record
+        return synced
+
+    def _sync_loop(self, stop: threading.Event) -> None:
+        """The RT sync in its own thread while run() loops (off the path watch -> decide -> bind); a cycle
+        follows each sync (a RealTime may have arrived for a pending pod)."""
+        failures = 0
+        try:
+            while not stop.is_set():
+                due = self.sync_due.is_set() or time.monotonic() - self.last_sync >= self.sync_period
+                if due:
+                    try:
+                        cluster = Cluster.objects.get(pk=self.cluster_id)
+                        self._sync(cluster, kube_for(cluster))
+                        failures = 0
+                        self.wake.set()
+                    except Exception as exc:  # retried with back-off, as a failing cycle
+                        failures += 1
+                        self.errors += 1
+                        self.last_error = problem(exc)
+                        log.warning("RT sync failed (%s)", self.last_error)
+                        close_old_connections()
+                        stop.wait(min(MAX_BACKOFF, self.period * 2**failures))
+                        continue
+                left = self.sync_period - (time.monotonic() - self.last_sync)
+                self.sync_due.wait(max(0.01, min(left, 1.0)))
+        finally:
+            connection.close()
+
+    def _read(self, kube: Kube, ns: str | None) -> tuple[list[dict], list[dict]]:
+        """Nodes and pods: from the informers when both are in sync, else listed (two reads at once)."""
+        if self.use_watch and self._background_sync and self.pods.synced and self.nodes.synced:
+            return self.nodes.snapshot(), self.pods.snapshot()
+        api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
+        return api_nodes, pods
+
+    def _monitor_taints(self, cluster: Cluster, nodes: list[RTNode]) -> list[RTNode]:
+        """The nodes with the monitor's active taints added from the database. The monitor taints a node in the
+        API, commits the taint's row, then creates the evicted pod's replacement: the pod watch may report the
+        replacement before the node watch reports the taint (two streams), the committed row is already there."""
+        active: dict[str, list[Taint]] = {}
+        for name, key, value, effect in NodeTaint.objects.filter(
+            cluster=cluster, lifted_at__isnull=True, expires_at__gt=timezone.now()
+        ).values_list("node__name", "key", "value", "effect"):
+            active.setdefault(name, []).append(Taint(key, value, effect))
+        if not active:
+            return nodes
+        out = []
+        for n in nodes:
+            extra = [
+                t for t in active.get(n.name, []) if not any((t.key, t.effect) == (h.key, h.effect) for h in n.taints)
+            ]
+            out.append(dataclasses.replace(n, taints=(*n.taints, *extra)) if extra else n)
+        return out
+
     def cycle(self) -> CycleResult:
-        cluster = Cluster.objects.get(pk=self.cluster_id)
+        began = time.monotonic()
+        cluster, policy, rows = self._state()
         kube = kube_for(cluster)
-        policy = RTPolicy.for_cluster(cluster)
         result = CycleResult()
-        result.lifted = monitoring.lift_expired_taints(cluster)
-        if self.sync_due.is_set() or time.monotonic() - self.last_sync >= self.sync_period:
-            self.sync_due.clear()
-            result.synced = {
-                "nodes": sync.sync_node_rt(cluster, kube),
-                "realtimes": sync.sync_realtimes(cluster, kube, self.namespace),
-                "monitorings": sync.push_monitorings(cluster, kube),
-            }
-            self.last_sync = time.monotonic()
-            self._recorded.clear()
+        self._conclude_finished(result)
+        if not self._background_sync or (self._expiry_at is not None and began >= self._expiry_at):
+            result.lifted = monitoring.lift_expired_taints(cluster)
+            if self._background_sync:
+                cluster, policy, rows = self._state(fresh=True)  # the node rows lost the taint
+        if not self._background_sync and (
+            self.sync_due.is_set() or time.monotonic() - self.last_sync >= self.sync_period
+        ):
+            result.synced = self._sync(cluster, kube)
         ns = sync.namespaces_of(cluster, self.namespace)
-        api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))  # two reads in one round trip's time
+        if (
+            self._writes is not None
+            and self._background_sync
+            and self.pods.synced
+            and time.monotonic() - self._last_record < self.period
+            and not any(waits_for_us(p) and not is_terminated(p) for p in self.pods.snapshot())
+        ):
+            return result  # nothing to decide; the ledger rows are written at most once a period meanwhile
+        api_nodes, pods = self._read(kube, ns)
         pods = [p for p in pods if not is_terminated(p)]
-        nodes = rt_nodes(cluster, api_nodes)
+        nodes = rt_nodes(cluster, api_nodes, rows)
+        if self._background_sync:
+            nodes = self._monitor_taints(cluster, nodes)
         names = [n.name for n in nodes]
-        rows = cluster.realtimes.prefetch_related("wcets__node")
-        if ns is not None:
-            rows = rows.filter(namespace=ns)
-        realtimes = {(r.namespace, r.name): r for r in rows}
-        engines: dict[tuple[str, str], RTContainer | InputError] = {}
-        views = [view_pod(p, realtimes, names, engines) for p in pods]
-        pending = [
-            v
-            for v in views
-            if not (v.pod.get("spec") or {}).get("nodeName")
-            and (v.pod.get("spec") or {}).get("schedulerName") == RT_SCHEDULER_NAME
-        ]
+        views = self._views(cluster, ns, pods, names)
+        pending = [v for v in views if waits_for_us(v.pod)]
         if not pending:
-            self._record_pods(cluster, views)
+            self._persist(cluster, views, {}, None, [])
             return result
-        ledger = rt_kube.Ledger.for_nodes(nodes)
-        for v in views:
-            node = (v.pod.get("spec") or {}).get("nodeName")
-            if node and node in names and v.container is not None:
-                ledger.reserve(v.container, node)
+        known = set(names)
+        ledger = rt_kube.Ledger.with_reservations(
+            nodes,
+            (
+                (v.container, node)
+                for v in views
+                if v.container is not None and (node := (v.pod.get("spec") or {}).get("nodeName")) in known
+            ),
+        )
         schedulable = [v for v in pending if v.container is not None]
         # The vectorised pass (same choices as rt_kube.schedule); explanations bounded past FULL_UP_TO nodes.
         plan = rt_kube_vec.schedule(
             [v.container for v in schedulable], nodes, policy.scheduler_params(), ledger, now=time.time(), full="auto"
         )
+        decided = time.monotonic()
         by_key = {v.key: v for v in pending}
-        binds, stopped = self._bind_all(kube, [(by_key[d.item], d) for d in plan.decisions if d.node is not None])
+        placed = [(by_key[d.item], d) for d in plan.decisions if d.node is not None]
+        cycle = _Decided(cluster, kube, plan, by_key, pending, views, len(nodes))
+        if self._pipelined():
+            # The Bindings go out and the loop goes on (kube-scheduler's assume, then bind asynchronously): the
+            # pods are assumed bound at once, so the next cycle's ledger holds them; the outcomes are concluded
+            # by the cycle after the last Binding answered.
+            for v, d in placed:
+                self.pods.assume(v.key, v.pod["metadata"].get("uid", ""), d.node or "")
+            if not placed:
+                self._conclude(cycle, {}, None, result)
+            else:
+                self._bind_async(kube, placed, decided, lambda binds, stopped: self._done.put((cycle, binds, stopped)))
+        else:
+            binds, stopped = self._bind_all(kube, placed, decided)
+            self._conclude(cycle, binds, stopped, result)
+        log.debug("RT cycle: %d pending, %d bound in %.3f s", len(pending), len(result.bound), time.monotonic() - began)
+        return result
+
+    def _state(self, fresh: bool = False) -> tuple[Cluster, RTPolicy, dict[str, ComputeNode]]:
+        """The cluster, its RT policy, its node rows and when its next taint expires: read at each cycle when a
+        cycle runs on its own, at most once every ``period`` while run() loops with the watch (a change of
+        the policy or of a node's RT attributes applies within that; a taint is lifted when it expires)."""
+        now = time.monotonic()
+        if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period:
+            cluster = Cluster.objects.get(pk=self.cluster_id)
+            rows = {n.name: n for n in cluster.nodes.all()}
+            expiry = monitoring.next_taint_expiry(cluster)
+            self._state_cache = (cluster, RTPolicy.for_cluster(cluster), rows)
+            self._expiry_at = None if expiry is None else now + expiry
+            self._state_at = now
+        return self._state_cache
+
+    def _pipelined(self) -> bool:
+        return self._binder is not None and self._background_sync
+
+    def _conclude_finished(self, result: CycleResult) -> None:
+        """The outcomes of every earlier cycle whose Bindings all answered (pipelined mode)."""
+        stopped = None
+        while True:
+            try:
+                cycle, binds, why = self._done.get_nowait()
+            except queue.Empty:
+                break
+            try:
+                self._conclude(cycle, binds, why, result)
+            except KubeError as exc:
+                stopped = stopped or exc
+        if stopped is not None:
+            raise stopped
+
+    def _conclude(self, cycle: _Decided, binds: dict, stopped: str | None, result: CycleResult) -> None:
+        """A cycle's outcomes once its Bindings answered: the result, the rows (off the path from the watch
+        event to the Binding: the writer thread while run() loops; which decisions are new is judged here,
+        before _explain marks them told) and the explanations."""
         outcomes, bound_rows = [], {}
-        for d in plan.decisions:
-            v = by_key[d.item]
+        for d in cycle.plan.decisions:
+            v = cycle.by_key[d.item]
             if d.node is None:
-                message = pending_message(d, len(nodes))
+                message = pending_message(d, cycle.total)
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, message))
                 result.pending[v.key] = message
                 continue
@@ -366,36 +602,195 @@ class RTScheduler:
                 meta = v.pod["metadata"]
                 bound_rows[(meta["namespace"], meta["name"])] = (d.node, v.container.utilization(d.node))
             else:
-                ledger.release(d.item)
                 result.failed[v.key] = message
                 outcomes.append((v, d, RTDecision.Outcome.FAILED, message))
-        # The ledger rows, once the binds are done: they are off the path from the watch event to the Binding.
-        self._record_pods(cluster, views, bound_rows)
-        for v in pending:
+        for v in cycle.pending:
             if v.container is None:
                 d = Decision(v.key, None)
                 result.pending[v.key] = v.problem
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, v.problem))
-        self._store(cluster, plan, outcomes)
-        self._explain(kube, outcomes)
+        self._persist(cycle.cluster, cycle.views, bound_rows, cycle.plan, self._fresh(outcomes))
+        self._explain(cycle.kube, outcomes)
         if stopped:  # the pods bound before it are recorded; the cycle fails and is retried with back-off
             raise KubeError(stopped)
-        return result
 
-    def _bind_all(self, kube: Kube, placed: list[tuple[PodView, Decision]]) -> tuple[dict, str | None]:
+    def _views(self, cluster: Cluster, ns: str | None, pods: list[dict], names: list[str]) -> list[PodView]:
+        """Each pod's view, remembered from the last cycle while the pod (uid, resourceVersion, node), the node
+        names and the RealTime rows are the same: a cycle for a few new pods does not parse the bound ones
+        again. The RealTime rows are read again after each sync and each RealTime event (every cycle when the
+        cycle runs on its own)."""
+        if not self._background_sync:
+            self._rt_generation += 1
+        memo_key = (self._rt_generation, tuple(names))
+        if self._memo_key != memo_key:
+            rows = cluster.realtimes.prefetch_related("wcets__node")
+            if ns is not None:
+                rows = rows.filter(namespace=ns)
+            self._realtimes = {(r.namespace, r.name): r for r in rows}
+            self._engines = {}
+            self._memo = {}
+            self._memo_key = memo_key
+        memo: dict[str, tuple[tuple, PodView]] = {}
+        views = []
+        for p in pods:
+            meta = p["metadata"]
+            key = pod_key(p)
+            ident = (meta.get("uid"), meta.get("resourceVersion"), (p.get("spec") or {}).get("nodeName"))
+            known = self._memo.get(key)
+            if known is not None and known[0] == ident:
+                view = known[1]
+                if view.pod is not p:
+                    view = PodView(p, view.realtime, view.container, view.problem)
+            else:
+                view = view_pod(p, self._realtimes, names, self._engines)
+            memo[key] = (ident, view)
+            views.append(view)
+        self._memo = memo
+        return views
+
+    def _bind_all(
+        self, kube: Kube, placed: list[tuple[PodView, Decision]], decided: float | None = None
+    ) -> tuple[dict, str | None]:
         """The bind phase of every placed pod, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` Bindings in flight
         (the decisions are all made: binds are independent round trips). {pod key: (ok, message)} with
-        ``ok=None`` for the binds not attempted after the API failed (the reason is returned)."""
+        ``ok=None`` for the binds not attempted after the API failed (the reason is returned). A pod bound is
+        assumed bound in the pod cache at once (see :mod:`apps.realtime.informer`)."""
+        decided = decided if decided is not None else time.monotonic()
+        stop = threading.Event()
+        reason: list[str] = []
+        lock = threading.Lock()
 
         def one(item: tuple[PodView, Decision]) -> tuple[bool | None, str]:
-            meta = item[0].pod["metadata"]
-            return kube.bind(meta["namespace"], meta["name"], item[1].node, meta.get("uid"))
+            v, d = item
+            meta, node = v.pod["metadata"], d.node or ""
+            if stop.is_set():
+                return None, reason[0]
+            sent = time.monotonic()
+            try:
+                ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
+            except API_ERRORS as exc:
+                with lock:
+                    if not reason:
+                        reason.append(problem(exc))
+                stop.set()
+                return None, reason[0]
+            if ok:
+                self.pods.assume(v.key, meta.get("uid", ""), node)
+                answered = time.monotonic()
+                seen = self._seen.pop(v.key, decided)
+                self.timings.append((decided - seen, sent - decided, answered - sent))
+            return ok, message
 
-        results, stopped = run_bounded(placed, one, skipped=lambda reason: (None, reason), fatal=API_ERRORS,
-                                       describe=problem)  # fmt: skip
+        if self._binder is None:
+            results, stopped = run_bounded(placed, one, skipped=lambda r: (None, r), fatal=(), describe=problem)
+        else:
+            futures = [self._binder.submit(one, item) for item in placed]
+            results, stopped = [f.result() for f in futures], None
+        stopped = stopped or (reason[0] if reason else None)
         return {d.item: r for (_, d), r in zip(placed, results, strict=True)}, stopped
 
+    def _bind_async(self, kube: Kube, placed: list[tuple[PodView, Decision]], decided: float, finished) -> None:
+        """The Bindings of a cycle on the binder pool, without waiting; ``finished(binds, stopped)`` is called
+        (in a binder thread) when the last one answered. A failed Binding un-assumes its pod (pending again)."""
+        left = [len(placed)]
+        binds: dict[str, tuple[bool | None, str]] = {}
+        reason: list[str] = []
+        lock = threading.Lock()
+
+        def one(item: tuple[PodView, Decision]) -> None:
+            v, d = item
+            meta, node = v.pod["metadata"], d.node or ""
+            ok: bool | None
+            if reason:
+                ok, message = None, reason[0]
+            else:
+                sent = time.monotonic()
+                try:
+                    ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
+                except API_ERRORS as exc:
+                    with lock:
+                        if not reason:
+                            reason.append(problem(exc))
+                    ok, message = None, reason[0]
+                except Exception as exc:  # a bug: the pod is retried, the cycle's outcome says why
+                    log.exception("RT scheduler: binding %s failed", v.key)
+                    ok, message = False, f"binding failed: {exc}"
+                if ok:
+                    answered = time.monotonic()
+                    seen = self._seen.pop(v.key, decided)
+                    self.timings.append((decided - seen, sent - decided, answered - sent))
+            if not ok:
+                self.pods.forget(v.key, meta.get("uid", ""))
+            with lock:
+                binds[d.item] = (ok, message)
+                left[0] -= 1
+                last = left[0] == 0
+            if last:
+                finished(binds, reason[0] if reason else None)
+                self.wake.set()
+
+        assert self._binder is not None
+        for item in placed:
+            self._binder.submit(one, item)
+
     # ---- bookkeeping ---------------------------------------------------------------------------------------
+    def _fresh(self, outcomes: list) -> list:
+        """The decisions whose outcome or reason changed since the pod's last one (the others are not stored)."""
+        fresh = []
+        for v, d, outcome, message in outcomes:
+            uid = v.pod["metadata"].get("uid", "")
+            if outcome == RTDecision.Outcome.PENDING and self.explained.get(uid) == message:
+                continue
+            fresh.append((v, d, outcome, message))
+        return fresh
+
+    def _persist(self, cluster: Cluster, views: list[PodView], bound: dict, plan, fresh: list) -> None:
+        """Ledger rows and decisions: queued for the writer thread while run() loops, else written now."""
+        self._last_record = time.monotonic()
+        if self._writes is None:
+            self._record_pods(cluster, views, bound)
+            if fresh:
+                self._store(cluster, plan, fresh)
+            return
+        self._writes.put((cluster, views, bound, plan, fresh))  # blocks when full: back-pressure
+
+    def _write_loop(self, writes: queue.Queue) -> None:
+        """The writer thread: drains the queue, one ledger upsert for the batch (the latest views, every pod
+        bound in it) and the decisions of each cycle; ends at ``None`` after writing what came before."""
+        try:
+            done = False
+            while not done:
+                batch = [writes.get()]
+                while True:
+                    try:
+                        batch.append(writes.get_nowait())
+                    except queue.Empty:
+                        break
+                done = any(item is None for item in batch)
+                items = [item for item in batch if item is not None]
+                if not items:
+                    continue
+                bound: dict = {}
+                for item in items:
+                    bound.update(item[2])
+                cluster, views = items[-1][0], items[-1][1]
+                try:
+                    if self._rewrite.is_set():
+                        self._rewrite.clear()
+                        self._recorded.clear()
+                    self._record_pods(cluster, views, bound)
+                    for c, _, _, plan, fresh in items:
+                        if fresh:
+                            self._store(c, plan, fresh)
+                    self.writes += len(items)
+                except Exception:  # logged and counted; the next batch writes every row that differs again
+                    self.write_errors += 1
+                    self._recorded.clear()
+                    log.exception("RT scheduler: writing the ledger and decisions failed")
+                    close_old_connections()
+        finally:
+            connection.close()
+
     def _record_pods(
         self, cluster: Cluster, views: list[PodView], bound: dict[tuple[str, str], tuple[str, float]] | None = None
     ) -> None:
@@ -451,16 +846,8 @@ class RTScheduler:
                 RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
         self._recorded = {key: state[key] for key in seen}  # written (or unchanged) and committed
 
-    def _store(self, cluster: Cluster, plan, outcomes: list) -> None:
-        """Store the plan and the decisions whose outcome or reason changed since the pod's last one."""
-        fresh = []
-        for v, d, outcome, message in outcomes:
-            uid = v.pod["metadata"].get("uid", "")
-            if outcome == RTDecision.Outcome.PENDING and self.explained.get(uid) == message:
-                continue
-            fresh.append((v, d, outcome, message))
-        if not fresh:
-            return
+    def _store(self, cluster: Cluster, plan, fresh: list) -> None:
+        """Store the plan and the given decisions (see :meth:`_fresh`)."""
         with transaction.atomic():
             row = RTPlan.objects.create(
                 cluster=cluster,
@@ -533,27 +920,32 @@ class RTScheduler:
 
     # ---- watches ----------------------------------------------------------------------------------------------
     def _start_watches(self, stop: threading.Event) -> None:
-        for target in (self._watch_pods, self._watch_realtimes, self._watch_monitorings):
+        for target in (self._watch_pods, self._watch_nodes, self._watch_realtimes, self._watch_monitorings):
             t = threading.Thread(target=self._follow, args=(target, stop), daemon=True, name=target.__name__)
             t.start()
             self.threads.append(t)
 
     def _follow(self, target, stop: threading.Event) -> None:
-        """One watch thread: ``target(cluster)`` names what to follow and what to do with each event; the
-        gateway's watch loop resumes it, starts over after 410 Gone and comes back after any failure (with
-        exponential backoff) until ``stop``. The cluster is read again on every reconnection."""
+        """One watch thread: ``target(cluster)`` names what to follow, what to do with each event and, for an
+        informer, with each list (``None``: no list); the gateway's watch loop resumes it, starts over after
+        410 Gone and comes back after any failure (with exponential backoff) until ``stop``. The cluster is
+        read again on every reconnection, and an informer is marked stale until its next list."""
         handlers: dict[str, Any] = {}
 
         def connect():
             cluster = Cluster.objects.get(pk=self.cluster_id)
-            handlers["pick"], handlers["on_event"] = target(cluster)
+            handlers["pick"], handlers["on_event"], handlers["on_list"], handlers["informer"] = target(cluster)
+            if handlers["informer"] is not None:
+                handlers["informer"].unsynced()
             return api_client_for(cluster)
 
+        informer = target in (self._watch_pods, self._watch_nodes)  # listed first, then watched
         try:
             gateway.follow(
                 connect,
                 lambda api_client: handlers["pick"](api_client),
                 lambda event: handlers["on_event"](event),
+                on_list=(lambda items: handlers["on_list"](items)) if informer else None,
                 stop=stop,
                 retries=None,
                 backoff=1.0,
@@ -567,15 +959,46 @@ class RTScheduler:
             connection.close()
 
     def _watch_pods(self, cluster: Cluster):
-        ns = sync.namespaces_of(cluster, self.namespace)
-        pick = gateway.watch_pods(ns, field_selector=f"spec.schedulerName={RT_SCHEDULER_NAME}")
-        return pick, lambda event: self.wake.set()
+        """Every pod of the namespace (the ledger counts pods of other schedulers on RT nodes too)."""
+        pick = gateway.watch_pods(sync.namespaces_of(cluster, self.namespace))
+
+        def listed(items: list[dict]) -> None:
+            now = time.monotonic()
+            for p in items:
+                if pod_relevant(None, p) and not (p.get("spec") or {}).get("nodeName"):
+                    self._seen.setdefault(pod_key(p), now)
+            self.pods.replace(items)
+            self.wake.set()
+
+        def changed(event: dict) -> None:
+            if self.pods.apply(event):
+                obj = event.get("raw_object") or {}
+                key = pod_key(obj) if obj.get("metadata") else ""
+                if event.get("type") == "DELETED":
+                    self._seen.pop(key, None)
+                elif key and not (obj.get("spec") or {}).get("nodeName") and not is_terminated(obj):
+                    self._seen.setdefault(key, time.monotonic())
+                self.wake.set()
+
+        return pick, changed, listed, self.pods
+
+    def _watch_nodes(self, cluster: Cluster):
+        def listed(items: list[dict]) -> None:
+            self.nodes.replace(items)
+            self.wake.set()
+
+        def changed(event: dict) -> None:
+            if self.nodes.apply(event):
+                self.wake.set()
+
+        return gateway.watch_nodes(), changed, listed, self.nodes
 
     def _custom(self, cluster: Cluster, group: str, version: str, plural: str):
         return gateway.watch_custom_objects(group, version, plural, sync.namespaces_of(cluster, self.namespace))
 
     def _watch_realtimes(self, cluster: Cluster):
         def changed(event: dict) -> None:
+            self._rt_generation += 1  # a RealTime changed (here or there): its rows are read again
             obj = event.get("raw_object") or {}
             meta = obj.get("metadata") or {}
             rv = meta.get("resourceVersion")
@@ -586,7 +1009,7 @@ class RTScheduler:
                 self.sync_due.set()
                 self.wake.set()
 
-        return self._custom(cluster, REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL), changed
+        return self._custom(cluster, REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL), changed, None, None
 
     def _watch_monitorings(self, cluster: Cluster):
         def changed(event: dict) -> None:
@@ -600,7 +1023,7 @@ class RTScheduler:
                 log.info("Monitoring %s/%s rejected: %s", meta.get("namespace"), meta.get("name"), exc)
                 self._status(cluster, obj, {"error": str(exc)})
 
-        return self._custom(cluster, MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL), changed
+        return self._custom(cluster, MONITORING_GROUP, MONITORING_VERSION, MONITORING_PLURAL), changed, None, None
 
     def ingest_object(self, cluster: Cluster, obj: dict) -> dict | None:
         """A Monitoring object changed in the API: a report, unless it only shows the counters we stored."""

@@ -307,3 +307,39 @@ def test_rt_scheduler_command_binds_once_and_refuses_model_only_clusters(kube, r
     model_only = api.post("/api/v1/clusters/import/", {"name": "paper", "nodes": [{"name": "x"}]}, format="json")
     with pytest.raises(CommandError, match="model-only cluster"):
         call_command("rt_scheduler", "--cluster", str(model_only.data["id"]), "--once")
+
+
+def test_decisions_are_stored_after_the_bind_and_a_replayed_event_never_binds_twice(
+    api, kube, rt_kube_cluster, scheduler
+):
+    from apps.realtime.models import RTPod
+
+    cluster, ns = rt_kube_cluster, rt_kube_cluster.namespace
+    body = {"cluster": cluster.pk, "name": "cam", "criticality": "A", "period": 10, "deadline": 10,
+            "wcets": [{"node": "node1", "wcet": 2}]}  # fmt: skip
+    assert api.post("/api/v1/realtimes/", body, format="json").status_code == 201
+    kube.create_namespaced_pod(ns, pod("cam", "cam"))
+    assert wait_for(lambda: node_of(kube, ns, "cam"), "cam bound") == "node1"
+    # The decision ("why" of the dashboard) and the ledger row are written by the scheduler's writer thread.
+    decision = wait_for(
+        lambda: RTDecision.objects.filter(cluster=cluster, pod="cam", outcome="bound").first(), "cam's decision"
+    )
+    assert decision.node == "node1" and decision.decision["verdicts"]
+    row = wait_for(lambda: RTPod.objects.filter(cluster=cluster, name="cam", node="node1").first(), "ledger row")
+    assert row.utilization == pytest.approx(0.2) and row.deleted_at is None
+
+    # The watch replays the pod as it was before its binding (an older resourceVersion): it stays bound.
+    stale = kube.api_client.sanitize_for_serialization(kube.read_namespaced_pod("cam", ns))
+    stale["spec"].pop("nodeName")
+    cycles = scheduler.cycles
+    scheduler.pods.apply({"type": "MODIFIED", "raw_object": stale, "object": stale})
+    scheduler.wake.set()
+    wait_for(lambda: scheduler.cycles >= cycles + 2, "two more cycles")
+    assert scheduler.pods.stats()["stale_events"] >= 1
+    assert RTDecision.objects.filter(cluster=cluster, pod="cam", outcome="bound").count() == 1
+    assert not RTDecision.objects.filter(cluster=cluster, pod="cam").exclude(outcome="bound").exists()
+    time.sleep(1.0)  # Events go out in the background: give a second Scheduled Event the time to appear
+    events = kube.list_namespaced_event(ns, field_selector="involvedObject.name=cam,reason=Scheduled").items
+    assert len([e for e in events if e.source.component == "RT-scheduler"]) == 1
+    assert RTPod.objects.get(cluster=cluster, name="cam").node == "node1"
+    assert scheduler.errors == 0 and scheduler.write_errors == 0, scheduler.last_error

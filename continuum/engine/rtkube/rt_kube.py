@@ -161,14 +161,29 @@ class Ledger:
         b = self.bindings.get(container)
         return b.node if b else None
 
-    def reserve(self, container: RTContainer, node: str) -> Binding:
-        if container.name in self.bindings:
-            raise InputError(f"container {container.name!r} is already bound to {self.bindings[container.name].node}")
+    @classmethod
+    def with_reservations(cls, nodes: Iterable[RTNode], placed: Iterable[tuple[RTContainer, str]]) -> Ledger:
+        """A ledger holding every ``(container, node)`` reservation, as ``reserve`` one by one would, with each
+        node's sums computed once (``reserve`` recomputes its node's: quadratic in the pods of a node)."""
+        bindings: dict[str, Binding] = {}
+        for container, node in placed:
+            if container.name in bindings:
+                raise InputError(f"container {container.name!r} is already bound to {bindings[container.name].node}")
+            bindings[container.name] = cls._binding(container, node)
+        return cls([n.name for n in nodes], bindings)
+
+    @staticmethod
+    def _binding(container: RTContainer, node: str) -> Binding:
         util = container.utilization(node)
         if util is None:
             # Only an RT-unaware scheduler binds here; the task would run with its largest declared runtime.
             util = container.max_utilization()
-        b = Binding(container.name, node, util, container.cpu, container.memory_mib, container.criticality)
+        return Binding(container.name, node, util, container.cpu, container.memory_mib, container.criticality)
+
+    def reserve(self, container: RTContainer, node: str) -> Binding:
+        if container.name in self.bindings:
+            raise InputError(f"container {container.name!r} is already bound to {self.bindings[container.name].node}")
+        b = self._binding(container, node)
         self.bindings[container.name] = b
         self._members.setdefault(node, {})[container.name] = b
         self._recompute(node)

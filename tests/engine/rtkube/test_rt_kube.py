@@ -328,3 +328,19 @@ def test_every_placement_respects_the_filters(data, b_arg):
         assert sum(c.memory_mib for c in placed) <= n.memory_mib
     order = [by_name[d.item] for d in plan.decisions]
     assert [c.rank for c in order] == sorted((c.rank for c in order), reverse=True)
+
+
+def test_a_ledger_built_at_once_equals_one_built_by_reserve():
+    nodes = [node("N1"), node("N2")]
+    placed = [
+        (rtc(f"c{i}", "AB"[i % 2], {"N1": 1 + i % 3, "N2": 2}, cpu=0.1 * (i + 1)), f"N{1 + i % 2}") for i in range(9)
+    ]
+    one_by_one = Ledger.for_nodes(nodes)
+    for c, n in placed:
+        one_by_one.reserve(c, n)
+    at_once = Ledger.with_reservations(nodes, placed)
+    assert at_once.bindings == one_by_one.bindings
+    assert at_once.utilization() == one_by_one.utilization()
+    assert [at_once.cpu_used(n) for n in ("N1", "N2")] == [one_by_one.cpu_used(n) for n in ("N1", "N2")]
+    with pytest.raises(InputError, match="already bound"):
+        Ledger.with_reservations(nodes, [placed[0], (placed[0][0], "N2")])
