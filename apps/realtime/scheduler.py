@@ -656,30 +656,11 @@ class RTScheduler:
         ``ok=None`` for the binds not attempted after the API failed (the reason is returned). A pod bound is
         assumed bound in the pod cache at once (see :mod:`apps.realtime.informer`)."""
         decided = decided if decided is not None else time.monotonic()
-        stop = threading.Event()
         reason: list[str] = []
         lock = threading.Lock()
 
         def one(item: tuple[PodView, Decision]) -> tuple[bool | None, str]:
-            v, d = item
-            meta, node = v.pod["metadata"], d.node or ""
-            if stop.is_set():
-                return None, reason[0]
-            sent = time.monotonic()
-            try:
-                ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
-            except API_ERRORS as exc:
-                with lock:
-                    if not reason:
-                        reason.append(problem(exc))
-                stop.set()
-                return None, reason[0]
-            if ok:
-                self.pods.assume(v.key, meta.get("uid", ""), node)
-                answered = time.monotonic()
-                seen = self._seen.pop(v.key, decided)
-                self.timings.append((decided - seen, sent - decided, answered - sent))
-            return ok, message
+            return self._bind_one(kube, item, decided, reason, lock)
 
         if self._binder is None:
             results, stopped = run_bounded(placed, one, skipped=lambda r: (None, r), fatal=(), describe=problem)
@@ -688,6 +669,31 @@ class RTScheduler:
             results, stopped = [f.result() for f in futures], None
         stopped = stopped or (reason[0] if reason else None)
         return {d.item: r for (_, d), r in zip(placed, results, strict=True)}, stopped
+
+    def _bind_one(
+        self, kube: Kube, item: tuple[PodView, Decision], decided: float, reason: list[str], lock: threading.Lock
+    ) -> tuple[bool | None, str]:
+        """One pod's Binding, shared by the cycle's two ways of binding. Once the API failed (``reason`` holds
+        why) the rest are not attempted (``None``); a bound pod is assumed bound in the pod cache at once and
+        its timings (event -> decided -> sent -> answered) are kept."""
+        v, d = item
+        meta, node = v.pod["metadata"], d.node or ""
+        if reason:
+            return None, reason[0]
+        sent = time.monotonic()
+        try:
+            ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
+        except API_ERRORS as exc:
+            with lock:
+                if not reason:
+                    reason.append(problem(exc))
+            return None, reason[0]
+        if ok:
+            self.pods.assume(v.key, meta.get("uid", ""), node)
+            answered = time.monotonic()
+            seen = self._seen.pop(v.key, decided)
+            self.timings.append((decided - seen, sent - decided, answered - sent))
+        return ok, message
 
     def _bind_async(self, kube: Kube, placed: list[tuple[PodView, Decision]], decided: float, finished) -> None:
         """The Bindings of a cycle on the binder pool, without waiting; ``finished(binds, stopped)`` is called
@@ -699,28 +705,14 @@ class RTScheduler:
 
         def one(item: tuple[PodView, Decision]) -> None:
             v, d = item
-            meta, node = v.pod["metadata"], d.node or ""
             ok: bool | None
-            if reason:
-                ok, message = None, reason[0]
-            else:
-                sent = time.monotonic()
-                try:
-                    ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
-                except API_ERRORS as exc:
-                    with lock:
-                        if not reason:
-                            reason.append(problem(exc))
-                    ok, message = None, reason[0]
-                except Exception as exc:  # a bug: the pod is retried, the cycle's outcome says why
-                    log.exception("RT scheduler: binding %s failed", v.key)
-                    ok, message = False, f"binding failed: {exc}"
-                if ok:
-                    answered = time.monotonic()
-                    seen = self._seen.pop(v.key, decided)
-                    self.timings.append((decided - seen, sent - decided, answered - sent))
+            try:
+                ok, message = self._bind_one(kube, item, decided, reason, lock)
+            except Exception as exc:  # a bug: the pod is retried, the cycle's outcome says why
+                log.exception("RT scheduler: binding %s failed", v.key)
+                ok, message = False, f"binding failed: {exc}"
             if not ok:
-                self.pods.forget(v.key, meta.get("uid", ""))
+                self.pods.forget(v.key, v.pod["metadata"].get("uid", ""))
             with lock:
                 binds[d.item] = (ok, message)
                 left[0] -= 1
