@@ -21,9 +21,13 @@ def watch_for_lost_jobs(**_) -> None:
 
 
 @task_prerun.connect
-def retire_old_connections(**_) -> None:
+def retire_old_connections(task=None, **_) -> None:
     """Before each task, what Django does before each request: close this thread's database connection if it is
-    older than CONN_MAX_AGE or broke (CELERY_DB_REUSE_MAX keeps it across tasks otherwise)."""
+    older than CONN_MAX_AGE or broke (CELERY_DB_REUSE_MAX keeps it across tasks otherwise). Not for a task run
+    in-process (``apply``, ``CONTINUUM_JOBS_EAGER``): the connection is its caller's, maybe inside a transaction,
+    and Celery's own Django fix-up leaves it alone too."""
+    if task is not None and getattr(task.request, "is_eager", False):
+        return
     from django.db import close_old_connections
 
     close_old_connections()
