@@ -26,7 +26,17 @@ from typing import Any
 from continuum.engine.core.cluster import Cluster, ClusterNode
 from continuum.engine.core.errors import InputError
 
-__all__ = ["ROBOT_LABEL", "drivers", "is_robot", "off_robot", "parse_label", "pinned", "reject_reason", "robot_nodes"]
+__all__ = [
+    "ROBOT_LABEL",
+    "drivers",
+    "is_robot",
+    "off_board_reason",
+    "off_robot",
+    "parse_label",
+    "pinned",
+    "reject_reason",
+    "robot_nodes",
+]
 
 #: The label of the robot's boards in the cluster files (``clusters/rb-kairos.json``: mcb and jetson-nano).
 ROBOT_LABEL = ("zone", "robot")
@@ -70,6 +80,12 @@ def reject_reason(on_robot: Iterable[str], node: ClusterNode, label: tuple[str, 
     held = sorted(on_robot)
     if not held or is_robot(node, label):
         return None
+    return off_board_reason(held, label)
+
+
+def off_board_reason(on_robot: Iterable[str], label: tuple[str, str] = ROBOT_LABEL) -> str:
+    """The reason :func:`reject_reason` gives for every node that is not one of the robot's boards."""
+    held = sorted(on_robot)
     shown = ", ".join(held[:3]) + (f" and {len(held) - 3} more" if len(held) > 3 else "")
     return (
         f"holds driver-level ROS node{'s' if len(held) > 1 else ''} {shown}, pinned to the robot's boards "

@@ -584,6 +584,7 @@ class _Index:
         self.label = robot or robot_pinning.ROBOT_LABEL
         self.hold = robot is not None and bool(robot_pinning.robot_nodes(cluster, self.label))
         self._robot: dict[tuple[str, ...], tuple[np.ndarray, list[str | None]]] = {}
+        self._board: list[bool] | None = None
         # ``bw(a, b)`` reads only the canonical key ``pair(a, b)``; a key stored the other way round is never
         # read, so it stays out of the neighbour lists too (same values as before, not "fixed").
         self.adj: dict[str, dict[str, float]] = {}
@@ -631,9 +632,14 @@ class _Index:
         but it runs after the resource filter, so a full node reports resources first."""
         hit = self._robot.get(c.on_robot)
         if hit is None:
-            reasons = [
-                robot_pinning.reject_reason(c.on_robot, node, self.label) if self.hold else None for node in self.nodes
-            ]
+            if not self.hold or not c.on_robot:
+                reasons: list[str | None] = [None] * len(self.nodes)
+            else:
+                if self._board is None:  # which nodes are the robot's boards: once per pass
+                    self._board = [robot_pinning.is_robot(node, self.label) for node in self.nodes]
+                # The reason names the container's pinned ROS nodes, not the node: one string for every node.
+                reason = robot_pinning.off_board_reason(c.on_robot, self.label)
+                reasons = [None if on_board else reason for on_board in self._board]
             hit = self._robot[c.on_robot] = (np.array([r is None for r in reasons]), reasons)
         return hit
 
