@@ -597,6 +597,19 @@ class _Family:
     host: bool = False  # a host family (see _host_covers): the sets are what the unit itself receives
 
 
+def _heaviest_topics(
+    cl: _Classes, members: list[int], weight_of: Callable[[int], float], universe: list[int], max_topics: int
+) -> tuple[list[int], list[int]]:
+    """The ``max_topics`` topics of ``universe`` read by the most weight of ``members`` (ties by index), sorted,
+    and the members whose topics all stay: a cover over them is still valid, only smaller."""
+    weight: dict[int, float] = {}
+    for c in members:
+        for k in cl.group_topics[cl.group[c]]:
+            weight[k] = weight.get(k, 0.0) + weight_of(c)
+    kept = set(sorted(universe, key=lambda k: (-weight[k], k))[:max_topics])
+    return sorted(kept), [c for c in members if set(cl.group_topics[cl.group[c]]) <= kept]
+
+
 def _relief_covers(
     stats: MonitorStats, cl: _Classes, max_topics: int = 14, max_sets: int = 64, max_cuts: int = 128
 ) -> tuple[list[_Family], list[tuple[int, list[int], int]]]:
@@ -634,13 +647,8 @@ def _relief_covers(
             continue
         universe = sorted({k for c in members for k in cl.group_topics[cl.group[c]]})
         if len(universe) > max_topics:  # keep the topics carrying most load; the rest stays valid with a
-            weight: dict[int, float] = {}  # smaller D (only classes within the kept topics count)
-            for c in members:
-                for k in cl.group_topics[cl.group[c]]:
-                    weight[k] = weight.get(k, 0.0) + load[c]
-            universe = sorted(sorted(universe, key=lambda k: (-weight[k], k))[:max_topics])
-            kept = set(universe)
-            members = [c for c in members if set(cl.group_topics[cl.group[c]]) <= kept]
+            # smaller D (only classes within the kept topics count)
+            universe, members = _heaviest_topics(cl, members, load.__getitem__, universe, max_topics)
             excess = sum(load[c] for c in members) - cap[unit]
             if excess <= 1e-9:
                 continue
@@ -696,13 +704,7 @@ def _host_covers(
         members = list(range(len(cl.members)))
         universe = sorted({k for c in members for k in cl.group_topics[cl.group[c]]})
         if len(universe) > max_topics:
-            weight: dict[int, float] = {}
-            for c in members:
-                for k in cl.group_topics[cl.group[c]]:
-                    weight[k] = weight.get(k, 0.0) + sizes[c]
-            kept = set(sorted(universe, key=lambda k: (-weight[k], k))[:max_topics])
-            universe = sorted(kept)
-            members = [c for c in members if set(cl.group_topics[cl.group[c]]) <= kept]
+            universe, members = _heaviest_topics(cl, members, sizes.__getitem__, universe, max_topics)
             need -= total - int(sizes[members].sum())
             if need <= 0:
                 continue
