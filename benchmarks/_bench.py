@@ -1,4 +1,4 @@
-"""Small helpers shared by the device-scheduling benchmarks (timing, throw-away venvs, log-log fits)."""
+"""Small helpers shared by the benchmarks (timing, throw-away venvs and databases, log-log fits, tables)."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ import venv
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
+from urllib.parse import urlsplit, urlunsplit
 
 ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
@@ -51,3 +52,24 @@ def table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
     lines = ["  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))]
     lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in cells]
     return "\n".join(lines)
+
+
+def recreate_database(url: str) -> str:
+    """Drop (closing its connections) and create the PostgreSQL database of ``url``; returns ``url``."""
+    import psycopg
+
+    parts = urlsplit(url)
+    name = parts.path.lstrip("/")
+    with psycopg.connect(urlunsplit(parts._replace(path="/postgres")), autocommit=True) as conn:
+        conn.execute(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)')
+        conn.execute(f'CREATE DATABASE "{name}"')
+    return url
+
+
+def drop_database(url: str) -> None:
+    """Drop the PostgreSQL database of ``url``, closing its connections."""
+    import psycopg
+
+    parts = urlsplit(url)
+    with psycopg.connect(urlunsplit(parts._replace(path="/postgres")), autocommit=True) as conn:
+        conn.execute(f'DROP DATABASE IF EXISTS "{parts.path.lstrip("/")}" WITH (FORCE)')

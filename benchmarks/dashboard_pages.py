@@ -40,6 +40,10 @@ from pathlib import Path
 from urllib.parse import urlsplit, urlunsplit
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from benchmarks._bench import drop_database, recreate_database  # noqa: E402
+
 SIZES = [("310", 310, 1), ("1000x10", 1000, 10), ("10000", 10_000, 1)]
 LIST_COPIES = 99
 GOALS = {
@@ -224,26 +228,6 @@ def database_url(suffix: str) -> str:
         sys.exit("DATABASE_URL must name a PostgreSQL server")
     name = parts.path.lstrip("/") or "continuum"
     return urlunsplit(parts._replace(path=f"/{name}_bench_{suffix}"))
-
-
-def recreate_database(url: str) -> None:
-    import psycopg
-
-    parts = urlsplit(url)
-    name = parts.path.lstrip("/")
-    admin = urlunsplit(parts._replace(path="/postgres"))
-    with psycopg.connect(admin, autocommit=True) as conn:
-        conn.execute(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)')
-        conn.execute(f'CREATE DATABASE "{name}"')
-
-
-def drop_database(url: str) -> None:
-    import psycopg
-
-    parts = urlsplit(url)
-    admin = urlunsplit(parts._replace(path="/postgres"))
-    with psycopg.connect(admin, autocommit=True) as conn:
-        conn.execute(f'DROP DATABASE IF EXISTS "{parts.path.lstrip("/")}" WITH (FORCE)')
 
 
 def run_checkout(root: Path, suffix: str, repeats: int) -> dict:

@@ -48,8 +48,12 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+
+from benchmarks._bench import drop_database, recreate_database  # noqa: E402
+
 PG = os.environ.get("BENCH_PG", "postgres://postgres@127.0.0.1:5432")
 DB_NAME = os.environ.get("BENCH_DB", "continuum_bench_rtload")
+DB_URL = f"{PG}/{DB_NAME}"
 
 
 def parse_args() -> argparse.Namespace:
@@ -159,35 +163,34 @@ def free_port() -> int:
 
 
 # ---- setup -----------------------------------------------------------------------------------------------
-def create_database() -> str:
-    import psycopg
+def fleet_rows(f: int, kubeconfig: str, taint_s: float):
+    """Fleet ``f``'s rows, the same in both modes: the fleet, its robot token, its cluster (namespace
+    ``bench-f<f>``) and the RT policy (threshold 10 misses per period). Returns (token, cluster)."""
+    from django.contrib.auth.models import User
 
-    with psycopg.connect(f"{PG}/postgres", autocommit=True) as conn:
-        conn.execute(f"DROP DATABASE IF EXISTS {DB_NAME}")
-        conn.execute(f"CREATE DATABASE {DB_NAME}")
-    return f"{PG}/{DB_NAME}"
+    from apps.clusters.models import Cluster
+    from apps.realtime.models import RTPolicy
+    from apps.tenancy.models import Fleet, FleetToken
 
-
-def drop_database() -> None:
-    import psycopg
-
-    with psycopg.connect(f"{PG}/postgres", autocommit=True) as conn:
-        conn.execute(f"DROP DATABASE IF EXISTS {DB_NAME} WITH (FORCE)")
+    fleet = Fleet.objects.create(name=f"fleet-{f}")
+    robot = User.objects.create_user(f"robot-{f}")
+    token = FleetToken.objects.create(fleet=fleet, user=robot, scope=FleetToken.Scope.ROBOT)
+    cluster = Cluster.objects.create(fleet=fleet, name=f"cluster-{f}", namespace=f"bench-f{f}", kubeconfig=kubeconfig)
+    RTPolicy.objects.create(cluster=cluster, threshold_period=10, taint_duration_s=taint_s)
+    return token, cluster
 
 
 def seed(args, kubeconfig: str) -> list[dict]:
     """Fleets, tokens, clusters with RT nodes (API and database), RealTime objects and bound pods."""
     import yaml
-    from django.contrib.auth.models import User
     from kubernetes import client as kclient
     from kubernetes import config
 
-    from apps.clusters.models import Cluster, ComputeNode
+    from apps.clusters.models import ComputeNode
     from apps.realtime import sync
     from apps.realtime.kube import Kube
-    from apps.realtime.models import RealTime, RealTimeWcet, RTPod, RTPolicy
+    from apps.realtime.models import RealTime, RealTimeWcet, RTPod
     from apps.realtime.scheduler import RTScheduler
-    from apps.tenancy.models import Fleet, FleetToken
 
     api_client = config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False)
     kube = Kube(api_client)
@@ -196,12 +199,8 @@ def seed(args, kubeconfig: str) -> list[dict]:
     now = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     fleets = []
     for f in range(args.fleets):
-        fleet = Fleet.objects.create(name=f"fleet-{f}")
-        robot = User.objects.create_user(f"robot-{f}")
-        token = FleetToken.objects.create(fleet=fleet, user=robot, scope=FleetToken.Scope.ROBOT)
-        ns = f"bench-f{f}"
-        cluster = Cluster.objects.create(fleet=fleet, name=f"cluster-{f}", namespace=ns, kubeconfig=kubeconfig)
-        RTPolicy.objects.create(cluster=cluster, threshold_period=10, taint_duration_s=5)
+        token, cluster = fleet_rows(f, kubeconfig, taint_s=5)
+        ns = cluster.namespace
         containers = []
         for n in range(args.nodes):
             name = f"f{f}-n{n}"
@@ -275,22 +274,16 @@ def seed_live(args, kubeconfig: str) -> list[dict]:
     node otherwise). An evicted pod's replacement, made by the ReplicaSet controller, stays pending while the
     node's violation taint lasts (``--taint-s``) and is bound there again once the RT scheduler lifts it. The
     pods are bound by the RT scheduler processes (:func:`start_schedulers`)."""
-    from django.contrib.auth.models import User
 
-    from apps.clusters.models import Cluster, ComputeNode
+    from apps.clusters.models import ComputeNode
     from apps.realtime import sync
     from apps.realtime.kube import kube_for
-    from apps.realtime.models import RealTime, RealTimeWcet, RTPolicy
-    from apps.tenancy.models import Fleet, FleetToken
+    from apps.realtime.models import RealTime, RealTimeWcet
 
     fleets = []
     for f in range(args.fleets):
-        fleet = Fleet.objects.create(name=f"fleet-{f}")
-        robot = User.objects.create_user(f"robot-{f}")
-        token = FleetToken.objects.create(fleet=fleet, user=robot, scope=FleetToken.Scope.ROBOT)
-        ns = f"bench-f{f}"
-        cluster = Cluster.objects.create(fleet=fleet, name=f"cluster-{f}", namespace=ns, kubeconfig=kubeconfig)
-        RTPolicy.objects.create(cluster=cluster, threshold_period=10, taint_duration_s=args.taint_s)
+        token, cluster = fleet_rows(f, kubeconfig, taint_s=args.taint_s)
+        ns = cluster.namespace
         nodes = [ComputeNode.objects.create(cluster=cluster, name=f"f{f}-n{n}", cpu=1, memory_mib=3840, rt=True,
                                             criticality="A") for n in range(args.nodes)]  # fmt: skip
         containers, deployments = [], []
@@ -769,7 +762,7 @@ def main() -> None:
     if args.serve_worker:
         serve_worker(args.serve_worker, args.celery_threads, args.queue, args.worker_nice)
         return
-    db_url = create_database()
+    db_url = recreate_database(DB_URL)
     queue = f"bench-rtload-{os.getpid()}"  # private: no other worker on the broker takes its messages
     rt_queue = f"{queue}-rt"  # settings: CONTINUUM_RT_QUEUE defaults to the default queue's name + "-rt"
     os.environ.update(DATABASE_URL=db_url, LOG_LEVEL="WARNING", CELERY_BROKER_URL=args.broker, CELERY_QUEUE=queue)
@@ -842,7 +835,7 @@ def main() -> None:
 
         connections.close_all()
         if not args.keep:
-            drop_database()
+            drop_database(DB_URL)
     print_profile(profile_path)
     if request_profile is not None:
         import io

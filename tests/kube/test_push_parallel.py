@@ -244,6 +244,29 @@ class HoldingProxy:
                 s.close()
 
 
+@contextlib.contextmanager
+def answer_lost_once(kube_server, spy: Spy, call: str):
+    """An API client whose requests go through a :class:`HoldingProxy`: the answer to the first attempt of the
+    spied ``call`` reaches the server, but the client gives up on it after 1 s (the proxy holds it 4 s and drops
+    the connection). Run the push with one worker, so the armed proxy holds exactly that call's answer."""
+    from apps.kube import gateway
+
+    proxy = HoldingProxy(kube_server.port, hold=4.0)
+
+    def lose_the_answer(kwargs):
+        kwargs["_request_timeout"] = (5, 1)  # (connect, read) seconds
+        proxy.arm()
+
+    spy.before(call, lose_the_answer)
+    try:
+        text = kubeconfig_text(f"https://127.0.0.1:{proxy.port}", kube_server.token, kube_server.ca_path.read_bytes())
+        with gateway.api_client(text, name="through a proxy") as api_client:
+            yield api_client
+    finally:
+        proxy.close()
+    assert proxy.held == 1
+
+
 def test_a_create_that_timed_out_after_the_server_made_the_pod_is_retried_without_a_duplicate(
     kube, kube_namespace, kube_server, settings, monkeypatch
 ):
@@ -252,23 +275,10 @@ def test_a_create_that_timed_out_after_the_server_made_the_pod_is_retried_withou
     settings.CONTINUUM_KUBE_RETRY_BASE_S = 0.05
     spy = Spy(monkeypatch)
     pods = pod_set(kube_namespace)
-    proxy = HoldingProxy(kube_server.port, hold=4.0)
-    try:
-        text = kubeconfig_text(f"https://127.0.0.1:{proxy.port}", kube_server.token, kube_server.ca_path.read_bytes())
-        with gateway.api_client(text, name="through a proxy") as api_client:
-            placements = work(pods, live_hollow_nodes(api_client), 4)
-            target = placements[2][1]
-
-            def lose_the_answer(kwargs):
-                kwargs["_request_timeout"] = (5, 1)  # the client gives up on the answer after 1 s
-                proxy.arm()
-
-            spy.before(f"create pod {target}", lose_the_answer)
-            # One worker: the armed proxy holds exactly the create's answer, no other call's.
-            outcomes, fatal = gateway.push(pods, api_client, placements, workers=1)
-    finally:
-        proxy.close()
-    assert proxy.held == 1
+    placements = work(pods, live_hollow_nodes(kube.api_client), 4)
+    target = placements[2][1]
+    with answer_lost_once(kube_server, spy, f"create pod {target}") as api_client:
+        outcomes, fatal = gateway.push(pods, api_client, placements, workers=1)
     assert fatal is None
     assert all(o.ok for o in outcomes), [o.message for o in outcomes]
     assert spy.attempts[f"create pod {target}"] == 2  # timed out, retried, answered 409 ...
@@ -447,25 +457,12 @@ def test_a_deployment_create_that_timed_out_after_the_server_made_it_is_retried_
 
     settings.CONTINUUM_KUBE_RETRY_BASE_S = 0.05
     spy = Spy(monkeypatch, module=deployments_module)
-    proxy = HoldingProxy(kube_server.port, hold=4.0)
-    try:
-        text = kubeconfig_text(f"https://127.0.0.1:{proxy.port}", kube_server.token, kube_server.ca_path.read_bytes())
-        with gateway.api_client(text, name="through a proxy") as api_client:
-            nodes = live_hollow_nodes(api_client)
-            pusher = gateway.Deployments(api_client, kube_namespace, "continuum.io/spec-hash")
-            pusher.ensure_namespace()
-            bodies = [deployment(kube_namespace, f"d{i}", nodes[i % len(nodes)]) for i in range(3)]
-
-            def lose_the_answer(kwargs):
-                kwargs["_request_timeout"] = (5, 1)  # the client gives up on the answer after 1 s
-                proxy.arm()
-
-            spy.before("create Deployment d1", lose_the_answer)
-            # One worker: the armed proxy holds exactly the create's answer, no other call's.
-            results, fatal = pusher.apply_all([(b, None) for b in bodies], workers=1)
-    finally:
-        proxy.close()
-    assert proxy.held == 1
+    nodes = live_hollow_nodes(kube.api_client)
+    bodies = [deployment(kube_namespace, f"d{i}", nodes[i % len(nodes)]) for i in range(3)]
+    with answer_lost_once(kube_server, spy, "create Deployment d1") as api_client:
+        pusher = gateway.Deployments(api_client, kube_namespace, "continuum.io/spec-hash")
+        pusher.ensure_namespace()
+        results, fatal = pusher.apply_all([(b, None) for b in bodies], workers=1)
     assert fatal is None
     # d1: timed out, retried, answered 409, read once and found to be this manifest (by its hash): kept as it is.
     assert results == [(True, "created"), (True, "unchanged"), (True, "created")]
@@ -507,31 +504,19 @@ def test_a_deployment_replace_that_timed_out_after_the_server_did_it_is_retried_
 
     settings.CONTINUUM_KUBE_RETRY_BASE_S = 0.05
     apps = AppsV1Api(kube.api_client)
-    proxy = HoldingProxy(kube_server.port, hold=4.0)
-    try:
-        text = kubeconfig_text(f"https://127.0.0.1:{proxy.port}", kube_server.token, kube_server.ca_path.read_bytes())
-        with gateway.api_client(text, name="through a proxy") as api_client:
-            nodes = live_hollow_nodes(api_client)
-            pusher = gateway.Deployments(api_client, kube_namespace, "continuum.io/spec-hash")
-            pusher.ensure_namespace()
-            old = deployment(kube_namespace, "d0", nodes[0], image="registry.k8s.io/pause:3.8")
-            made = apps.create_namespaced_deployment(kube_namespace, old)
-            # Once rolled out its status stops changing: the resourceVersion listed below is still current when
-            # the replace is sent, so the first replace is done (not refused as stale) and only its answer lost.
-            wait_for("the old Deployment to be available", lambda: rolled_out(apps, kube_namespace, "d0"))
-            new = deployment(kube_namespace, "d0", nodes[0])
-            current = pusher.existing("continuum.io/group=parallel")
-            spy = Spy(monkeypatch, module=deployments_module)
-
-            def lose_the_answer(kwargs):
-                kwargs["_request_timeout"] = (5, 1)
-                proxy.arm()
-
-            spy.before("replace Deployment d0", lose_the_answer)
-            results, fatal = pusher.apply_all([(new, current.get("d0"))], workers=1)
-    finally:
-        proxy.close()
-    assert proxy.held == 1
+    node = live_hollow_nodes(kube.api_client)[0]
+    gateway.Deployments(kube.api_client, kube_namespace, "continuum.io/spec-hash").ensure_namespace()
+    made = apps.create_namespaced_deployment(
+        kube_namespace, deployment(kube_namespace, "d0", node, image="registry.k8s.io/pause:3.8")
+    )
+    # Once rolled out its status stops changing: the resourceVersion listed below is still current when the
+    # replace is sent, so the first replace is done (not refused as stale) and only its answer lost.
+    wait_for("the old Deployment to be available", lambda: rolled_out(apps, kube_namespace, "d0"))
+    spy = Spy(monkeypatch, module=deployments_module)
+    with answer_lost_once(kube_server, spy, "replace Deployment d0") as api_client:
+        pusher = gateway.Deployments(api_client, kube_namespace, "continuum.io/spec-hash")
+        current = pusher.existing("continuum.io/group=parallel")
+        results, fatal = pusher.apply_all([(deployment(kube_namespace, "d0", node), current.get("d0"))], workers=1)
     assert fatal is None
     assert results == [(True, "updated")]
     assert spy.attempts["replace Deployment d0"] == 2  # timed out, retried: 409 (the first one had been done) ...
