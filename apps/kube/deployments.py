@@ -69,6 +69,11 @@ class Deployments:
             server=self.server,
         )
 
+    def _write(self, method: Any, *args: Any, what: str) -> None:
+        """One create or replace, retried (:func:`~apps.kube.connect.call`); its answer is not used, so it is
+        read raw and drained, not parsed into models."""
+        pods.drain(call(method, *args, _preload_content=False, what=what, server=self.server))
+
     def _hash(self, current: dict[str, Any]) -> str | None:
         return ((current.get("metadata") or {}).get("annotations") or {}).get(self.hash_annotation)
 
@@ -79,15 +84,8 @@ class Deployments:
         wanted = body["metadata"]["annotations"][self.hash_annotation]
         if current is None:
             try:
-                pods.drain(  # the answer is not used: read raw, not parsed into models
-                    call(
-                        self.apps.create_namespaced_deployment,
-                        self.namespace,
-                        body,
-                        _preload_content=False,
-                        what=f"create Deployment {name}",
-                        server=self.server,
-                    )
+                self._write(
+                    self.apps.create_namespaced_deployment, self.namespace, body, what=f"create Deployment {name}"
                 )
                 return True, "created"
             except ApiException as exc:
@@ -102,16 +100,12 @@ class Deployments:
             replacement = json.loads(json.dumps(body))
             replacement["metadata"]["resourceVersion"] = current["metadata"]["resourceVersion"]
             try:
-                pods.drain(
-                    call(
-                        self.apps.replace_namespaced_deployment,
-                        name,
-                        self.namespace,
-                        replacement,
-                        _preload_content=False,
-                        what=f"replace Deployment {name}",
-                        server=self.server,
-                    )
+                self._write(
+                    self.apps.replace_namespaced_deployment,
+                    name,
+                    self.namespace,
+                    replacement,
+                    what=f"replace Deployment {name}",
                 )
                 return True, "updated"
             except ApiException as exc:
