@@ -27,7 +27,7 @@ the load average, a cProfile of the worker's tasks and of the report request (in
 
     python benchmarks/rt_monitoring_load.py [--mode live --fleets 4 --nodes 3 --victims 4 --rate 2000 --batch 25
         --duration 20 --violation-every 1 --taint-s 2 --workers 8 --celery-threads 8 --worker-nice 0]
-        [--broker redis://127.0.0.1:6379/0]   (BENCH_DB: the database's name)
+        [--broker redis://127.0.0.1:6379/0] [--profile-schedulers]   (BENCH_DB: the database's name)
 """
 
 from __future__ import annotations
@@ -79,7 +79,10 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     p.add_argument("--worker-nice", type=int, default=0, help="nice value of the rt_reconcile worker (negative: "
                    "ahead of the web workers for the CPU, as an RT component would run; needs root)")  # fmt: skip
+    p.add_argument("--profile-schedulers", action="store_true", help="cProfile the RT schedulers' process (live "
+                   "mode; every thread) and print where its CPU went")  # fmt: skip
     p.add_argument("--serve-schedulers", help=argparse.SUPPRESS)  # a child process: cluster ids
+    p.add_argument("--profile-to", help=argparse.SUPPRESS)  # the schedulers' process: where its profile goes
     p.add_argument("--serve-worker", help=argparse.SUPPRESS)  # a child process: the profile's path
     p.add_argument("--queue", help=argparse.SUPPRESS)
     args = p.parse_args()
@@ -352,15 +355,21 @@ def wait_bound(core, fleets: list[dict], timeout: float = 600) -> None:
         time.sleep(1.0)
 
 
-def start_schedulers(env: dict, fleets: list[dict]) -> subprocess.Popen:
+def start_schedulers(env: dict, fleets: list[dict], profile_path: str | None = None) -> subprocess.Popen:
     """One process with an RT scheduler thread per fleet's cluster (as ``manage.py rt_scheduler`` runs it)."""
     ids = ",".join(str(f["cluster"]) for f in fleets)
     log = open("/tmp/continuum-rt-load-schedulers.log", "w")  # noqa: SIM115 - lives as long as the process
-    return subprocess.Popen([sys.executable, __file__, "--serve-schedulers", ids], cwd=ROOT, env=env, stdout=log,
-                            stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+    profile = ["--profile-to", profile_path] if profile_path else []
+    argv = [sys.executable, __file__, "--serve-schedulers", ids, *profile]
+    return subprocess.Popen(argv, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
 
 
-def serve_schedulers(ids: str) -> None:
+def serve_schedulers(ids: str, profile_path: str | None = None) -> None:
+    """The RT schedulers' process; with ``profile_path``, every thread started here (the schedulers' loops, their
+    watches, binders and writers) is profiled from its first call (in its own CPU time), and the merged profile is
+    written there."""
+    import cProfile
+    import pstats
     import signal
     import threading
 
@@ -369,6 +378,16 @@ def serve_schedulers(ids: str) -> None:
     django.setup()
     from apps.realtime.scheduler import RTScheduler
 
+    profiles: list[cProfile.Profile] = []
+    if profile_path:
+
+        def profile_this_thread(*_) -> None:  # the thread's first profile event: hand over to cProfile
+            sys.setprofile(None)
+            prof = cProfile.Profile(time.thread_time)  # CPU time: where the CPU went, not who waited
+            profiles.append(prof)
+            prof.enable()
+
+        threading.setprofile(profile_this_thread)
     stop = threading.Event()
     schedulers = [RTScheduler(int(i)) for i in ids.split(",")]
     signal.signal(signal.SIGTERM, lambda *_: [stop.set()] + [s.wake.set() for s in schedulers])
@@ -378,6 +397,11 @@ def serve_schedulers(ids: str) -> None:
     for t in threads:
         t.join()
     print(" ".join(f"{s.cluster_id}: {s.cycles} cycles, {s.errors} failed" for s in schedulers), flush=True)
+    if profiles:
+        stats = pstats.Stats(profiles[0])
+        for prof in profiles[1:]:
+            stats.add(prof)
+        stats.dump_stats(profile_path)
 
 
 def serve_worker(profile_path: str, threads: int, queue: str, nice: int = 0) -> None:
@@ -757,7 +781,7 @@ def stage_table(events: list[dict]) -> None:
 def main() -> None:
     args = parse_args()
     if args.serve_schedulers:
-        serve_schedulers(args.serve_schedulers)
+        serve_schedulers(args.serve_schedulers, args.profile_to)
         return
     if args.serve_worker:
         serve_worker(args.serve_worker, args.celery_threads, args.queue, args.worker_nice)
@@ -772,6 +796,7 @@ def main() -> None:
     env = dict(os.environ, DEBUG="0")
     subprocess.run([sys.executable, "manage.py", "migrate", "-v0"], cwd=ROOT, env=env, check=True)
     profile_path = tempfile.mktemp(prefix="rt-worker-", suffix=".prof")
+    schedulers_profile = tempfile.mktemp(prefix="rt-schedulers-", suffix=".prof") if args.profile_schedulers else None
     dev = server = gunicorn = worker = schedulers = ref = request_profile = None
     try:
         import django
@@ -788,7 +813,7 @@ def main() -> None:
             kubeconfig = dev.kubeconfig()
             kube_pids = list(dev.processes().values())
             fleets = seed_live(args, kubeconfig)
-            schedulers = start_schedulers(env, fleets)
+            schedulers = start_schedulers(env, fleets, schedulers_profile)
             core = plain_core_api(kubeconfig)
             wait_bound(core, fleets)
             ref = Reference(kubeconfig, "bench-ref")
@@ -837,6 +862,8 @@ def main() -> None:
         if not args.keep:
             drop_database(DB_URL)
     print_profile(profile_path)
+    if schedulers_profile:
+        print_schedulers_profile(schedulers_profile)
     if request_profile is not None:
         import io
         import pstats
@@ -914,6 +941,26 @@ def profile_requests(fleets: list[dict], args, n: int = 200):
     cpu = time.process_time() - cpu
     assert response.status_code == 201, response.content[:300]
     return 1000 * cpu / n, prof
+
+
+def print_schedulers_profile(path: str) -> None:
+    import io
+    import pstats
+
+    if not Path(path).exists():
+        print("\n(no profile of the RT schedulers: their process did not stop cleanly)")
+        return
+    stats = pstats.Stats(path, stream=io.StringIO())
+    Path(path).unlink()
+    for order in ("cumulative", "tottime"):
+        out = io.StringIO()
+        stats.stream = out
+        stats.sort_stats(order).print_stats(25)
+        lines = [line for line in out.getvalue().splitlines() if line.strip()]
+        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
+        print(f"\ncProfile of the RT schedulers' process (CPU time of every thread, set-up included), top 25 by "
+              f"{order}:")  # fmt: skip
+        print("\n".join(lines[start : start + 26]))
 
 
 def print_profile(path: str) -> None:
