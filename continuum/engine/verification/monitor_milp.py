@@ -1225,7 +1225,25 @@ def _greedy(stats: MonitorStats, cl: _Classes, improve: float | None = None) -> 
             return repaired, False
     if improve is not None:
         repaired = _improve(stats, cl, repaired, delay, tcpu, improve)
+        seeded = _partition(stats, cl, delay, tcpu, improve)
+        if seeded is not None:
+            seeded = _improve(stats, cl, seeded, delay, tcpu, improve)
+            if _cost(stats, cl, seeded, delay, improve) < _cost(stats, cl, repaired, delay, improve) - 1e-9:
+                repaired = seeded
     return repaired, True
+
+
+def _cost(stats: MonitorStats, cl: _Classes, placement: Mapping[str, str], delay: np.ndarray, epsilon: float) -> float:
+    """The objective of a placement: Σ delay over received (topic, unit) pairs + ε per migration."""
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    received: set[tuple[int, int]] = set()
+    moved = 0
+    for c, members in enumerate(cl.members):
+        for a in members:
+            b = node_ix[placement[stats.monitors[a]]]
+            received.update((k, b) for k in cl.group_topics[cl.group[c]])
+            moved += cl.current[c] is not None and cl.current[c] != b
+    return sum(float(delay[k, b]) for k, b in received) + epsilon * moved
 
 
 def _improve(
@@ -1304,6 +1322,201 @@ def _improve(
         if not moved:
             break
     return {i: stats.nodes[place[a]] for a, i in enumerate(stats.monitors)}
+
+
+class _Plan:
+    """A placement with exact incremental bookkeeping: receivers per (unit, topic), monitor CPU per unit.
+    The objective and the capacity check of any candidate are then a few array operations, so that the
+    robot-level search of :func:`_partition` can evaluate every candidate exactly instead of estimating."""
+
+    def __init__(
+        self, stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray, epsilon: float, place: np.ndarray
+    ):
+        j_count, k_count = len(stats.nodes), len(stats.topics)
+        self.cls_of = np.zeros(len(stats.monitors), dtype=int)
+        for c, members in enumerate(cl.members):
+            self.cls_of[members] = c
+        self.cpu = cl.cpu[self.cls_of]  # monitor x unit
+        self.reads = np.zeros((len(stats.monitors), k_count))  # monitor x topic incidence
+        for a, c in enumerate(self.cls_of):
+            self.reads[a, cl.group_topics[cl.group[c]]] = 1
+        self.group = np.array([cl.group[c] for c in self.cls_of], dtype=int)
+        self.allowed = (cl.allowed if cl.allowed is not None else np.ones((len(cl.members), j_count), dtype=bool))[
+            self.cls_of
+        ]
+        self.current = np.array([-1 if cl.current[c] is None else cl.current[c] for c in self.cls_of])
+        self.cap = np.array([stats.capacity()[j] for j in stats.nodes])
+        self.delay_t, self.tcpu_t = delay.T.copy(), tcpu.T.copy()  # unit x topic
+        self.epsilon = epsilon
+        self.place = place.copy()
+        self.readers = np.zeros((j_count, k_count))  # unit x topic
+        np.add.at(self.readers, self.place, self.reads)
+        self.load = np.bincount(self.place, weights=self.cpu[np.arange(len(place)), self.place], minlength=j_count)
+
+    def copy(self) -> _Plan:
+        other = object.__new__(_Plan)
+        other.__dict__.update(self.__dict__)
+        other.place, other.readers, other.load = self.place.copy(), self.readers.copy(), self.load.copy()
+        return other
+
+    def totals(self) -> np.ndarray:
+        return self.load + (self.tcpu_t * (self.readers > 0)).sum(axis=1)
+
+    def objective(self) -> float:
+        moved = int(((self.place != self.current) & (self.current >= 0)).sum())
+        return float((self.delay_t * (self.readers > 0)).sum()) + self.epsilon * moved
+
+    def move(self, monitors: np.ndarray, b: int) -> None:
+        if not len(monitors):
+            return
+        src = self.place[monitors]
+        np.add.at(self.readers, src, -self.reads[monitors])
+        self.readers[b] += self.reads[monitors].sum(axis=0)
+        np.subtract.at(self.load, src, self.cpu[monitors, src])
+        self.load[b] += float(self.cpu[monitors, b].sum())
+        self.place[monitors] = b
+
+    def shed(self, r: int, h: int) -> float:
+        """Move monitors from overloaded unit r to unit h, one topic set at a time, cheapest added delay
+        (minus the delay r stops paying) per CPU freed first, while h has room; returns r's remaining
+        excess. Whole topic sets go together so that h receives each topic once."""
+        while True:
+            total = self.totals()
+            over = total[r] - self.cap[r]
+            if over <= 1e-9:
+                return 0.0
+            on = np.nonzero((self.place == r) & self.allowed[:, h])[0]
+            if not len(on):
+                return over
+            groups, first, inv = np.unique(self.group[on], return_index=True, return_inverse=True)
+            g_reads = self.reads[on[first]]  # group x topic
+            size = np.bincount(inv, minlength=len(groups)).astype(float)
+            added = g_reads @ (self.delay_t[h] * (self.readers[h] == 0))
+            added_cpu = g_reads @ (self.tcpu_t[h] * (self.readers[h] == 0))
+            alone = g_reads * (self.readers[r] == size[:, None])  # topics only this group reads on r
+            saved = alone @ self.delay_t[r]
+            freed = np.bincount(inv, weights=self.cpu[on, r], minlength=len(groups)) + alone @ self.tcpu_t[r]
+            room = self.cap[h] - total[h] - added_cpu
+            smallest = np.full(len(groups), np.inf)
+            np.minimum.at(smallest, inv, self.cpu[on, h])
+            fits = room >= smallest - 1e-9  # at least one member fits
+            if not fits.any():
+                return over
+            score = np.where(fits, (added - saved + 1e-6) / np.maximum(freed, 1e-9), np.inf)
+            g = int(np.argmin(score))
+            members = on[inv == g]
+            members = members[np.argsort(-self.cpu[members, r], kind="stable")]
+            take, used, got = [], 0.0, 0.0
+            for m in members:  # largest first; one that does not fit is skipped, a smaller one may
+                if used + self.cpu[m, h] > room[g] + 1e-9:
+                    continue
+                take.append(int(m))
+                used += self.cpu[m, h]
+                got += self.cpu[m, r]
+                if got >= over - 1e-9:
+                    break
+            self.move(np.array(take, dtype=int), h)
+
+    def relieve(self, r: int, first: int | None, order: list[int]) -> bool:
+        """Shed r's excess to ``first``, then to the units of ``order`` in turn; True when r fits."""
+        hosts = ([first] if first is not None else []) + [h for h in order if h != first]
+        for h in hosts:
+            if h != r and self.shed(r, h) <= 1e-9:
+                return True
+        return self.totals()[r] <= self.cap[r] + 1e-9
+
+
+def _partition(
+    stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray, epsilon: float, max_passes: int = 8
+) -> dict[str, str] | None:
+    """Robot-level allocation for fleets whose units cannot keep their monitors: decide, for each
+    overloaded unit r, which unit hosts its overflow (kept together, so that the host receives r's topics
+    once), then search over those choices: move one unit's overflow to another host, or swap the hosts
+    of two overloaded units (cross reads make two units' overflow cheaper on the same host). Every
+    candidate is evaluated exactly (:class:`_Plan`): the delay is the sum over received (topic, unit)
+    pairs and a candidate is kept only when every capacity holds. The integer problem is partition-like
+    (which intermediate unit hosts which robots) and the per-monitor moves of :func:`_improve` cannot
+    cross its valleys; this one does. Deterministic: fixed orders, ties by index. None when some unit
+    cannot be relieved."""
+    j_count = len(stats.nodes)
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    start = np.zeros(len(stats.monitors), dtype=int)
+    for c, members in enumerate(cl.members):
+        cur = cl.current[c]
+        if cur is None or (cl.allowed is not None and not cl.allowed[c, cur]):
+            cur = int(np.argmax(cl.allowed[c])) if cl.allowed is not None else 0
+        start[members] = cur
+    del node_ix
+    plan = _Plan(stats, cl, delay, tcpu, epsilon, start)
+    excess = plan.totals() - plan.cap
+    over = [int(r) for r in np.argsort(-excess, kind="stable") if excess[r] > 1e-9]
+    if not over:
+        return None
+    # fallback hosts when the chosen one fills up: fewest added delay for the overloaded units' topics
+    # per unit of room (a static order keeps the search deterministic and cheap)
+    origin = start.copy()
+
+    def fallback(r: int) -> list[int]:
+        topics = plan.reads[origin == r].any(axis=0)
+        cost = plan.delay_t[:, topics].sum(axis=1)
+        return [int(h) for h in np.lexsort((np.arange(j_count), cost)) if h != r]
+
+    orders = {r: fallback(r) for r in over}
+
+    def replan(base: _Plan, moves: list[tuple[int, int]]) -> _Plan | None:
+        trial = base.copy()
+        for r, _ in moves:  # every monitor of these units comes home first
+            back = np.nonzero((origin == r) & (trial.place != r))[0]
+            trial.move(back, r)
+        for r, h in moves:
+            if not trial.relieve(r, h, orders[r]):
+                return None
+        if np.any(trial.totals() > trial.cap + 1e-9):
+            return None
+        return trial
+
+    for r in over:  # construction: each overloaded unit in turn (largest excess first) takes its best host
+        best: tuple[float, int, _Plan] | None = None
+        for h in orders[r]:
+            trial = plan.copy()
+            if not trial.relieve(r, h, orders[r]) and trial.totals()[r] > trial.cap[r] + 1e-9:
+                continue
+            value = trial.objective()
+            if best is None or value < best[0] - 1e-9:
+                best = (value, h, trial)
+        if best is None:
+            return None
+        plan = best[2]
+    if np.any(plan.totals() > plan.cap + 1e-9):
+        return None
+
+    def host(r: int) -> int:  # where most of r's overflow sits
+        away = plan.place[(origin == r) & (plan.place != r)]
+        return int(np.bincount(away, minlength=j_count).argmax()) if len(away) else r
+
+    value = plan.objective()
+    for _ in range(max_passes):
+        improved = False
+        for r in over:  # move one unit's overflow to another host
+            for h in orders[r]:
+                if h == host(r):
+                    continue
+                trial = replan(plan, [(r, h)])
+                if trial is not None and trial.objective() < value - 1e-9:
+                    plan, value, improved = trial, trial.objective(), True
+        for x, r1 in enumerate(over):  # swap the hosts of two units
+            for r2 in over[x + 1 :]:
+                h1, h2 = host(r1), host(r2)
+                if h1 == h2 or h1 == r2 or h2 == r1:
+                    continue
+                for moves in ([(r1, h2), (r2, h1)], [(r2, h1), (r1, h2)]):
+                    trial = replan(plan, moves)
+                    if trial is not None and trial.objective() < value - 1e-9:
+                        plan, value, improved = trial, trial.objective(), True
+                        break
+        if not improved:
+            break
+    return {i: stats.nodes[plan.place[a]] for a, i in enumerate(stats.monitors)}
 
 
 def _repair(stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray) -> dict[str, str] | None:
