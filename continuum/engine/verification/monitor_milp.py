@@ -1541,6 +1541,7 @@ def _partition(
         return int(np.bincount(away, minlength=j_count).argmax()) if len(away) else r
 
     value = plan.objective()
+    homes = sorted({int(r) for r in origin})
     for _ in range(max_passes):
         improved = False
         for r in over:  # move one unit's overflow to another host
@@ -1550,6 +1551,16 @@ def _partition(
                 trial = replan(plan, [(r, h)])
                 if trial is not None and trial.objective() < value - 1e-9:
                     plan, value, improved = trial, trial.objective(), True
+        for r in homes:  # move every monitor still at home on r: cross reads favour whole robots on one
+            at_home = np.nonzero((origin == r) & (plan.place == r))[0]  # host (their foreign topics arrive
+            for h in range(j_count):  # there once for all of them)
+                if h == r or not len(at_home) or not plan.allowed[at_home, h].all():
+                    continue
+                trial = plan.copy()
+                trial.move(at_home, h)
+                if np.all(trial.totals() <= trial.cap + 1e-9) and trial.objective() < value - 1e-9:
+                    plan, value, improved = trial, trial.objective(), True
+                    at_home = np.nonzero((origin == r) & (plan.place == r))[0]
         for x, r1 in enumerate(over):  # swap the hosts of two units
             for r2 in over[x + 1 :]:
                 h1, h2 = host(r1), host(r2)
