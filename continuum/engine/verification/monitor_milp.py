@@ -1548,9 +1548,9 @@ def _partition(
             for h in orders[r]:
                 if h == host(r):
                     continue
-                trial = replan(plan, [(r, h)])
-                if trial is not None and trial.objective() < value - 1e-9:
-                    plan, value, improved = trial, trial.objective(), True
+                found = replan(plan, [(r, h)])
+                if found is not None and found.objective() < value - 1e-9:
+                    plan, value, improved = found, found.objective(), True
         for r in homes:  # move every monitor still at home on r: cross reads favour whole robots on one
             at_home = np.nonzero((origin == r) & (plan.place == r))[0]  # host (their foreign topics arrive
             for h in range(j_count):  # there once for all of them)
@@ -1567,9 +1567,9 @@ def _partition(
                 if h1 in (h2, r2) or h2 == r1:
                     continue
                 for moves in ([(r1, h2), (r2, h1)], [(r2, h1), (r1, h2)]):
-                    trial = replan(plan, moves)
-                    if trial is not None and trial.objective() < value - 1e-9:
-                        plan, value, improved = trial, trial.objective(), True
+                    found = replan(plan, moves)
+                    if found is not None and found.objective() < value - 1e-9:
+                        plan, value, improved = found, found.objective(), True
                         break
         if not improved:
             break
