@@ -46,7 +46,12 @@ How it is solved (equivalent to the form above, faster):
   must hold that many monitors (cross-robot 500 x 5 fleet, where the cloud takes the overflow: root
   bound 668 -> 824).
 * The matrix is assembled with numpy/scipy.sparse in one go; HiGHS (highspy) solves it, warm-started with
-  a repair heuristic improved by local search (:func:`_improve`), within a time limit (the allocation
+  the better of two seeds, each improved by local search (:func:`_improve`): a repair heuristic, and
+  (``"covers"``) a robot-level one (:func:`_partition`) that decides which unit hosts each overloaded
+  unit's overflow (kept together, so that the host receives its topics once) and then moves and swaps
+  those host choices, every candidate evaluated exactly. The MILP restricted to the seed's neighbourhood
+  (each monitor on its current unit or on a unit hosting monitors of the same current unit; one node,
+  :func:`_neighbourhood`) improves it first. Then the whole MILP runs within a time limit (the allocation
   period) or a budget of branch-and-bound nodes (``work_limit``, reproducible); past it the best
   allocation found, polished by the same local search, is returned with its optimality gap.
 * ``formulation`` keeps the earlier models selectable for comparison: ``"textbook"`` (the form above,
@@ -69,11 +74,24 @@ Measured by benchmarks/milp_scaling.py --formulations covers,classes,textbook --
   intermediate units, and hosts a fraction of every monitor on each, so that cross-robot reads cost
   nothing; an integer allocation partitions the robots among those units and pays for the reads that
   cross the partition. A bound that sees this needs per-unit patterns (Dantzig-Wolfe / column
-  generation); not done. What the covers formulation improves there is the allocation returned at the
-  limit (local search: delay 2257 -> 1361 at 1000 x 20, 1581 -> 1258 at 500 x 10) and, where the cloud
-  must take the overflow, the root bound (host covers: 668 -> 824 at 500 x 5). The local search is far
-  from optimal, though: given 900 s (430 s CPU, 5521 nodes) HiGHS reaches delay 412 at 500 x 10 with a
-  bound of 333 (gap 19 %), so both sides of the gap still need work.
+  generation); not done, and the bound is unchanged. What the covers formulation improves there is the
+  allocation returned. The old seed (repair + local search) had delay 1258 at 500 x 10 uniform (922
+  heterogeneous) and 1361 (1415) at 1000 x 20, where HiGHS given 900 s reaches 412 at 500 x 10 uniform
+  with a bound of 333. The robot-level seed (:func:`_partition` + :func:`_improve`) gives 621 (569) in
+  0.3 s CPU and 1124 (1107) in 1.8 s; the neighbourhood step then 545 (442) in ~1 s and 970 (1000) in
+  ~10 s. Side by side (load 3-9): at 1000 x 20 with --time-limit 30, delay 1361 -> 970 (uniform, gap
+  53 % -> 34 % against the root bound 636) and 1414 -> 1000 (heterogeneous, no bound reached by either),
+  17-29 s CPU (the neighbourhood step gets at most half of the time left); at 500 x 10 with
+  ``work_limit=1`` (the root node only, where HiGHS's own heuristics also improve the start), 577 -> 544
+  and 447 -> 436, 10 -> 14 s and 26 -> 36 s CPU (gaps 44 % and 30 % against root bounds 307 and 304).
+  On the robot-local fleets the seed costs 0.2-0.6 s CPU per solve (1000 x 20: 0.74 -> 0.96 s and
+  1.72 -> 2.34 s, both still optimal) and finds 245 (gap 5 %) where the heterogeneous 500 x 10 fleet had
+  331 with no bound at the limit.
+* The root node is not capped by ``work_limit``: at 1000 x 20 cross-robot it takes ~85 s CPU (its LP
+  ~10 s; at 300 x 15, 16 of the root's 22 s are HiGHS's sub-MIP heuristics, RINS/RENS). HiGHS 1.15.1
+  does not apply ``simplex_iteration_limit`` to a MIP and its callback reports no LP iteration count,
+  so highspy offers no LP-work cap; switching the sub-MIP heuristics off takes kairos_monitors from 19.0
+  to 15.3 s CPU but changes its allocations, so it is not done.
 """
 
 from __future__ import annotations
@@ -951,7 +969,8 @@ def allocate(
         cl.allowed = _candidates(stats, cl, max_candidates)
     greedy, fits = _greedy(stats, cl, epsilon if formulation == "covers" else None)
     if fits and formulation == "covers" and cl.allowed is None:
-        greedy = _neighbourhood(stats, cl, greedy, epsilon, left, mip_rel_gap)
+        # at most half of the time left, so that the whole model still gets to its root bound
+        greedy = _neighbourhood(stats, cl, greedy, epsilon, lambda: left() / 2, mip_rel_gap)
     model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
     res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
