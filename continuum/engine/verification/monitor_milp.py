@@ -84,17 +84,18 @@ Measured by benchmarks/milp_scaling.py --formulations covers,classes,textbook --
   17-29 s CPU (the neighbourhood step gets at most half of the time left; with --time-limit 10, load
   2-5: 1361 -> 980 and 1414 -> 1000, and neither reaches the root bound, which the old code reached for
   the uniform fleet, gap 53 %); at 500 x 10 with --time-limit 10, 577 -> 544 (gap 47 % -> 44 %) and
-  922 -> 442 (67 % -> 32 %), and with
-  ``work_limit=1`` (the root node only, where HiGHS's own heuristics also improve the start), 577 -> 544
-  and 447 -> 436, 10 -> 14 s and 26 -> 36 s CPU (gaps 44 % and 30 % against root bounds 307 and 304).
+  922 -> 442 (67 % -> 32 %), and with ``work_limit=1`` (the root node only, where HiGHS's own
+  heuristics also improve the start) 577 -> 544 and 447 -> 436, 10 -> 14 s and 26 -> 36 s CPU (gaps
+  44 % and 30 % against root bounds 307 and 304).
   On the robot-local fleets the seed costs 0.2-0.6 s CPU per solve (1000 x 20: 0.47 -> 0.64 s and
   1.30 -> 1.61 s at load 2-5, 0.74 -> 0.96 s and 1.72 -> 2.34 s at load 6, all optimal) and finds 245
   (gap 5 %) where the heterogeneous 500 x 10 fleet had 331 (gap 30 %) at the limit.
 * The root node is not capped by ``work_limit``: at 1000 x 20 cross-robot it takes ~85 s CPU (its LP
   ~10 s; at 300 x 15, 16 of the root's 22 s are HiGHS's sub-MIP heuristics, RINS/RENS). HiGHS 1.15.1
-  does not apply ``simplex_iteration_limit`` to a MIP and its callback reports no LP iteration count,
-  so highspy offers no LP-work cap; switching the sub-MIP heuristics off takes kairos_monitors from 19.0
-  to 15.3 s CPU but changes its allocations, so it is not done.
+  did not stop a MIP at ``simplex_iteration_limit`` (2,000 changed nothing at 500 x 10) and its
+  callback reports no LP iteration count, so highspy offers no LP-work cap; switching the sub-MIP
+  heuristics off takes kairos_monitors from 19.0 to 15.3 s CPU but changes its allocations, so it is
+  not done.
 """
 
 from __future__ import annotations
