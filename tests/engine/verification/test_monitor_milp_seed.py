@@ -94,3 +94,13 @@ def test_on_a_cross_robot_fleet_the_seeds_beat_repair_and_local_search_and_are_r
     assert _fits(stats, stepped)
     assert _cost(stats, cl, stepped, delay, 1e-3) <= partition
     assert stepped == _neighbourhood(stats, cl, seeded, 1e-3, lambda: math.inf, 1e-4)
+
+
+def test_the_small_instances_exercise_the_partition_seed():
+    """The brute-force instances above are not all trivial for it: on many some unit must be relieved."""
+    seeded = 0
+    for seed in SEEDS:
+        stats = MonitorStats.from_dict(_instance(seed))
+        cl = _classes(stats, complete_cpu(stats), False)
+        seeded += _partition(stats, cl, *_arrays(stats), 1e-3) is not None
+    assert seeded >= 10
