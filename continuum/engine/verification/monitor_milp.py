@@ -1500,30 +1500,29 @@ def _partition(
 ) -> dict[str, str] | None:
     """Robot-level allocation for fleets whose units cannot keep their monitors: decide, for each
     overloaded unit r, which unit hosts its overflow (kept together, so that the host receives r's topics
-    once), then search over those choices: move one unit's overflow to another host, or swap the hosts
-    of two overloaded units (cross reads make two units' overflow cheaper on the same host). Every
+    once), then search over those choices: move one unit's overflow to another host, move every monitor
+    still at home on a unit to one host, or swap the hosts of two overloaded units (cross reads make two
+    units' monitors cheaper on the same host). Every
     candidate is evaluated exactly (:class:`_Plan`): the delay is the sum over received (topic, unit)
     pairs and a candidate is kept only when every capacity holds. The integer problem is partition-like
     (which intermediate unit hosts which robots) and the per-monitor moves of :func:`_improve` cannot
     cross its valleys; this one does. Deterministic: fixed orders, ties by index. None when some unit
     cannot be relieved."""
     j_count = len(stats.nodes)
-    node_ix = {j: b for b, j in enumerate(stats.nodes)}
-    start = np.zeros(len(stats.monitors), dtype=int)
+    # every monitor starts on its current unit (as in _repair: else its first allowed unit)
+    origin = np.zeros(len(stats.monitors), dtype=int)
     for c, members in enumerate(cl.members):
         cur = cl.current[c]
         if cur is None or (cl.allowed is not None and not cl.allowed[c, cur]):
             cur = int(np.argmax(cl.allowed[c])) if cl.allowed is not None else 0
-        start[members] = cur
-    del node_ix
-    plan = _Plan(stats, cl, delay, tcpu, epsilon, start)
+        origin[members] = cur
+    plan = _Plan(stats, cl, delay, tcpu, epsilon, origin)
     excess = plan.totals() - plan.cap
     over = [int(r) for r in np.argsort(-excess, kind="stable") if excess[r] > 1e-9]
     if not over:
         return None
-    # fallback hosts when the chosen one fills up: fewest added delay for the overloaded units' topics
-    # per unit of room (a static order keeps the search deterministic and cheap)
-    origin = start.copy()
+    # fallback hosts when the chosen one fills up: least total delay of the unit's topics first (a static
+    # order keeps the search deterministic and cheap)
 
     def fallback(r: int) -> list[int]:
         topics = plan.reads[origin == r].any(axis=0)
