@@ -46,7 +46,12 @@ How it is solved (equivalent to the form above, faster):
   must hold that many monitors (cross-robot 500 x 5 fleet, where the cloud takes the overflow: root
   bound 668 -> 824).
 * The matrix is assembled with numpy/scipy.sparse in one go; HiGHS (highspy) solves it, warm-started with
-  a repair heuristic improved by local search (:func:`_improve`), within a time limit (the allocation
+  the better of two seeds, each improved by local search (:func:`_improve`): a repair heuristic, and
+  (``"covers"``) a robot-level one (:func:`_partition`) that decides which unit hosts each overloaded
+  unit's overflow (kept together, so that the host receives its topics once) and then moves and swaps
+  those host choices, every candidate evaluated exactly. The MILP restricted to the seed's neighbourhood
+  (each monitor on its current unit or on a unit hosting monitors of the same current unit; one node,
+  :func:`_neighbourhood`) improves it first. Then the whole MILP runs within a time limit (the allocation
   period) or a budget of branch-and-bound nodes (``work_limit``, reproducible); past it the best
   allocation found, polished by the same local search, is returned with its optimality gap.
 * ``formulation`` keeps the earlier models selectable for comparison: ``"textbook"`` (the form above,
@@ -69,11 +74,28 @@ Measured by benchmarks/milp_scaling.py --formulations covers,classes,textbook --
   intermediate units, and hosts a fraction of every monitor on each, so that cross-robot reads cost
   nothing; an integer allocation partitions the robots among those units and pays for the reads that
   cross the partition. A bound that sees this needs per-unit patterns (Dantzig-Wolfe / column
-  generation); not done. What the covers formulation improves there is the allocation returned at the
-  limit (local search: delay 2257 -> 1361 at 1000 x 20, 1581 -> 1258 at 500 x 10) and, where the cloud
-  must take the overflow, the root bound (host covers: 668 -> 824 at 500 x 5). The local search is far
-  from optimal, though: given 900 s (430 s CPU, 5521 nodes) HiGHS reaches delay 412 at 500 x 10 with a
-  bound of 333 (gap 19 %), so both sides of the gap still need work.
+  generation); not done, and the bound is unchanged. What the covers formulation improves there is the
+  allocation returned. The old seed (repair + local search) had delay 1258 at 500 x 10 uniform (922
+  heterogeneous) and 1361 (1415) at 1000 x 20, where HiGHS given 900 s reaches 412 at 500 x 10 uniform
+  with a bound of 333. The robot-level seed (:func:`_partition` + :func:`_improve`) gives 621 (569) in
+  0.3 s CPU and 1124 (1107) in 1.8 s; the neighbourhood step then 545 (442) in ~1 s and 970 (1000) in
+  ~10 s. Side by side (load 3-9): at 1000 x 20 with --time-limit 30, delay 1361 -> 970 (uniform, gap
+  53 % -> 34 % against the root bound 636) and 1414 -> 1000 (heterogeneous, no bound reached by either),
+  17-29 s CPU (the neighbourhood step gets at most half of the time left; with --time-limit 10, load
+  2-5: 1361 -> 980 and 1414 -> 1000, and neither reaches the root bound, which the old code reached for
+  the uniform fleet, gap 53 %); at 500 x 10 with --time-limit 10, 577 -> 544 (gap 47 % -> 44 %) and
+  922 -> 442 (67 % -> 32 %), and with ``work_limit=1`` (the root node only, where HiGHS's own
+  heuristics also improve the start) 577 -> 544 and 447 -> 436, 10 -> 14 s and 26 -> 36 s CPU (gaps
+  44 % and 30 % against root bounds 307 and 304).
+  On the robot-local fleets the seed costs 0.2-0.6 s CPU per solve (1000 x 20: 0.47 -> 0.64 s and
+  1.30 -> 1.61 s at load 2-5, 0.74 -> 0.96 s and 1.72 -> 2.34 s at load 6, all optimal) and finds 245
+  (gap 5 %) where the heterogeneous 500 x 10 fleet had 331 (gap 30 %) at the limit.
+* The root node is not capped by ``work_limit``: at 1000 x 20 cross-robot it takes ~85 s CPU (its LP
+  ~10 s; at 300 x 15, 16 of the root's 22 s are HiGHS's sub-MIP heuristics, RINS/RENS). HiGHS 1.15.1
+  did not stop a MIP at ``simplex_iteration_limit`` (2,000 changed nothing at 500 x 10) and its
+  callback reports no LP iteration count, so highspy offers no LP-work cap; switching the sub-MIP
+  heuristics off takes kairos_monitors from 19.0 to 15.3 s CPU but changes its allocations, so it is
+  not done.
 """
 
 from __future__ import annotations
@@ -950,6 +972,9 @@ def allocate(
     if max_candidates is not None:
         cl.allowed = _candidates(stats, cl, max_candidates)
     greedy, fits = _greedy(stats, cl, epsilon if formulation == "covers" else None)
+    if fits and formulation == "covers" and cl.allowed is None:
+        # at most half of the time left, so that the whole model still gets to its root bound
+        greedy = _neighbourhood(stats, cl, greedy, epsilon, lambda: left() / 2, mip_rel_gap)
     model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
     res = _solve(model, _vector(model, stats, cl, greedy) if fits else None, left(), mip_rel_gap, work_limit)
     if res.x is not None:
@@ -972,6 +997,50 @@ def allocate(
         return _result(stats, cpu, placement, True, "time_limit", best.gap, started, lit)
     proven = res.status == "infeasible" or r1.status == "optimal"
     return _result(stats, cpu, placement, False, "overloaded" if proven else "time_limit", best.gap, started, lit)
+
+
+# Branch-and-bound nodes of the neighbourhood solve (:func:`_neighbourhood`): its root node (LP, cuts and
+# HiGHS's heuristics) did the work on the cross-robot fleets of benchmarks/milp_scaling.py (500 x 10:
+# 621 -> 545 after the root, 544 after 50 nodes), so one node keeps it cheap and independent of the clock.
+NEIGHBOURHOOD_NODES = 1
+
+
+def _neighbourhood(
+    stats: MonitorStats,
+    cl: _Classes,
+    seed: dict[str, str],
+    epsilon: float,
+    left: Callable[[], float],
+    gap: float,
+) -> dict[str, str]:
+    """Improve ``seed`` by solving the MILP restricted to its neighbourhood (a large-neighbourhood step):
+    each monitor may only go to its current unit or to a unit where the seed put a monitor of the same
+    current unit. That keeps :func:`_partition`'s robot -> host choices and lets HiGHS decide exactly which
+    monitors go and which topics each host receives, in a model a few times smaller than the whole one.
+    Returns the better of the two (the whole MILP still decides; this is only its first incumbent)."""
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    hosts: dict[int | None, set[int]] = {}
+    for c, members in enumerate(cl.members):
+        for a in members:
+            hosts.setdefault(cl.current[c], set()).add(node_ix[seed[stats.monitors[a]]])
+    allowed = np.zeros((len(cl.members), len(stats.nodes)), dtype=bool)
+    for c in range(len(cl.members)):
+        allowed[c, sorted(hosts[cl.current[c]])] = True
+        if cl.current[c] is not None:
+            allowed[c, cl.current[c]] = True
+    if allowed.all():
+        return seed
+    sub = replace(cl, allowed=allowed)
+    model = _build(stats, sub, epsilon, slack=False)
+    res = _solve(model, _vector(model, stats, sub, seed), left(), gap, NEIGHBOURHOOD_NODES)
+    if res.x is None:
+        return seed
+    found = _placement(stats, sub, res.x)
+    nodes = stats.nodes
+    delay = np.array([[stats.delay[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    if _cost(stats, cl, found, delay, epsilon) < _cost(stats, cl, seed, delay, epsilon) - 1e-9:
+        return found
+    return seed
 
 
 def _polished(
@@ -1225,7 +1294,25 @@ def _greedy(stats: MonitorStats, cl: _Classes, improve: float | None = None) -> 
             return repaired, False
     if improve is not None:
         repaired = _improve(stats, cl, repaired, delay, tcpu, improve)
+        seeded = _partition(stats, cl, delay, tcpu, improve)
+        if seeded is not None:
+            seeded = _improve(stats, cl, seeded, delay, tcpu, improve)
+            if _cost(stats, cl, seeded, delay, improve) < _cost(stats, cl, repaired, delay, improve) - 1e-9:
+                repaired = seeded
     return repaired, True
+
+
+def _cost(stats: MonitorStats, cl: _Classes, placement: Mapping[str, str], delay: np.ndarray, epsilon: float) -> float:
+    """The objective of a placement: Σ delay over received (topic, unit) pairs + ε per migration."""
+    node_ix = {j: b for b, j in enumerate(stats.nodes)}
+    received: set[tuple[int, int]] = set()
+    moved = 0
+    for c, members in enumerate(cl.members):
+        for a in members:
+            b = node_ix[placement[stats.monitors[a]]]
+            received.update((k, b) for k in cl.group_topics[cl.group[c]])
+            moved += cl.current[c] is not None and cl.current[c] != b
+    return sum(float(delay[k, b]) for k, b in received) + epsilon * moved
 
 
 def _improve(
@@ -1304,6 +1391,211 @@ def _improve(
         if not moved:
             break
     return {i: stats.nodes[place[a]] for a, i in enumerate(stats.monitors)}
+
+
+class _Plan:
+    """A placement with exact incremental bookkeeping: receivers per (unit, topic), monitor CPU per unit.
+    The objective and the capacity check of any candidate are then a few array operations, so that the
+    robot-level search of :func:`_partition` can evaluate every candidate exactly instead of estimating."""
+
+    def __init__(
+        self, stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray, epsilon: float, place: np.ndarray
+    ):
+        j_count, k_count = len(stats.nodes), len(stats.topics)
+        self.cls_of = np.zeros(len(stats.monitors), dtype=int)
+        for c, members in enumerate(cl.members):
+            self.cls_of[members] = c
+        self.cpu = cl.cpu[self.cls_of]  # monitor x unit
+        self.reads = np.zeros((len(stats.monitors), k_count))  # monitor x topic incidence
+        for a, c in enumerate(self.cls_of):
+            self.reads[a, cl.group_topics[cl.group[c]]] = 1
+        self.group = np.array([cl.group[c] for c in self.cls_of], dtype=int)
+        self.allowed = (cl.allowed if cl.allowed is not None else np.ones((len(cl.members), j_count), dtype=bool))[
+            self.cls_of
+        ]
+        self.current = np.array([-1 if cl.current[c] is None else cl.current[c] for c in self.cls_of])
+        self.cap = np.array([stats.capacity()[j] for j in stats.nodes])
+        self.delay_t, self.tcpu_t = delay.T.copy(), tcpu.T.copy()  # unit x topic
+        self.epsilon = epsilon
+        self.place = place.copy()
+        self.readers = np.zeros((j_count, k_count))  # unit x topic
+        np.add.at(self.readers, self.place, self.reads)
+        self.load = np.bincount(self.place, weights=self.cpu[np.arange(len(place)), self.place], minlength=j_count)
+
+    def copy(self) -> _Plan:
+        other = object.__new__(_Plan)
+        other.__dict__.update(self.__dict__)
+        other.place, other.readers, other.load = self.place.copy(), self.readers.copy(), self.load.copy()
+        return other
+
+    def totals(self) -> np.ndarray:
+        return self.load + (self.tcpu_t * (self.readers > 0)).sum(axis=1)
+
+    def objective(self) -> float:
+        moved = int(((self.place != self.current) & (self.current >= 0)).sum())
+        return float((self.delay_t * (self.readers > 0)).sum()) + self.epsilon * moved
+
+    def move(self, monitors: np.ndarray, b: int) -> None:
+        if not len(monitors):
+            return
+        src = self.place[monitors]
+        np.add.at(self.readers, src, -self.reads[monitors])
+        self.readers[b] += self.reads[monitors].sum(axis=0)
+        np.subtract.at(self.load, src, self.cpu[monitors, src])
+        self.load[b] += float(self.cpu[monitors, b].sum())
+        self.place[monitors] = b
+
+    def shed(self, r: int, h: int) -> float:
+        """Move monitors from overloaded unit r to unit h, one topic set at a time, cheapest added delay
+        (minus the delay r stops paying) per CPU freed first, while h has room; returns r's remaining
+        excess. Whole topic sets go together so that h receives each topic once."""
+        while True:
+            total = self.totals()
+            over = total[r] - self.cap[r]
+            if over <= 1e-9:
+                return 0.0
+            on = np.nonzero((self.place == r) & self.allowed[:, h])[0]
+            if not len(on):
+                return over
+            groups, first, inv = np.unique(self.group[on], return_index=True, return_inverse=True)
+            g_reads = self.reads[on[first]]  # group x topic
+            size = np.bincount(inv, minlength=len(groups)).astype(float)
+            added = g_reads @ (self.delay_t[h] * (self.readers[h] == 0))
+            added_cpu = g_reads @ (self.tcpu_t[h] * (self.readers[h] == 0))
+            alone = g_reads * (self.readers[r] == size[:, None])  # topics only this group reads on r
+            saved = alone @ self.delay_t[r]
+            freed = np.bincount(inv, weights=self.cpu[on, r], minlength=len(groups)) + alone @ self.tcpu_t[r]
+            room = self.cap[h] - total[h] - added_cpu
+            smallest = np.full(len(groups), np.inf)
+            np.minimum.at(smallest, inv, self.cpu[on, h])
+            fits = room >= smallest - 1e-9  # at least one member fits
+            if not fits.any():
+                return over
+            score = np.where(fits, (added - saved + 1e-6) / np.maximum(freed, 1e-9), np.inf)
+            g = int(np.argmin(score))
+            members = on[inv == g]
+            members = members[np.argsort(-self.cpu[members, r], kind="stable")]
+            take, used, got = [], 0.0, 0.0
+            for m in members:  # largest first; one that does not fit is skipped, a smaller one may
+                if used + self.cpu[m, h] > room[g] + 1e-9:
+                    continue
+                take.append(int(m))
+                used += self.cpu[m, h]
+                got += self.cpu[m, r]
+                if got >= over - 1e-9:
+                    break
+            self.move(np.array(take, dtype=int), h)
+
+    def relieve(self, r: int, first: int | None, order: list[int]) -> bool:
+        """Shed r's excess to ``first``, then to the units of ``order`` in turn; True when r fits."""
+        hosts = ([first] if first is not None else []) + [h for h in order if h != first]
+        for h in hosts:
+            if h != r and self.shed(r, h) <= 1e-9:
+                return True
+        return self.totals()[r] <= self.cap[r] + 1e-9
+
+
+def _partition(
+    stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray, epsilon: float, max_passes: int = 8
+) -> dict[str, str] | None:
+    """Robot-level allocation for fleets whose units cannot keep their monitors: decide, for each
+    overloaded unit r, which unit hosts its overflow (kept together, so that the host receives r's topics
+    once), then search over those choices: move one unit's overflow to another host, move every monitor
+    still at home on a unit to one host, or swap the hosts of two overloaded units (cross reads make two
+    units' monitors cheaper on the same host). Every
+    candidate is evaluated exactly (:class:`_Plan`): the delay is the sum over received (topic, unit)
+    pairs and a candidate is kept only when every capacity holds. The integer problem is partition-like
+    (which intermediate unit hosts which robots) and the per-monitor moves of :func:`_improve` cannot
+    cross its valleys; this one does. Deterministic: fixed orders, ties by index. None when some unit
+    cannot be relieved."""
+    j_count = len(stats.nodes)
+    # every monitor starts on its current unit (as in _repair: else its first allowed unit)
+    origin = np.zeros(len(stats.monitors), dtype=int)
+    for c, members in enumerate(cl.members):
+        cur = cl.current[c]
+        if cur is None or (cl.allowed is not None and not cl.allowed[c, cur]):
+            cur = int(np.argmax(cl.allowed[c])) if cl.allowed is not None else 0
+        origin[members] = cur
+    plan = _Plan(stats, cl, delay, tcpu, epsilon, origin)
+    excess = plan.totals() - plan.cap
+    over = [int(r) for r in np.argsort(-excess, kind="stable") if excess[r] > 1e-9]
+    if not over:
+        return None
+    # fallback hosts when the chosen one fills up: least total delay of the unit's topics first (a static
+    # order keeps the search deterministic and cheap)
+
+    def fallback(r: int) -> list[int]:
+        topics = plan.reads[origin == r].any(axis=0)
+        cost = plan.delay_t[:, topics].sum(axis=1)
+        return [int(h) for h in np.lexsort((np.arange(j_count), cost)) if h != r]
+
+    orders = {r: fallback(r) for r in over}
+
+    def replan(base: _Plan, moves: list[tuple[int, int]]) -> _Plan | None:
+        trial = base.copy()
+        for r, _ in moves:  # every monitor of these units comes home first
+            back = np.nonzero((origin == r) & (trial.place != r))[0]
+            trial.move(back, r)
+        for r, h in moves:
+            if not trial.relieve(r, h, orders[r]):
+                return None
+        if np.any(trial.totals() > trial.cap + 1e-9):
+            return None
+        return trial
+
+    for r in over:  # construction: each overloaded unit in turn (largest excess first) takes its best host
+        best: tuple[float, int, _Plan] | None = None
+        for h in orders[r]:
+            trial = plan.copy()
+            if not trial.relieve(r, h, orders[r]) and trial.totals()[r] > trial.cap[r] + 1e-9:
+                continue
+            value = trial.objective()
+            if best is None or value < best[0] - 1e-9:
+                best = (value, h, trial)
+        if best is None:
+            return None
+        plan = best[2]
+    if np.any(plan.totals() > plan.cap + 1e-9):
+        return None
+
+    def host(r: int) -> int:  # where most of r's overflow sits
+        away = plan.place[(origin == r) & (plan.place != r)]
+        return int(np.bincount(away, minlength=j_count).argmax()) if len(away) else r
+
+    value = plan.objective()
+    homes = sorted({int(r) for r in origin})
+    for _ in range(max_passes):
+        improved = False
+        for r in over:  # move one unit's overflow to another host
+            for h in orders[r]:
+                if h == host(r):
+                    continue
+                found = replan(plan, [(r, h)])
+                if found is not None and found.objective() < value - 1e-9:
+                    plan, value, improved = found, found.objective(), True
+        for r in homes:  # move every monitor still at home on r: cross reads favour whole robots on one
+            at_home = np.nonzero((origin == r) & (plan.place == r))[0]  # host (their foreign topics arrive
+            for h in range(j_count):  # there once for all of them)
+                if h == r or not len(at_home) or not plan.allowed[at_home, h].all():
+                    continue
+                trial = plan.copy()
+                trial.move(at_home, h)
+                if np.all(trial.totals() <= trial.cap + 1e-9) and trial.objective() < value - 1e-9:
+                    plan, value, improved = trial, trial.objective(), True
+                    at_home = np.nonzero((origin == r) & (plan.place == r))[0]
+        for x, r1 in enumerate(over):  # swap the hosts of two units
+            for r2 in over[x + 1 :]:
+                h1, h2 = host(r1), host(r2)
+                if h1 in (h2, r2) or h2 == r1:
+                    continue
+                for moves in ([(r1, h2), (r2, h1)], [(r2, h1), (r1, h2)]):
+                    found = replan(plan, moves)
+                    if found is not None and found.objective() < value - 1e-9:
+                        plan, value, improved = found, found.objective(), True
+                        break
+        if not improved:
+            break
+    return {i: stats.nodes[plan.place[a]] for a, i in enumerate(stats.monitors)}
 
 
 def _repair(stats: MonitorStats, cl: _Classes, delay: np.ndarray, tcpu: np.ndarray) -> dict[str, str] | None:
