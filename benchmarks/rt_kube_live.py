@@ -234,11 +234,14 @@ class RTRun:
     done, its informers listed and watching) before the first pod is created, stopped with SIGTERM after the
     run."""
 
-    def __init__(self, cluster_id: int, profile: bool = True) -> None:
-        self.profile_path = tempfile.mktemp(prefix="rt-scheduler-", suffix=".prof") if profile else ""
+    def __init__(self, cluster_id: int, profile: str = "sample") -> None:
+        cprofile = profile == "cprofile"
+        self.profile_path = tempfile.mktemp(prefix="rt-scheduler-", suffix=".prof") if cprofile else ""
         command = [sys.executable, __file__, "--serve-scheduler", str(cluster_id)]
-        if profile:
+        if cprofile:
             command += ["--profile", self.profile_path]
+        elif profile == "sample":
+            command += ["--sample"]
         self.proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline() if self.proc.stdout else ""
         if not line.startswith("ready"):
@@ -265,16 +268,18 @@ def percentiles(values: list[float]) -> tuple[float, float]:
     return statistics.median(values), values[min(len(values) - 1, round(0.99 * (len(values) - 1)))]
 
 
-def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
+def serve_scheduler(cluster_id: int, profile_path: str | None, sample: bool = False) -> None:
     """The child: RTScheduler.run (default periods, watch on), profiled when asked, until SIGTERM; its last
     line a JSON summary (CPU seconds of the whole process from ready to stop, per-pod stage timings)."""
     import django
 
     django.setup()
     from apps.realtime.scheduler import RTScheduler
+    from benchmarks._threadprof import ThreadProfile
 
     ready = threading.Event()
     profile = cProfile.Profile() if profile_path else None
+    sampler = ThreadProfile(interval=0.02) if sample else None
     cpu: list[float] = []
 
     def cycled(result) -> None:
@@ -296,10 +301,13 @@ def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
                 time.sleep(0.05)  # its informers listed and watching, its first RT sync done (as before a cycle's)
             time.sleep(0.5)
             cpu.append(time.process_time())
+            if sampler is not None:
+                sampler.start()
             print("ready", flush=True)
 
     threading.Thread(target=announce, daemon=True).start()
     scheduler.run(stop)
+    threads = sampler.finish() if sampler is not None else None
     if profile is not None:
         profile.disable()
         profile.dump_stats(profile_path)
@@ -311,7 +319,7 @@ def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
     summary = {"cycles": scheduler.cycles, "errors": scheduler.errors, "last_error": scheduler.last_error,
                "cpu_s": time.process_time() - (cpu[0] if cpu else 0.0), "bound": len(timings), "stages": stages,
                "writes": scheduler.writes, "write_errors": scheduler.write_errors,
-               "pods": scheduler.pods.stats()}  # fmt: skip
+               "pods": scheduler.pods.stats(), "threads": threads}  # fmt: skip
     print(json.dumps(summary), flush=True)
 
 
@@ -319,7 +327,7 @@ def one_run(label: str, pods: int, args, kube, observer: Observer, cluster_id: i
     """One side placing ``pods`` pods: seconds (from the first create) to all bound and all Running, seconds
     creating, per-pod create -> bound p50 and p99, and for ``rt`` the scheduler's profile and summary."""
     bodies = [pod_body(i, args.realtimes, label == "rt") for i in range(pods)]
-    run = RTRun(cluster_id, profile) if label == "rt" else None
+    run = RTRun(cluster_id, args.scheduler_profile if profile else "none") if label == "rt" else None
     stats, summary = None, None
     observer.start()
     try:
@@ -354,6 +362,23 @@ def print_profile(stats: pstats.Stats, summary: str) -> None:
         print("\n".join(lines[start : start + 16]))
 
 
+def print_threads(threads: dict, pods: int) -> None:
+    """The sampled profile of the scheduler process's last run (benchmarks._threadprof): CPU per thread group,
+    then the functions found running most often (own: at the top of the stack; inclusive: anywhere on it)."""
+    total = sum(threads["cpu_by_thread"].values())
+    print(f"\nRT scheduler process, its last run: CPU by thread ({total:.2f} s = {1000 * total / pods:.1f} ms/pod; "
+          f"{threads['samples']} samples of every thread's state):")  # fmt: skip
+    for group, seconds in threads["cpu_by_thread"].items():
+        if seconds >= 0.005:
+            print(f"  {group:<24} {seconds:7.3f} s  {1000 * seconds / pods:6.2f} ms/pod  "
+                  f"{threads['running'].get(group, 0):5d} samples running")  # fmt: skip
+    for kind in ("own", "inclusive"):
+        rows = threads[kind][: 20 if kind == "own" else 40]
+        print(f"\nsampled while running, by {kind} function (thread group, function, samples):")
+        for group, fn, n in rows:
+            print(f"  {n:5d}  {group:<20} {fn}")
+
+
 def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: int, profile: bool, label: str):
     """``rounds`` rt/kube pairs in alternating order; per side the medians over rounds (and the runs' rows)."""
     measured: dict[str, list[dict]] = {"rt": [], "kube": []}
@@ -376,7 +401,8 @@ def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: 
     med = {side: {k: statistics.median(m[k] for m in runs) for k in keys} for side, runs in measured.items()}
     cpu = [m["summary"]["cpu_s"] for m in measured["rt"] if m["summary"]]
     med["rt"]["cpu_s"] = statistics.median(cpu) if cpu else 0.0
-    last = next((m for m in reversed(measured["rt"]) if m["profile"] is not None), None)
+    profiled = [m for m in measured["rt"] if m["profile"] is not None or (m["summary"] or {}).get("threads")]
+    last = profiled[-1] if profiled else None
     return med, measured, last
 
 
@@ -411,7 +437,10 @@ def single(args, dev_kubeconfig: str, doc: dict) -> None:
     )
     if last is not None:
         sm = last["summary"]
-        print_profile(last["profile"], f"{sm['cycles']} cycles, {sm['errors']} failed")
+        if last["profile"] is not None:
+            print_profile(last["profile"], f"{sm['cycles']} cycles, {sm['errors']} failed")
+        if sm.get("threads"):
+            print_threads(sm["threads"], args.pods)
     observer.api_client.close()
 
 
@@ -513,10 +542,15 @@ def main() -> None:
     p.add_argument("--sweep-pods", type=ints, default=[100, 300, 600], help="pod counts of --sweep")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     p.add_argument("--serve-scheduler", type=int, help=argparse.SUPPRESS)  # the child process: a cluster id
+    p.add_argument("--scheduler-profile", choices=("sample", "cprofile", "none"), default="sample",
+                   help="how the RT scheduler process is profiled: sampled (every thread, ~2%% of a core: CPU "
+                   "per thread and the functions running), cProfile of its loop thread (slows that thread), "
+                   "or not")  # fmt: skip
     p.add_argument("--profile", help=argparse.SUPPRESS)
+    p.add_argument("--sample", action="store_true", help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.serve_scheduler:
-        serve_scheduler(args.serve_scheduler, args.profile)
+        serve_scheduler(args.serve_scheduler, args.profile, args.sample)
         return
     per_node = int(0.95 * PERIOD_MS / WCET_MS)
     if min(args.nodes, args.pods, args.realtimes, args.rounds, args.threads) < 1:
