@@ -14,6 +14,7 @@ import os
 import re
 import sys
 import threading
+import time
 from collections import Counter
 
 TICK = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
@@ -37,6 +38,11 @@ def _stat(tid: int) -> tuple[str, float] | None:
     return rest[0], (int(rest[11]) + int(rest[12])) / TICK
 
 
+def _plumbing(where: str) -> bool:
+    """Frames every thread of a kind shares (thread start, pool worker loop): no information."""
+    return where.startswith(("threading.py:", "thread.py:_worker", "thread.py:run"))
+
+
 class ThreadProfile:
     def __init__(self, interval: float = 0.005, depth: int = 40) -> None:
         self.interval = interval
@@ -47,6 +53,7 @@ class ThreadProfile:
         self.running: Counter[str] = Counter()  # group -> samples
         self.cpu: dict[int, tuple[str, float]] = {}  # tid -> (group, latest CPU seconds)
         self.stop = threading.Event()
+        self.own_cpu = 0.0
         self.thread = threading.Thread(target=self._loop, daemon=True, name="threadprof")
 
     def start(self) -> None:
@@ -59,7 +66,9 @@ class ThreadProfile:
 
     def _loop(self) -> None:
         me = threading.get_native_id()
+        began = time.thread_time()
         while not self.stop.wait(self.interval):
+            self.own_cpu = time.thread_time() - began
             names = {t.native_id: group_of(t.name) for t in threading.enumerate()}
             idents = {t.native_id: t.ident for t in threading.enumerate()}
             frames = sys._current_frames()
@@ -91,6 +100,16 @@ class ThreadProfile:
                     frame = frame.f_back
                     depth += 1
 
+    def _inclusive(self, per_group: int) -> list[list]:
+        """The ``per_group`` functions most often on a running stack of each thread group."""
+        out: list[list] = []
+        kept: Counter[str] = Counter()
+        for (group, where), n in self.inclusive.most_common():
+            if not _plumbing(where) and kept[group] < per_group:
+                kept[group] += 1
+                out.append([group, where, n])
+        return out
+
     def finish(self) -> dict:
         self.stop.set()
         self.thread.join(timeout=5)
@@ -106,5 +125,6 @@ class ThreadProfile:
             "samples": self.samples,
             "running": dict(self.running.most_common()),
             "own": [[g, f, n] for (g, f), n in self.own.most_common(30)],
-            "inclusive": [[g, f, n] for (g, f), n in self.inclusive.most_common(60)],
+            "inclusive": self._inclusive(14),
+            "self_cpu": round(self.own_cpu, 3),
         }

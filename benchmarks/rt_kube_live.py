@@ -372,11 +372,15 @@ def print_threads(threads: dict, pods: int) -> None:
         if seconds >= 0.005:
             print(f"  {group:<24} {seconds:7.3f} s  {1000 * seconds / pods:6.2f} ms/pod  "
                   f"{threads['running'].get(group, 0):5d} samples running")  # fmt: skip
-    for kind in ("own", "inclusive"):
-        rows = threads[kind][: 20 if kind == "own" else 40]
-        print(f"\nsampled while running, by {kind} function (thread group, function, samples):")
-        for group, fn, n in rows:
-            print(f"  {n:5d}  {group:<20} {fn}")
+    print(f"  (the sampler itself: {threads.get('self_cpu', 0):.3f} s, not counted above)")
+    print("\nsampled while running, by own function (thread group, function, samples):")
+    for group, fn, n in threads["own"][:20]:
+        print(f"  {n:5d}  {group:<20} {fn}")
+    print("\nsampled while running, by inclusive function, the top 14 of each thread group (samples):")
+    for group in threads["cpu_by_thread"]:
+        rows = [(fn, n) for g, fn, n in threads["inclusive"] if g == group]
+        if rows:
+            print(f"  {group}: " + ", ".join(f"{fn} {n}" for fn, n in rows))
 
 
 def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: int, profile: bool, label: str):
