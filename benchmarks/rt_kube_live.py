@@ -279,7 +279,7 @@ def serve_scheduler(cluster_id: int, profile_path: str | None, sample: bool = Fa
 
     ready = threading.Event()
     profile = cProfile.Profile() if profile_path else None
-    sampler = ThreadProfile(interval=0.02) if sample else None
+    sampler = ThreadProfile(interval=0.05) if sample else None
     cpu: list[float] = []
 
     def cycled(result) -> None:

@@ -75,6 +75,7 @@ from .kube import (
     REALTIME_PLURAL,
     REALTIME_VERSION,
     Kube,
+    binders,
     kube_for,
     parse_time,
     problem,
@@ -279,7 +280,7 @@ class RTScheduler:
     - nodes and pods are read from informer caches filled by the watches (:mod:`apps.realtime.informer`),
       not listed per cycle; a cycle starts as soon as a relevant event arrives (no period to wait for), and
       takes every pod pending by then (a burst is decided together);
-    - the Bindings go out on a persistent pool of ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` threads sharing one
+    - the Bindings go out on a persistent pool of ``kube.binders()`` threads sharing one
       client; a bound pod is assumed bound in the cache until deleted, so it is never bound twice;
     - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread;
     - the ledger rows and the decisions ("why" of the dashboard) are written by a writer thread after the
@@ -358,8 +359,9 @@ class RTScheduler:
         stop = stop or self.stopping
         failures = 0
         self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
-        # Twice a push's bound: a Binding is one short write, and binds queued here wait with their pods.
-        self._binder = ThreadPoolExecutor(max_workers=2 * concurrency(), thread_name_prefix="rt-bind")
+        # More than a push's bound (kube.binders): a Binding is one short write, and binds queued here wait with
+        # their pods; the threads wait for the API, not for the GIL.
+        self._binder = ThreadPoolExecutor(max_workers=binders(), thread_name_prefix="rt-bind")
         self._writes = queue.Queue(maxsize=WRITE_QUEUE)
         writer = threading.Thread(target=self._write_loop, args=(self._writes,), daemon=True, name="rt-writer")
         writer.start()
