@@ -362,6 +362,8 @@ class RTScheduler:
         # More than a push's bound (kube.binders): a Binding is one short write, and binds queued here wait with
         # their pods; the threads wait for the API, not for the GIL.
         self._binder = ThreadPoolExecutor(max_workers=binders(), thread_name_prefix="rt-bind")
+        if self.use_watch:
+            self._warm_binders()
         self._writes = queue.Queue(maxsize=WRITE_QUEUE)
         writer = threading.Thread(target=self._write_loop, args=(self._writes,), daemon=True, name="rt-writer")
         writer.start()
@@ -414,6 +416,25 @@ class RTScheduler:
                 t.join(timeout=max(0.0, deadline - time.monotonic()))
             connection.close()
         return self.cycles
+
+    def _warm_binders(self) -> None:
+        """Each Binding thread opens its connection now, with one cheap read at once (the API's version): the
+        first burst of pods otherwise paid a thread start and a TLS handshake per Binding on its clock."""
+        try:
+            kube = kube_for(Cluster.objects.get(pk=self.cluster_id))
+        except (Cluster.DoesNotExist, *KUBE_ERRORS) as exc:
+            log.info("RT scheduler: Binding connections not warmed: %s", exc)
+            return
+
+        def one() -> None:
+            try:
+                kube.version(retried=False)
+            except KUBE_ERRORS as exc:  # the API is down: the first cycle says so
+                log.debug("warming a Binding connection: %s", problem(exc))
+
+        assert self._binder is not None
+        for _ in range(binders()):
+            self._binder.submit(one)
 
     def _close_watches(self) -> None:
         """Interrupt the watch connections (a blocked read would otherwise wait for the server's timeout)."""
