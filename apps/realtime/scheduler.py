@@ -32,6 +32,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import queue
+import sys
 import threading
 import time
 from collections import deque
@@ -267,6 +268,14 @@ class _Decided:
 
 #: Bounded: a database slower than the binds makes the loop wait (back-pressure), never grow without end.
 WRITE_QUEUE = 64
+#: The writer writes at most this often (seconds): while pods stream in, a cycle every ~25 ms each upserted the
+#: ledger of every pod (and looked for gone ones) in the writer's own batch, beside the Bindings for the GIL and
+#: the database's CPU; the rows and decisions of several cycles now go together, at most this late.
+WRITE_EVERY = 0.25
+#: The GIL's switch interval while run() loops with the watch (Python's default: 5 ms). The Binding threads and the
+#: pod watch thread mostly wait for the API; when an answer or an event arrives, the thread waits for the GIL
+#: behind the deciding loop or the writer for up to one interval, on the pod's clock.
+SWITCH_INTERVAL = 0.001
 #: Per-pod timings kept for the benchmark (the latest ones).
 TIMINGS = 20_000
 
@@ -284,7 +293,8 @@ class RTScheduler:
       client; a bound pod is assumed bound in the cache until deleted, so it is never bound twice;
     - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread;
     - the ledger rows and the decisions ("why" of the dashboard) are written by a writer thread after the
-      binds, from a bounded queue (drained in batches: one upsert of the ledger for several cycles);
+      binds, from a bounded queue (drained in batches at most every WRITE_EVERY s: one ledger upsert for several
+      cycles);
     - Events and pending explanations are sent in the background.
 
     A cycle called on its own (``--once``, tests) does all of it inline, listing from the API.
@@ -358,6 +368,9 @@ class RTScheduler:
         """Cycle until ``stop`` is set (or ``max_cycles`` ran); never raises for a failing cycle."""
         stop = stop or self.stopping
         failures = 0
+        switch = sys.getswitchinterval()
+        if self.use_watch:
+            sys.setswitchinterval(min(switch, SWITCH_INTERVAL))
         self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
         # More than a push's bound (kube.binders): a Binding is one short write, and binds queued here wait with
         # their pods; the threads wait for the API, not for the GIL.
@@ -415,6 +428,7 @@ class RTScheduler:
             for t in self.threads:
                 t.join(timeout=max(0.0, deadline - time.monotonic()))
             connection.close()
+            sys.setswitchinterval(switch)
         return self.cycles
 
     def _warm_binders(self) -> None:
@@ -803,6 +817,8 @@ class RTScheduler:
                     self._recorded.clear()
                     log.exception("RT scheduler: writing the ledger and decisions failed")
                     close_old_connections()
+                if not done:  # the cycles of the next WRITE_EVERY seconds are written together (not at stop)
+                    self.stopping.wait(WRITE_EVERY)
         finally:
             connection.close()
 
