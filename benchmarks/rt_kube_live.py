@@ -319,7 +319,8 @@ def serve_scheduler(cluster_id: int, profile_path: str | None, sample: bool = Fa
     summary = {"cycles": scheduler.cycles, "errors": scheduler.errors, "last_error": scheduler.last_error,
                "cpu_s": time.process_time() - (cpu[0] if cpu else 0.0), "bound": len(timings), "stages": stages,
                "writes": scheduler.writes, "write_errors": scheduler.write_errors,
-               "pods": scheduler.pods.stats(), "threads": threads}  # fmt: skip
+               "pods": scheduler.pods.stats(), "nodes": scheduler.nodes.stats(), "api_reads": scheduler.api_reads,
+               "threads": threads}  # fmt: skip
     print(json.dumps(summary), flush=True)
 
 
@@ -396,7 +397,9 @@ def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: 
                 stages = ", ".join(f"{k} p50 {1000 * v[0]:.0f} ms p99 {1000 * v[1]:.0f} ms"
                                    for k, v in sm["stages"].items())  # fmt: skip
                 extra = (f"; scheduler process CPU {sm['cpu_s']:.2f} s = {1000 * sm['cpu_s'] / pods:.1f} ms/pod, "
-                         f"{sm['cycles']} cycles, {sm['errors']} failed; in the scheduler: {stages}")  # fmt: skip
+                         f"{sm['cycles']} cycles ({sm.get('api_reads', 0)} listed the API: informers not in sync), "
+                         f"{sm['errors']} failed; informers: pods {sm['pods']}, nodes {sm.get('nodes')}; in the "
+                         f"scheduler: {stages}")  # fmt: skip
             print(f"  {label} round {r + 1} {side}: {pods} pods bound in {m['bound_s']:.2f} s "
                   f"({pods / m['bound_s']:.1f} pods/s), all Running after {m['running_s']:.2f} s (creates took "
                   f"{m['create_s']:.2f} s); create -> bound p50 {1000 * m['p50']:.0f} ms, p99 {1000 * m['p99']:.0f} "

@@ -347,6 +347,7 @@ class RTScheduler:
         #: See _state: (cluster, policy, node rows), when read, and the monotonic time the next taint expires.
         self._state_cache: tuple[Cluster, RTPolicy, dict[str, ComputeNode]] | None = None
         self._state_at = 0.0
+        self._kube_of: tuple[Cluster, Kube] | None = None
         self._expiry_at: float | None = None
         self._memo_key: tuple | None = None
         self._realtimes: dict[tuple[str, str], RealTime] = {}
@@ -354,6 +355,8 @@ class RTScheduler:
         self._memo: dict[str, tuple[tuple, PodView]] = {}
         self.write_errors = 0
         self.writes = 0
+        #: Cycles that listed nodes and pods from the API (the informers were not in sync).
+        self.api_reads = 0
         #: pod key -> monotonic time the watch first reported it pending (the start of its latency).
         self._seen: dict[str, float] = {}
         #: Per bound pod: (seen -> decided, decided -> Binding sent, Binding sent -> answered) in seconds.
@@ -496,6 +499,7 @@ class RTScheduler:
         """Nodes and pods: from the informers when both are in sync, else listed (two reads at once)."""
         if self.use_watch and self._background_sync and self.pods.synced and self.nodes.synced:
             return self.nodes.snapshot(), self.pods.snapshot()
+        self.api_reads += 1
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
         return api_nodes, pods
 
@@ -521,7 +525,7 @@ class RTScheduler:
     def cycle(self) -> CycleResult:
         began = time.monotonic()
         cluster, policy, rows = self._state()
-        kube = kube_for(cluster)
+        kube = self._kube(cluster)
         result = CycleResult()
         self._conclude_finished(result)
         if not self._background_sync or (self._expiry_at is not None and began >= self._expiry_at):
@@ -599,6 +603,13 @@ class RTScheduler:
             self._expiry_at = None if expiry is None else now + expiry
             self._state_at = now
         return self._state_cache
+
+    def _kube(self, cluster: Cluster) -> Kube:
+        """``kube_for(cluster)``, remembered while :meth:`_state` keeps the same cluster row (``kube_for`` hashes the
+        kubeconfig, which releases and takes back the GIL: ~1.5 ms of each cycle on a busy machine)."""
+        if self._kube_of is None or self._kube_of[0] is not cluster:
+            self._kube_of = (cluster, kube_for(cluster))
+        return self._kube_of[1]
 
     def _pipelined(self) -> bool:
         return self._binder is not None and self._background_sync
