@@ -21,9 +21,12 @@ an observer's watch: seconds until every pod is bound (``spec.nodeName``) and un
 (hollow kubelets), and per pod the latency from its creation (first watch event) to its binding (p50, p99);
 printed pods/s to bound (``--pods`` / seconds to all bound), the rt / kube ratios of the medians (goal >= 1)
 and the time to all Running (RT-Kube packs pods onto the busiest admissible node, so fewer hollow kubelets
-start them than after kube-scheduler's spreading). Pods are force-deleted between runs. Last, a cProfile of
-the RT scheduler's loop over its last run, from the end of its first (idle) cycle (top 15 by own and by
-cumulative time; its Binding and Event threads show as waits) and the load average.
+start them than after kube-scheduler's spreading). Pods are force-deleted between runs. Last, the profile of
+the RT scheduler's last run, from the end of its first (idle) cycle, and the load average. By default
+(``--scheduler-profile sample``) every thread of the process is sampled every 50 ms (benchmarks._threadprof: CPU
+seconds per thread group, the functions found running; the sampler's own CPU, a few % of a core, is printed
+apart); ``cprofile`` profiles the loop thread alone (top 15 by own and cumulative time; it slows that thread,
+so the latencies of that run are not comparable); ``none`` measures without either.
 
 Each rt run also prints, from the scheduler process itself, its CPU seconds (all threads, from idle to stop)
 per pod and where each pod's time went inside it: watch event received -> decided -> Binding sent -> Binding
@@ -550,7 +553,7 @@ def main() -> None:
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     p.add_argument("--serve-scheduler", type=int, help=argparse.SUPPRESS)  # the child process: a cluster id
     p.add_argument("--scheduler-profile", choices=("sample", "cprofile", "none"), default="sample",
-                   help="how the RT scheduler process is profiled: sampled (every thread, ~2%% of a core: CPU "
+                   help="how the RT scheduler process is profiled: sampled (every thread, a few %% of a core: CPU "
                    "per thread and the functions running), cProfile of its loop thread (slows that thread), "
                    "or not")  # fmt: skip
     p.add_argument("--profile", help=argparse.SUPPRESS)
