@@ -21,9 +21,12 @@ an observer's watch: seconds until every pod is bound (``spec.nodeName``) and un
 (hollow kubelets), and per pod the latency from its creation (first watch event) to its binding (p50, p99);
 printed pods/s to bound (``--pods`` / seconds to all bound), the rt / kube ratios of the medians (goal >= 1)
 and the time to all Running (RT-Kube packs pods onto the busiest admissible node, so fewer hollow kubelets
-start them than after kube-scheduler's spreading). Pods are force-deleted between runs. Last, a cProfile of
-the RT scheduler's loop over its last run, from the end of its first (idle) cycle (top 15 by own and by
-cumulative time; its Binding and Event threads show as waits) and the load average.
+start them than after kube-scheduler's spreading). Pods are force-deleted between runs. Last, the profile of
+the RT scheduler's last run, from the end of its first (idle) cycle, and the load average. By default
+(``--scheduler-profile sample``) every thread of the process is sampled every 50 ms (benchmarks._threadprof: CPU
+seconds per thread group, the functions found running; the sampler's own CPU, a few % of a core, is printed
+apart); ``cprofile`` profiles the loop thread alone (top 15 by own and cumulative time; it slows that thread,
+so the latencies of that run are not comparable); ``none`` measures without either.
 
 Each rt run also prints, from the scheduler process itself, its CPU seconds (all threads, from idle to stop)
 per pod and where each pod's time went inside it: watch event received -> decided -> Binding sent -> Binding
@@ -234,11 +237,14 @@ class RTRun:
     done, its informers listed and watching) before the first pod is created, stopped with SIGTERM after the
     run."""
 
-    def __init__(self, cluster_id: int, profile: bool = True) -> None:
-        self.profile_path = tempfile.mktemp(prefix="rt-scheduler-", suffix=".prof") if profile else ""
+    def __init__(self, cluster_id: int, profile: str = "sample") -> None:
+        cprofile = profile == "cprofile"
+        self.profile_path = tempfile.mktemp(prefix="rt-scheduler-", suffix=".prof") if cprofile else ""
         command = [sys.executable, __file__, "--serve-scheduler", str(cluster_id)]
-        if profile:
+        if cprofile:
             command += ["--profile", self.profile_path]
+        elif profile == "sample":
+            command += ["--sample"]
         self.proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline() if self.proc.stdout else ""
         if not line.startswith("ready"):
@@ -265,16 +271,18 @@ def percentiles(values: list[float]) -> tuple[float, float]:
     return statistics.median(values), values[min(len(values) - 1, round(0.99 * (len(values) - 1)))]
 
 
-def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
+def serve_scheduler(cluster_id: int, profile_path: str | None, sample: bool = False) -> None:
     """The child: RTScheduler.run (default periods, watch on), profiled when asked, until SIGTERM; its last
     line a JSON summary (CPU seconds of the whole process from ready to stop, per-pod stage timings)."""
     import django
 
     django.setup()
     from apps.realtime.scheduler import RTScheduler
+    from benchmarks._threadprof import ThreadProfile
 
     ready = threading.Event()
     profile = cProfile.Profile() if profile_path else None
+    sampler = ThreadProfile(interval=0.05) if sample else None
     cpu: list[float] = []
 
     def cycled(result) -> None:
@@ -296,10 +304,13 @@ def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
                 time.sleep(0.05)  # its informers listed and watching, its first RT sync done (as before a cycle's)
             time.sleep(0.5)
             cpu.append(time.process_time())
+            if sampler is not None:
+                sampler.start()
             print("ready", flush=True)
 
     threading.Thread(target=announce, daemon=True).start()
     scheduler.run(stop)
+    threads = sampler.finish() if sampler is not None else None
     if profile is not None:
         profile.disable()
         profile.dump_stats(profile_path)
@@ -311,7 +322,8 @@ def serve_scheduler(cluster_id: int, profile_path: str | None) -> None:
     summary = {"cycles": scheduler.cycles, "errors": scheduler.errors, "last_error": scheduler.last_error,
                "cpu_s": time.process_time() - (cpu[0] if cpu else 0.0), "bound": len(timings), "stages": stages,
                "writes": scheduler.writes, "write_errors": scheduler.write_errors,
-               "pods": scheduler.pods.stats()}  # fmt: skip
+               "pods": scheduler.pods.stats(), "nodes": scheduler.nodes.stats(), "api_reads": scheduler.api_reads,
+               "threads": threads}  # fmt: skip
     print(json.dumps(summary), flush=True)
 
 
@@ -319,7 +331,7 @@ def one_run(label: str, pods: int, args, kube, observer: Observer, cluster_id: i
     """One side placing ``pods`` pods: seconds (from the first create) to all bound and all Running, seconds
     creating, per-pod create -> bound p50 and p99, and for ``rt`` the scheduler's profile and summary."""
     bodies = [pod_body(i, args.realtimes, label == "rt") for i in range(pods)]
-    run = RTRun(cluster_id, profile) if label == "rt" else None
+    run = RTRun(cluster_id, args.scheduler_profile if profile else "none") if label == "rt" else None
     stats, summary = None, None
     observer.start()
     try:
@@ -354,6 +366,27 @@ def print_profile(stats: pstats.Stats, summary: str) -> None:
         print("\n".join(lines[start : start + 16]))
 
 
+def print_threads(threads: dict, pods: int) -> None:
+    """The sampled profile of the scheduler process's last run (benchmarks._threadprof): CPU per thread group,
+    then the functions found running most often (own: at the top of the stack; inclusive: anywhere on it)."""
+    total = sum(threads["cpu_by_thread"].values())
+    print(f"\nRT scheduler process, its last run: CPU by thread ({total:.2f} s = {1000 * total / pods:.1f} ms/pod; "
+          f"{threads['samples']} samples of every thread's state):")  # fmt: skip
+    for group, seconds in threads["cpu_by_thread"].items():
+        if seconds >= 0.005:
+            print(f"  {group:<24} {seconds:7.3f} s  {1000 * seconds / pods:6.2f} ms/pod  "
+                  f"{threads['running'].get(group, 0):5d} samples running")  # fmt: skip
+    print(f"  (the sampler itself: {threads.get('self_cpu', 0):.3f} s, not counted above)")
+    print("\nsampled while running, by own function (thread group, function, samples):")
+    for group, fn, n in threads["own"][:20]:
+        print(f"  {n:5d}  {group:<20} {fn}")
+    print("\nsampled while running, by inclusive function, the top 14 of each thread group (samples):")
+    for group in threads["cpu_by_thread"]:
+        rows = [(fn, n) for g, fn, n in threads["inclusive"] if g == group]
+        if rows:
+            print(f"  {group}: " + ", ".join(f"{fn} {n}" for fn, n in rows))
+
+
 def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: int, profile: bool, label: str):
     """``rounds`` rt/kube pairs in alternating order; per side the medians over rounds (and the runs' rows)."""
     measured: dict[str, list[dict]] = {"rt": [], "kube": []}
@@ -367,7 +400,9 @@ def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: 
                 stages = ", ".join(f"{k} p50 {1000 * v[0]:.0f} ms p99 {1000 * v[1]:.0f} ms"
                                    for k, v in sm["stages"].items())  # fmt: skip
                 extra = (f"; scheduler process CPU {sm['cpu_s']:.2f} s = {1000 * sm['cpu_s'] / pods:.1f} ms/pod, "
-                         f"{sm['cycles']} cycles, {sm['errors']} failed; in the scheduler: {stages}")  # fmt: skip
+                         f"{sm['cycles']} cycles ({sm.get('api_reads', 0)} listed the API: informers not in sync), "
+                         f"{sm['errors']} failed; informers: pods {sm['pods']}, nodes {sm.get('nodes')}; in the "
+                         f"scheduler: {stages}")  # fmt: skip
             print(f"  {label} round {r + 1} {side}: {pods} pods bound in {m['bound_s']:.2f} s "
                   f"({pods / m['bound_s']:.1f} pods/s), all Running after {m['running_s']:.2f} s (creates took "
                   f"{m['create_s']:.2f} s); create -> bound p50 {1000 * m['p50']:.0f} ms, p99 {1000 * m['p99']:.0f} "
@@ -376,7 +411,8 @@ def compare(pods: int, rounds: int, args, kube, observer: Observer, cluster_id: 
     med = {side: {k: statistics.median(m[k] for m in runs) for k in keys} for side, runs in measured.items()}
     cpu = [m["summary"]["cpu_s"] for m in measured["rt"] if m["summary"]]
     med["rt"]["cpu_s"] = statistics.median(cpu) if cpu else 0.0
-    last = next((m for m in reversed(measured["rt"]) if m["profile"] is not None), None)
+    profiled = [m for m in measured["rt"] if m["profile"] is not None or (m["summary"] or {}).get("threads")]
+    last = profiled[-1] if profiled else None
     return med, measured, last
 
 
@@ -411,7 +447,10 @@ def single(args, dev_kubeconfig: str, doc: dict) -> None:
     )
     if last is not None:
         sm = last["summary"]
-        print_profile(last["profile"], f"{sm['cycles']} cycles, {sm['errors']} failed")
+        if last["profile"] is not None:
+            print_profile(last["profile"], f"{sm['cycles']} cycles, {sm['errors']} failed")
+        if sm.get("threads"):
+            print_threads(sm["threads"], args.pods)
     observer.api_client.close()
 
 
@@ -513,10 +552,15 @@ def main() -> None:
     p.add_argument("--sweep-pods", type=ints, default=[100, 300, 600], help="pod counts of --sweep")
     p.add_argument("--keep", action="store_true", help="keep the database afterwards")
     p.add_argument("--serve-scheduler", type=int, help=argparse.SUPPRESS)  # the child process: a cluster id
+    p.add_argument("--scheduler-profile", choices=("sample", "cprofile", "none"), default="sample",
+                   help="how the RT scheduler process is profiled: sampled (every thread, a few %% of a core: CPU "
+                   "per thread and the functions running), cProfile of its loop thread (slows that thread), "
+                   "or not")  # fmt: skip
     p.add_argument("--profile", help=argparse.SUPPRESS)
+    p.add_argument("--sample", action="store_true", help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.serve_scheduler:
-        serve_scheduler(args.serve_scheduler, args.profile)
+        serve_scheduler(args.serve_scheduler, args.profile, args.sample)
         return
     per_node = int(0.95 * PERIOD_MS / WCET_MS)
     if min(args.nodes, args.pods, args.realtimes, args.rounds, args.threads) < 1:

@@ -90,9 +90,13 @@ class Kube:
         """``read_json(fn, *args, **kwargs)`` retried on transient failures (see the module docstring)."""
         return call(read_json, fn, *args, what=what, server=self.server, idempotent=idempotent, **kwargs)
 
-    def version(self) -> dict:
-        """The API server's version: the cheapest read there is, used to open (warm) a connection."""
-        return self._json(client.VersionApi(self.api_client).get_code, what="read the API version") or {}
+    def version(self, retried: bool = True) -> dict:
+        """The API server's version: the cheapest read there is, used to open (warm) a connection. ``retried``
+        False: one attempt (warming must not hold a thread for the retry deadline when the API is down)."""
+        get_code = client.VersionApi(self.api_client).get_code
+        if not retried:
+            return read_json(get_code) or {}
+        return self._json(get_code, what="read the API version") or {}
 
     # ---- namespaces and CRDs ---------------------------------------------------------------------------
     def ensure_namespace(self, namespace: str) -> None:

@@ -173,7 +173,8 @@ def kube_for(cluster: Cluster) -> Kube:
     # machine): another cluster's eviction must not wait for it. Two threads may build one each; one is kept.
     # Shared by the RT scheduler's Binding pool, its Events, its cycle's reads and the RT sync: a connection
     # each, kept warm (see apps.realtime.scheduler).
-    built = Kube(api_client_for(cluster, pool=3 * concurrency() + 4), cluster.name, component=RT_SCHEDULER_NAME)
+    pool = binders() + concurrency() + 4
+    built = Kube(api_client_for(cluster, pool=pool), cluster.name, component=RT_SCHEDULER_NAME)
     with _LOCK:
         kube = _CLIENTS.get(key)
         if kube is None:
@@ -183,6 +184,13 @@ def kube_for(cluster: Cluster) -> Kube:
     if kube is not built:
         built.api_client.close()
     return kube
+
+
+def binders() -> int:
+    """Bindings the RT scheduler has in flight at most: four times a push's bound, at most 64. kube-scheduler
+    binds each pod in a goroutine of its own; a Binding waits 60-100 ms for a loaded API server, so a cycle's
+    burst of decisions queued behind fewer threads waited hundreds of ms before its Bindings went out."""
+    return min(4 * concurrency(), 64)
 
 
 def warm(cluster: Cluster) -> bool:

@@ -32,6 +32,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import queue
+import sys
 import threading
 import time
 from collections import deque
@@ -75,6 +76,7 @@ from .kube import (
     REALTIME_PLURAL,
     REALTIME_VERSION,
     Kube,
+    binders,
     kube_for,
     parse_time,
     problem,
@@ -266,6 +268,14 @@ class _Decided:
 
 #: Bounded: a database slower than the binds makes the loop wait (back-pressure), never grow without end.
 WRITE_QUEUE = 64
+#: The writer writes at most this often (seconds): while pods stream in, a cycle every ~25 ms each upserted the
+#: ledger of every pod (and looked for gone ones) in the writer's own batch, beside the Bindings for the GIL and
+#: the database's CPU; the rows and decisions of several cycles now go together, at most this late.
+WRITE_EVERY = 0.25
+#: The GIL's switch interval while run() loops with the watch (Python's default: 5 ms). The Binding threads and the
+#: pod watch thread mostly wait for the API; when an answer or an event arrives, the thread waits for the GIL
+#: behind the deciding loop or the writer for up to one interval, on the pod's clock.
+SWITCH_INTERVAL = 0.001
 #: Per-pod timings kept for the benchmark (the latest ones).
 TIMINGS = 20_000
 
@@ -279,11 +289,12 @@ class RTScheduler:
     - nodes and pods are read from informer caches filled by the watches (:mod:`apps.realtime.informer`),
       not listed per cycle; a cycle starts as soon as a relevant event arrives (no period to wait for), and
       takes every pod pending by then (a burst is decided together);
-    - the Bindings go out on a persistent pool of ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` threads sharing one
+    - the Bindings go out on a persistent pool of ``kube.binders()`` threads sharing one
       client; a bound pod is assumed bound in the cache until deleted, so it is never bound twice;
     - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread;
     - the ledger rows and the decisions ("why" of the dashboard) are written by a writer thread after the
-      binds, from a bounded queue (drained in batches: one upsert of the ledger for several cycles);
+      binds, from a bounded queue (drained in batches at most every WRITE_EVERY s: one ledger upsert for several
+      cycles);
     - Events and pending explanations are sent in the background.
 
     A cycle called on its own (``--once``, tests) does all of it inline, listing from the API.
@@ -336,6 +347,7 @@ class RTScheduler:
         #: See _state: (cluster, policy, node rows), when read, and the monotonic time the next taint expires.
         self._state_cache: tuple[Cluster, RTPolicy, dict[str, ComputeNode]] | None = None
         self._state_at = 0.0
+        self._kube_of: tuple[Cluster, Kube] | None = None
         self._expiry_at: float | None = None
         self._memo_key: tuple | None = None
         self._realtimes: dict[tuple[str, str], RealTime] = {}
@@ -343,6 +355,8 @@ class RTScheduler:
         self._memo: dict[str, tuple[tuple, PodView]] = {}
         self.write_errors = 0
         self.writes = 0
+        #: Cycles that listed nodes and pods from the API (the informers were not in sync).
+        self.api_reads = 0
         #: pod key -> monotonic time the watch first reported it pending (the start of its latency).
         self._seen: dict[str, float] = {}
         #: Per bound pod: (seen -> decided, decided -> Binding sent, Binding sent -> answered) in seconds.
@@ -357,9 +371,15 @@ class RTScheduler:
         """Cycle until ``stop`` is set (or ``max_cycles`` ran); never raises for a failing cycle."""
         stop = stop or self.stopping
         failures = 0
+        switch = sys.getswitchinterval()
+        if self.use_watch:
+            sys.setswitchinterval(min(switch, SWITCH_INTERVAL))
         self._explainer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rt-explain")
-        # Twice a push's bound: a Binding is one short write, and binds queued here wait with their pods.
-        self._binder = ThreadPoolExecutor(max_workers=2 * concurrency(), thread_name_prefix="rt-bind")
+        # More than a push's bound (kube.binders): a Binding is one short write, and binds queued here wait with
+        # their pods; the threads wait for the API, not for the GIL.
+        self._binder = ThreadPoolExecutor(max_workers=binders(), thread_name_prefix="rt-bind")
+        if self.use_watch:
+            self._warm_binders()
         self._writes = queue.Queue(maxsize=WRITE_QUEUE)
         writer = threading.Thread(target=self._write_loop, args=(self._writes,), daemon=True, name="rt-writer")
         writer.start()
@@ -411,7 +431,27 @@ class RTScheduler:
             for t in self.threads:
                 t.join(timeout=max(0.0, deadline - time.monotonic()))
             connection.close()
+            sys.setswitchinterval(switch)
         return self.cycles
+
+    def _warm_binders(self) -> None:
+        """Each Binding thread opens its connection now, with one cheap read at once (the API's version): the
+        first burst of pods otherwise paid a thread start and a TLS handshake per Binding on its clock."""
+        try:
+            kube = kube_for(Cluster.objects.get(pk=self.cluster_id))
+        except (Cluster.DoesNotExist, *KUBE_ERRORS) as exc:
+            log.info("RT scheduler: Binding connections not warmed: %s", exc)
+            return
+
+        def one() -> None:
+            try:
+                kube.version(retried=False)
+            except KUBE_ERRORS as exc:  # the API is down: the first cycle says so
+                log.debug("warming a Binding connection: %s", problem(exc))
+
+        assert self._binder is not None
+        for _ in range(binders()):
+            self._binder.submit(one)
 
     def _close_watches(self) -> None:
         """Interrupt the watch connections (a blocked read would otherwise wait for the server's timeout)."""
@@ -459,6 +499,7 @@ class RTScheduler:
         """Nodes and pods: from the informers when both are in sync, else listed (two reads at once)."""
         if self.use_watch and self._background_sync and self.pods.synced and self.nodes.synced:
             return self.nodes.snapshot(), self.pods.snapshot()
+        self.api_reads += 1
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
         return api_nodes, pods
 
@@ -484,7 +525,7 @@ class RTScheduler:
     def cycle(self) -> CycleResult:
         began = time.monotonic()
         cluster, policy, rows = self._state()
-        kube = kube_for(cluster)
+        kube = self._kube(cluster)
         result = CycleResult()
         self._conclude_finished(result)
         if not self._background_sync or (self._expiry_at is not None and began >= self._expiry_at):
@@ -562,6 +603,13 @@ class RTScheduler:
             self._expiry_at = None if expiry is None else now + expiry
             self._state_at = now
         return self._state_cache
+
+    def _kube(self, cluster: Cluster) -> Kube:
+        """``kube_for(cluster)``, remembered while :meth:`_state` keeps the same cluster row (``kube_for`` hashes the
+        kubeconfig, which releases and takes back the GIL: ~1.5 ms of each cycle on a busy machine)."""
+        if self._kube_of is None or self._kube_of[0] is not cluster:
+            self._kube_of = (cluster, kube_for(cluster))
+        return self._kube_of[1]
 
     def _pipelined(self) -> bool:
         return self._binder is not None and self._background_sync
@@ -780,6 +828,8 @@ class RTScheduler:
                     self._recorded.clear()
                     log.exception("RT scheduler: writing the ledger and decisions failed")
                     close_old_connections()
+                if not done:  # the cycles of the next WRITE_EVERY seconds are written together (not at stop)
+                    self.stopping.wait(WRITE_EVERY)
         finally:
             connection.close()
 
@@ -790,38 +840,38 @@ class RTScheduler:
         pods this cycle bound, bound now); pods gone from the API are marked deleted."""
         now = timezone.now()
         bound = bound or {}
-        rows = []
+        # Each pod's recorded fields (RECORDED's order) first: only the rows that differ from what this process
+        # last wrote become model instances (a batch of a few new pods among 1,000 built 1,000 of them).
+        state: dict[tuple[str, str], tuple] = {}
         for v in views:
             meta, spec = v.pod["metadata"], v.pod.get("spec") or {}
-            just_bound = bound.get((meta["namespace"], meta["name"]))
+            key = (meta["namespace"], meta["name"])
+            just_bound = bound.get(key)
             node = just_bound[0] if just_bound else spec.get("nodeName") or ""
             c = v.container
             containers = spec.get("containers") or [{}]
-            rows.append(
-                RTPod(
-                    cluster=cluster,
-                    namespace=meta["namespace"],
-                    name=meta["name"],
-                    uid=meta.get("uid", ""),
-                    node=node,
-                    container_name=containers[0].get("name", ""),
-                    scheduler_name=spec.get("schedulerName", ""),
-                    realtime=v.realtime,
-                    criticality=c.criticality if c else (v.realtime.criticality if v.realtime else NONE),
-                    stateless=c.stateless if c else False,
-                    cpu=c.cpu if c else 0.0,
-                    memory_mib=c.memory_mib if c else 0.0,
-                    utilization=(c.utilization(node) if c and node else None),
-                    owned=any(o.get("controller") for o in meta.get("ownerReferences") or []),
-                    phase=(v.pod.get("status") or {}).get("phase", ""),
-                    bound_at=now if just_bound else (_bound_at(v.pod) if node else None),
-                    deleted_at=None,
-                )
+            state[key] = (
+                meta.get("uid", ""),
+                node,
+                containers[0].get("name", ""),
+                spec.get("schedulerName", ""),
+                v.realtime.pk if v.realtime else None,
+                c.criticality if c else (v.realtime.criticality if v.realtime else NONE),
+                c.stateless if c else False,
+                c.cpu if c else 0.0,
+                c.memory_mib if c else 0.0,
+                c.utilization(node) if c and node else None,
+                any(o.get("controller") for o in meta.get("ownerReferences") or []),
+                (v.pod.get("status") or {}).get("phase", ""),
+                now if just_bound else (_bound_at(v.pod) if node else None),
             )
-        seen = {(r.namespace, r.name) for r in rows}
+        seen = set(state)
         columns = [RTPod._meta.get_field(f).attname for f in RECORDED]
-        state = {(r.namespace, r.name): tuple(getattr(r, c) for c in columns) for r in rows}
-        rows = [r for r in rows if self._recorded.get((r.namespace, r.name)) != state[(r.namespace, r.name)]]
+        rows = [
+            RTPod(cluster=cluster, namespace=space, name=name, deleted_at=None, **dict(zip(columns, row, strict=True)))
+            for (space, name), row in state.items()
+            if self._recorded.get((space, name)) != row
+        ]
         with transaction.atomic():
             RTPod.objects.bulk_create(
                 sorted(rows, key=lambda r: (r.namespace, r.name)),
