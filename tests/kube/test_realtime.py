@@ -336,10 +336,17 @@ def test_decisions_are_stored_after_the_bind_and_a_replayed_event_never_binds_tw
     scheduler.wake.set()
     wait_for(lambda: scheduler.cycles >= cycles + 2, "two more cycles")
     assert scheduler.pods.stats()["stale_events"] >= 1
+
+    def scheduled() -> list:
+        events = kube.list_namespaced_event(ns, field_selector="involvedObject.name=cam,reason=Scheduled").items
+        return [e for e in events if e.source.component == "RT-scheduler"]
+
+    # Events and decisions are written in the background (the writer batches every WRITE_EVERY s): wait for the
+    # first Event, then give a second decision or Event the time to appear.
+    wait_for(scheduled, "cam's Scheduled Event")
+    time.sleep(1.0)
+    assert len(scheduled()) == 1
     assert RTDecision.objects.filter(cluster=cluster, pod="cam", outcome="bound").count() == 1
     assert not RTDecision.objects.filter(cluster=cluster, pod="cam").exclude(outcome="bound").exists()
-    time.sleep(1.0)  # Events go out in the background: give a second Scheduled Event the time to appear
-    events = kube.list_namespaced_event(ns, field_selector="involvedObject.name=cam,reason=Scheduled").items
-    assert len([e for e in events if e.source.component == "RT-scheduler"]) == 1
     assert RTPod.objects.get(cluster=cluster, name="cam").node == "node1"
     assert scheduler.errors == 0 and scheduler.write_errors == 0, scheduler.last_error
