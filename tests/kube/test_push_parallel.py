@@ -334,9 +334,10 @@ def test_when_the_api_goes_away_mid_push_the_rest_fail_with_the_reason(
         outcomes, fatal = gateway.push(pods, api_client, placements)
     assert time.monotonic() - began < TIMEOUT  # bounded by the retry deadline, not hanging
     assert fatal is not None and "gave up after" in fatal and "Kubernetes API unreachable" in fatal, fatal
-    # Placements 0-2 were done before placement 4 started (two workers, started in order); 4 and the one
-    # beside it in flight fail; none after them is started, each says why.
-    assert all(o.ok for o in outcomes[:3])
+    # Two workers take the placements in order: when placement 4 starts, 0-3 have all started and the other
+    # worker holds at most one of them (which one is a race), so at least three of them are done; 4 and the
+    # one beside it in flight fail; none after them is started, each says why.
+    assert sum(o.ok for o in outcomes[:4]) >= 3
     assert 3 <= sum(o.ok for o in outcomes) <= 4
     for o in outcomes:
         assert o.ok or o.message == fatal or "gave up after" in o.message, o.message
