@@ -73,3 +73,17 @@ def drop_database(url: str) -> None:
     parts = urlsplit(url)
     with psycopg.connect(urlunsplit(parts._replace(path="/postgres")), autocommit=True) as conn:
         conn.execute(f'DROP DATABASE IF EXISTS "{parts.path.lstrip("/")}" WITH (FORCE)')
+
+
+def print_top(stats: Any, title: str, orders: Sequence[str] = ("cumulative", "tottime"), n: int = 25) -> None:
+    """Print the ``n`` top rows of a ``pstats.Stats`` for each sort order, under ``title`` (which the order ends)."""
+    import io
+
+    for order in orders:
+        out = io.StringIO()
+        stats.stream = out
+        stats.sort_stats(order).print_stats(n)
+        lines = [line for line in out.getvalue().splitlines() if line.strip()]
+        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
+        print(f"\n{title}, top {n} by {order}:")
+        print("\n".join(lines[start : start + n + 1]))

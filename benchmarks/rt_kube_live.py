@@ -58,8 +58,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+
+from benchmarks._bench import drop_database, print_top, recreate_database  # noqa: E402
+
 PG = os.environ.get("BENCH_PG", "postgres://postgres@127.0.0.1:5432")
-DB_NAME = os.environ.get("BENCH_DB", "continuum_bench_rtlive")
+DB_URL = f"{PG}/{os.environ.get('BENCH_DB', 'continuum_bench_rtlive')}"
 NAMESPACE = "bench-rt"
 PERIOD_MS, WCET_MS = 100.0, 3.0  # utilisation 0.03 per pod: 31 pods fit the 0.95 threshold of a 1-CPU node
 CPU_REQUEST_M = 20  # millicores: 31 pods use 620m of a hollow node's 1 CPU
@@ -68,22 +71,6 @@ RT_TOLERATION = {"key": "RealTime", "operator": "Equal", "value": "RT", "effect"
 
 def progress(line: str) -> None:
     print(f"  [cluster] {line}", file=sys.stderr, flush=True)
-
-
-def create_database() -> str:
-    import psycopg
-
-    with psycopg.connect(f"{PG}/postgres", autocommit=True) as conn:
-        conn.execute(f"DROP DATABASE IF EXISTS {DB_NAME} WITH (FORCE)")
-        conn.execute(f"CREATE DATABASE {DB_NAME}")
-    return f"{PG}/{DB_NAME}"
-
-
-def drop_database() -> None:
-    import psycopg
-
-    with psycopg.connect(f"{PG}/postgres", autocommit=True) as conn:
-        conn.execute(f"DROP DATABASE IF EXISTS {DB_NAME} WITH (FORCE)")
 
 
 def cluster_doc(n: int) -> dict:
@@ -355,15 +342,8 @@ def one_run(label: str, pods: int, args, kube, observer: Observer, cluster_id: i
 
 
 def print_profile(stats: pstats.Stats, summary: str) -> None:
-    for order in ("tottime", "cumulative"):
-        out = io.StringIO()
-        stats.stream = out
-        stats.sort_stats(order).print_stats(15)
-        lines = [line for line in out.getvalue().splitlines() if line.strip()]
-        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
-        print(f"\ncProfile of the RT scheduler's loop thread (its process, its last run: {summary}), top 15 by "
-              f"{order}:")  # fmt: skip
-        print("\n".join(lines[start : start + 16]))
+    title = f"cProfile of the RT scheduler's loop thread (its process, its last run: {summary})"
+    print_top(stats, title, ("tottime", "cumulative"), 15)
 
 
 def print_threads(threads: dict, pods: int) -> None:
@@ -570,7 +550,7 @@ def main() -> None:
         print(f"{args.pods} pods do not fit {args.nodes} RT nodes of {per_node} pods each", file=sys.stderr)
         sys.exit(2)
     load_before = os.getloadavg()
-    os.environ["DATABASE_URL"] = create_database()
+    os.environ["DATABASE_URL"] = recreate_database(DB_URL)
     os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
     os.environ["LOG_LEVEL"] = "WARNING"
     env = dict(os.environ, DEBUG="0")
@@ -607,7 +587,7 @@ def main() -> None:
     finally:
         connections.close_all()
         if not args.keep:
-            drop_database()
+            drop_database(DB_URL)
 
 
 if __name__ == "__main__":

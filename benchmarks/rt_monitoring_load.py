@@ -49,7 +49,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks._bench import drop_database, recreate_database  # noqa: E402
+from benchmarks._bench import drop_database, print_top, recreate_database  # noqa: E402
 
 PG = os.environ.get("BENCH_PG", "postgres://postgres@127.0.0.1:5432")
 DB_NAME = os.environ.get("BENCH_DB", "continuum_bench_rtload")
@@ -952,15 +952,7 @@ def print_schedulers_profile(path: str) -> None:
         return
     stats = pstats.Stats(path, stream=io.StringIO())
     Path(path).unlink()
-    for order in ("cumulative", "tottime"):
-        out = io.StringIO()
-        stats.stream = out
-        stats.sort_stats(order).print_stats(25)
-        lines = [line for line in out.getvalue().splitlines() if line.strip()]
-        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
-        print(f"\ncProfile of the RT schedulers' process (CPU time of every thread, set-up included), top 25 by "
-              f"{order}:")  # fmt: skip
-        print("\n".join(lines[start : start + 26]))
+    print_top(stats, "cProfile of the RT schedulers' process (CPU time of every thread, set-up included)")
 
 
 def print_profile(path: str) -> None:
@@ -972,14 +964,7 @@ def print_profile(path: str) -> None:
         return
     stats = pstats.Stats(path, stream=io.StringIO())
     Path(path).unlink()
-    for order in ("cumulative", "tottime"):
-        out = io.StringIO()
-        stats.stream = out
-        stats.sort_stats(order).print_stats(18)
-        lines = [line for line in out.getvalue().splitlines() if line.strip()]
-        start = next((i for i, line in enumerate(lines) if "ncalls" in line), 0)
-        print(f"\ncProfile of the rt_reconcile worker's tasks (every thread, waits included), top 18 by {order}:")
-        print("\n".join(lines[start : start + 19]))
+    print_top(stats, "cProfile of the rt_reconcile worker's tasks (every thread, waits included)", n=18)
     out = io.StringIO()
     stats.stream = out
     stats.sort_stats("tottime").print_callers(r"method 'acquire'|wait\)|_ssl._SSLSocket' objects}")
