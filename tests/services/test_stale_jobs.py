@@ -19,13 +19,16 @@ from apps.scheduling.models import Schedule
 from .test_celery_worker import PLATFORM, make_app, wait_for
 
 pytestmark = pytest.mark.services
+TASKS = 20_000
 
 
 @pytest.mark.django_db(transaction=True)
 def test_worker_killed_mid_job_is_queued_again_long_before_the_visibility_timeout(fleet, start_worker):
-    # Both workers keep the hour-long visibility timeout: Redis would not deliver the job again in time.
-    first = start_worker(visibility_timeout=3600, env={"CONTINUUM_JOB_HEARTBEAT_S": "1"})
-    app = make_app(fleet, 12000)
+    # Both workers keep the hour-long visibility timeout: Redis would not deliver the job again in time. The job
+    # must still be running when its first heartbeat is seen: with 12,000 tasks and a 1 s beat it once ended
+    # before its first beat; 20,000 tasks ran 2.0 s on a quiet machine, the first 0.25 s beat seen at 0.33 s.
+    first = start_worker(visibility_timeout=3600, env={"CONTINUUM_JOB_HEARTBEAT_S": "0.25"})
+    app = make_app(fleet, TASKS)
     job = start_job(SchedulingJob.SCHEDULE, fleet, {"application": app.pk, "algorithm": "heft", "platform": PLATFORM})
     # The running job shows its worker's heartbeats.
     running = wait_for(job.pk, lambda j: j.state == Job.State.RUNNING and j.heartbeat and j.heartbeat > j.started)
@@ -42,7 +45,7 @@ def test_worker_killed_mid_job_is_queued_again_long_before_the_visibility_timeou
     assert job.state == Job.State.SUCCEEDED, job.error
     assert job.attempts == 2
     assert Schedule.objects.filter(job=job).count() == 1
-    assert Schedule.objects.get(job=job).assignments.count() == 12000
+    assert Schedule.objects.get(job=job).assignments.count() == TASKS
 
 
 def running_job(fleet, worker: str, silent_s: float, attempts: int = 1) -> Job:
