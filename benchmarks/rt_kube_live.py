@@ -482,22 +482,23 @@ def sweep(args) -> None:
                  "p50 kube/rt", "rt p99 ms", "kube p99 ms", "p99 kube/rt", "rt CPU ms/pod"], rows))  # fmt: skip
     print("(ratios > 1: rt faster; CPU: the RT scheduler process, all threads, from idle to stop)")
     print("\ngrowth exponents k in time ~ x^k (least squares over log-log points):")
+
+    def growth(held: str, axis: str, cells: list[tuple[int, dict]]) -> None:
+        """One line per side of how the time to all bound grows along ``axis`` (the other held), and the RT
+        scheduler's CPU; ``cells``: (x, medians) of the measured points."""
+        if len(cells) < 2:
+            return
+        xs = [x for x, _ in cells]
+        for side in ("rt", "kube"):
+            k = fit_exponent(xs, [med[side]["bound_s"] for _, med in cells])
+            print(f"  {held}, {side}: time to all bound ~ {axis}^{k:.2f}")
+        k = fit_exponent(xs, [med["rt"]["cpu_s"] for _, med in cells])
+        print(f"  {held}, rt scheduler CPU ~ {axis}^{k:.2f}")
+
     for n in args.sweep_nodes:
-        xs = [p for p in args.sweep_pods if (n, p) in points]
-        if len(xs) >= 2:
-            for side in ("rt", "kube"):
-                k = fit_exponent(xs, [points[(n, p)][side]["bound_s"] for p in xs])
-                print(f"  {n} nodes, {side}: time to all bound ~ pods^{k:.2f}")
-            k = fit_exponent(xs, [points[(n, p)]["rt"]["cpu_s"] for p in xs])
-            print(f"  {n} nodes, rt scheduler CPU ~ pods^{k:.2f}")
+        growth(f"{n} nodes", "pods", [(p, points[(n, p)]) for p in args.sweep_pods if (n, p) in points])
     for pods in args.sweep_pods:
-        ns = [n for n in args.sweep_nodes if (n, pods) in points]
-        if len(ns) >= 2:
-            for side in ("rt", "kube"):
-                k = fit_exponent(ns, [points[(n, pods)][side]["bound_s"] for n in ns])
-                print(f"  {pods} pods, {side}: time to all bound ~ nodes^{k:.2f}")
-            k = fit_exponent(ns, [points[(n, pods)]["rt"]["cpu_s"] for n in ns])
-            print(f"  {pods} pods, rt scheduler CPU ~ nodes^{k:.2f}")
+        growth(f"{pods} pods", "nodes", [(n, points[(n, pods)]) for n in args.sweep_nodes if (n, pods) in points])
 
 
 def _reset_database() -> None:

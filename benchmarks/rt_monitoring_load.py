@@ -943,27 +943,32 @@ def profile_requests(fleets: list[dict], args, n: int = 200):
     return 1000 * cpu / n, prof
 
 
-def print_schedulers_profile(path: str) -> None:
+def read_profile(path: str, missing: str):
+    """The ``pstats.Stats`` a child process dumped at ``path`` (the file is removed), or None after saying
+    ``missing``."""
     import io
     import pstats
 
     if not Path(path).exists():
-        print("\n(no profile of the RT schedulers: their process did not stop cleanly)")
-        return
+        print(f"\n({missing})")
+        return None
     stats = pstats.Stats(path, stream=io.StringIO())
     Path(path).unlink()
-    print_top(stats, "cProfile of the RT schedulers' process (CPU time of every thread, set-up included)")
+    return stats
+
+
+def print_schedulers_profile(path: str) -> None:
+    stats = read_profile(path, "no profile of the RT schedulers: their process did not stop cleanly")
+    if stats is not None:
+        print_top(stats, "cProfile of the RT schedulers' process (CPU time of every thread, set-up included)")
 
 
 def print_profile(path: str) -> None:
     import io
-    import pstats
 
-    if not Path(path).exists():
-        print("\n(no profile of the worker: it ran no task or did not stop cleanly)")
+    stats = read_profile(path, "no profile of the worker: it ran no task or did not stop cleanly")
+    if stats is None:
         return
-    stats = pstats.Stats(path, stream=io.StringIO())
-    Path(path).unlink()
     print_top(stats, "cProfile of the rt_reconcile worker's tasks (every thread, waits included)", n=18)
     out = io.StringIO()
     stats.stream = out

@@ -391,6 +391,14 @@ class _Classes:
     allowed: np.ndarray | None = None  # class x unit, when candidate units are restricted
 
 
+def _topic_matrices(stats: MonitorStats) -> tuple[np.ndarray, np.ndarray]:
+    """(delay in ms, topic CPU in %), topic x unit: the statistics' per-topic dicts as arrays (0 where absent)."""
+    shape = (len(stats.topics), len(stats.nodes))
+    delay = np.array([[stats.delay[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics], dtype=float)
+    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics], dtype=float)
+    return delay.reshape(shape), tcpu.reshape(shape)
+
+
 def _classes(stats: MonitorStats, cpu: np.ndarray, literal: bool, merge: bool = True) -> _Classes:
     node_ix = {j: b for b, j in enumerate(stats.nodes)}
     topic_ix = {k: t for t, k in enumerate(stats.topics)}
@@ -450,8 +458,7 @@ def _build(
     y0, z0, s0 = n_x, n_x + n_y, n_x + n_y + n_z
     n = s0 + n_s
     size = np.array([len(m) for m in cl.members], dtype=float)
-    delay = np.array([[stats.delay[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics]).reshape(-1)
-    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics]).reshape(-1)
+    delay, tcpu = (matrix.reshape(-1) for matrix in _topic_matrices(stats))
     units = np.arange(j_count)
 
     c = np.zeros(n)
@@ -1036,8 +1043,7 @@ def _neighbourhood(
     if res.x is None:
         return seed
     found = _placement(stats, sub, res.x)
-    nodes = stats.nodes
-    delay = np.array([[stats.delay[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    delay, _ = _topic_matrices(stats)
     if _cost(stats, cl, found, delay, epsilon) < _cost(stats, cl, seed, delay, epsilon) - 1e-9:
         return found
     return seed
@@ -1052,9 +1058,7 @@ def _polished(
     placement = _placement(stats, cl, res.x)
     if res.status != "time_limit" or epsilon is None:
         return placement, res.gap
-    nodes = stats.nodes
-    delay = np.array([[stats.delay[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
-    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
+    delay, tcpu = _topic_matrices(stats)
     better = _improve(stats, cl, placement, delay, tcpu, epsilon)
     before = float(model.c @ _vector(model, stats, cl, placement))
     after = float(model.c @ _vector(model, stats, cl, better))
@@ -1230,9 +1234,7 @@ def _decomposed(
 def _candidates(stats: MonitorStats, cl: _Classes, k: int) -> np.ndarray:
     if k < 1:
         raise InputError("max_candidates must be >= 1", field="max_candidates")
-    delay = np.array([[stats.delay[t].get(j, 0.0) for j in stats.nodes] for t in stats.topics]).reshape(
-        -1, len(stats.nodes)
-    )
+    delay, _ = _topic_matrices(stats)
     allowed = np.zeros((len(cl.members), len(stats.nodes)), dtype=bool)
     for c in range(len(cl.members)):
         topics = cl.group_topics[cl.group[c]]
@@ -1250,12 +1252,9 @@ def _greedy(stats: MonitorStats, cl: _Classes, improve: float | None = None) -> 
     improved by local search (:func:`_improve`)."""
     cap = stats.capacity()
     nodes = stats.nodes
-    topic_ix = {k: t for t, k in enumerate(stats.topics)}
     reads = {a: cl.group_topics[cl.group[c]] for c, members in enumerate(cl.members) for a in members}
     cls_of = {a: c for c, members in enumerate(cl.members) for a in members}
-    delay = np.array([[stats.delay[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
-    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in nodes] for k in stats.topics]).reshape(-1, len(nodes))
-    del topic_ix
+    delay, tcpu = _topic_matrices(stats)
 
     def attempt(order: list[int], stay: bool) -> tuple[dict[str, str], bool]:
         left = np.array([cap[j] for j in nodes], dtype=float)
@@ -1690,7 +1689,7 @@ def _vector(model: _Model, stats: MonitorStats, cl: _Classes, placement: Mapping
             if x[model.z0 + g * j_count + b]:
                 for k in topics:
                     x[model.y0 + k * j_count + b] = 1
-    tcpu = np.array([[stats.topic_cpu[k].get(j, 0.0) for j in stats.nodes] for k in stats.topics]).reshape(-1, j_count)
+    _, tcpu = _topic_matrices(stats)
     for b in range(j_count):
         load[b] += sum(tcpu[k, b] for k in range(len(stats.topics)) if x[model.y0 + k * j_count + b])
     if model.s0 < model.w0:
