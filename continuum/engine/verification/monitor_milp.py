@@ -51,7 +51,10 @@ How it is solved (equivalent to the form above, faster):
   unit's overflow (kept together, so that the host receives its topics once) and then moves and swaps
   those host choices, every candidate evaluated exactly. The MILP restricted to the seed's neighbourhood
   (each monitor on its current unit or on a unit hosting monitors of the same current unit; one node,
-  :func:`_neighbourhood`) improves it first. Then the whole MILP runs within a time limit (the allocation
+  :func:`_neighbourhood`) improves it first. Both searches are skipped on models of at most
+  ``SEED_SEARCH_PAIRS`` (class, unit) pairs, which HiGHS solves in a few ms anyway, and a seed at the
+  trivial bound (every topic read received once, where it arrives soonest, no migration) is returned as
+  optimal without a solver (:func:`_at_lower_bound`). Then the whole MILP runs within a time limit (the allocation
   period) or a budget of branch-and-bound nodes (``work_limit``, reproducible); past it the best
   allocation found, polished by the same local search, is returned with its optimality gap.
 * ``formulation`` keeps the earlier models selectable for comparison: ``"textbook"`` (the form above,
@@ -978,8 +981,11 @@ def allocate(
             return _noted(result, diag.get("total"))
     if max_candidates is not None:
         cl.allowed = _candidates(stats, cl, max_candidates)
-    greedy, fits = _greedy(stats, cl, epsilon if formulation == "covers" else None)
-    if fits and formulation == "covers" and cl.allowed is None:
+    search = len(cl.members) * len(stats.nodes) > SEED_SEARCH_PAIRS
+    greedy, fits = _greedy(stats, cl, epsilon if formulation == "covers" else None, partition=search)
+    if fits and formulation == "covers" and _at_lower_bound(stats, cl, greedy, epsilon):
+        return _result(stats, cpu, greedy, True, "optimal", 0.0, started, lit)
+    if fits and formulation == "covers" and cl.allowed is None and search:
         # at most half of the time left, so that the whole model still gets to its root bound
         greedy = _neighbourhood(stats, cl, greedy, epsilon, lambda: left() / 2, mip_rel_gap)
     model = _build(stats, cl, epsilon, slack=False, formulation=formulation)
@@ -1010,6 +1016,11 @@ def allocate(
 # HiGHS's heuristics) did the work on the cross-robot fleets of benchmarks/milp_scaling.py (500 x 10:
 # 621 -> 545 after the root, 544 after 50 nodes), so one node keeps it cheap and independent of the clock.
 NEIGHBOURHOOD_NODES = 1
+# The robot-level seed (:func:`_partition`) and the neighbourhood step run only on models with more (class,
+# unit) pairs than this: below it HiGHS solves the whole model in a few ms, and the searches cost more than they
+# save (thesis case study 1, 5 classes x 3 units: 8 -> 17 ms per overloaded period with them; case study 2,
+# ~190 classes x 3 units, is faster with them).
+SEED_SEARCH_PAIRS = 100
 
 
 def _neighbourhood(
@@ -1245,11 +1256,14 @@ def _candidates(stats: MonitorStats, cl: _Classes, k: int) -> np.ndarray:
     return allowed
 
 
-def _greedy(stats: MonitorStats, cl: _Classes, improve: float | None = None) -> tuple[dict[str, str], bool]:
+def _greedy(
+    stats: MonitorStats, cl: _Classes, improve: float | None = None, partition: bool = True
+) -> tuple[dict[str, str], bool]:
     """A quick allocation: keep monitors where they are if everything fits, else place the largest
     monitors first on the unit that adds the least delay among those with room. ``fits`` tells whether
     every capacity holds. With ``improve`` (the ε of the objective), a fitting allocation is then
-    improved by local search (:func:`_improve`)."""
+    improved by local search (:func:`_improve`) and compared with the robot-level seed of
+    :func:`_partition` (unless ``partition`` is False)."""
     cap = stats.capacity()
     nodes = stats.nodes
     reads = {a: cl.group_topics[cl.group[c]] for c, members in enumerate(cl.members) for a in members}
@@ -1293,7 +1307,7 @@ def _greedy(stats: MonitorStats, cl: _Classes, improve: float | None = None) -> 
             return repaired, False
     if improve is not None:
         repaired = _improve(stats, cl, repaired, delay, tcpu, improve)
-        seeded = _partition(stats, cl, delay, tcpu, improve)
+        seeded = _partition(stats, cl, delay, tcpu, improve) if partition else None
         if seeded is not None:
             seeded = _improve(stats, cl, seeded, delay, tcpu, improve)
             if _cost(stats, cl, seeded, delay, improve) < _cost(stats, cl, repaired, delay, improve) - 1e-9:
@@ -1312,6 +1326,17 @@ def _cost(stats: MonitorStats, cl: _Classes, placement: Mapping[str, str], delay
             received.update((k, b) for k in cl.group_topics[cl.group[c]])
             moved += cl.current[c] is not None and cl.current[c] != b
     return sum(float(delay[k, b]) for k, b in received) + epsilon * moved
+
+
+def _at_lower_bound(stats: MonitorStats, cl: _Classes, placement: Mapping[str, str], epsilon: float) -> bool:
+    """Whether ``placement`` is optimal by the trivial bound: every topic some monitor reads is received on
+    at least one unit, at its lowest delay there at best, and no migration costs less than none. A period
+    where the monitors fit where they run and their topics arrive soonest there (thesis case study 1 while
+    the edge has room) is then answered without a solver."""
+    delay, _ = _topic_matrices(stats)
+    read = sorted({k for ks in cl.group_topics for k in ks})
+    bound = float(delay[read].min(axis=1).sum()) if read else 0.0
+    return _cost(stats, cl, placement, delay, epsilon) <= bound + 1e-9
 
 
 def _improve(

@@ -6,12 +6,14 @@ for every capacity-feasible allocation: the cuts may tighten the LP relaxation, 
 """
 
 import itertools
+import math
 import random
 
 import numpy as np
 import pytest
 
 from continuum.engine.core.errors import InputError
+from continuum.engine.verification import monitor_milp
 from continuum.engine.verification.monitor_milp import (
     FORMULATIONS,
     MonitorStats,
@@ -111,6 +113,52 @@ def test_every_formulation_reaches_the_brute_force_optimum(seed):
         assert result.objective == pytest.approx(delay, abs=1e-6), formulation
         if result.feasible:  # the returned allocation is one of the capacity-feasible ones
             assert result.allocation in feasible
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_the_seed_searches_keep_the_brute_force_optimum(seed, monkeypatch):
+    """These instances are below SEED_SEARCH_PAIRS, so allocate() skips the robot-level seed and the
+    neighbourhood step on them; forced on, the optimum is the same."""
+    monkeypatch.setattr(monitor_milp, "SEED_SEARCH_PAIRS", 0)
+    stats = MonitorStats.from_dict(_instance(seed))
+    excess, delay, _ = _brute_force(stats)
+    result = allocate(stats, mip_rel_gap=0.0, time_limit=60.0)
+    assert result.status in ("optimal", "overloaded")
+    total_over = sum(max(0.0, result.cpu[j] - result.capacity[j]) for j in stats.nodes)
+    assert total_over == pytest.approx(excess, abs=1e-6)
+    assert result.objective == pytest.approx(delay, abs=1e-6)
+
+
+def _local(edge_available: float, desktop_delay: float) -> dict:
+    """Thesis case study 1 in small: 6 monitors on the edge reading its two topics (delay 0 there)."""
+    nodes = [{"name": "edge", "available_cpu": edge_available}, {"name": "desktop", "available_cpu": 100.0}]
+    topics = [{"name": f"/t{k}", "delay": {"edge": 1.0, "desktop": desktop_delay}, "cpu": {"desktop": 0.2}}
+              for k in range(2)]  # fmt: skip
+    monitors = [{"name": f"m{i}", "topics": [f"/t{i % 2}"], "cpu": {"edge": 5.0, "desktop": 2.0}, "current": "edge"}
+                for i in range(6)]  # fmt: skip
+    return {"format": "continuum.monitorstats/v1", "nodes": nodes, "topics": topics, "monitors": monitors}
+
+
+def test_an_allocation_at_the_trivial_bound_is_answered_without_a_solver():
+    """Everything fits where it runs and every topic arrives soonest there: optimal as it is, no solver run
+    (no branch-and-bound node, no bound); brute force agrees."""
+    stats = MonitorStats.from_dict(_local(100.0, 10.0))
+    result = allocate(stats)
+    assert (result.status, result.migrations, result.objective) == ("optimal", [], 2.0)
+    assert result.nodes == 0 and result.root_bound == -math.inf
+    assert _brute_force(stats)[:2] == (0.0, 2.0)
+
+
+@pytest.mark.parametrize("edge_available, desktop_delay", [(100.0, 0.5), (20.0, 10.0)])
+def test_an_allocation_above_the_trivial_bound_is_still_solved(edge_available, desktop_delay):
+    """The topics arrive sooner on the desktop, or the edge has no room for every monitor: the solver
+    decides, and reaches the brute-force optimum."""
+    stats = MonitorStats.from_dict(_local(edge_available, desktop_delay))
+    excess, delay, _ = _brute_force(stats)
+    result = allocate(stats, mip_rel_gap=0.0)
+    assert result.status == "optimal" and result.migrations
+    assert excess == 0 and result.objective == pytest.approx(delay)
+    assert result.root_bound > -math.inf
 
 
 @pytest.mark.parametrize("seed", SEEDS)
