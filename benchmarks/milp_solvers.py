@@ -432,13 +432,13 @@ def _cpsat(d: dict, checkpoints: list[float], workers: int) -> dict:
     ub = d["ub"]
     x = []
     for j in range(n):
-        top = int(round(ub[j])) if np.isfinite(ub[j]) else 1 << 30
+        top = round(ub[j]) if np.isfinite(ub[j]) else 1 << 30
         x.append(model.new_bool_var(f"v{j}") if top == 1 else model.new_int_var(0, top, f"v{j}"))
     for r in range(a.shape[0]):
         lo, hi = float(d["lo"][r]), float(d["hi"][r])
         cols, vals = a.indices[a.indptr[r] : a.indptr[r + 1]], a.data[a.indptr[r] : a.indptr[r + 1]]
         s = _row_scale(vals, [lo, hi])
-        coefs = [int(round(v * s)) for v in vals]
+        coefs = [round(v * s) for v in vals]
         low = int(np.ceil(lo * s - 1e-6)) if np.isfinite(lo) else cp_model.INT_MIN
         high = int(np.floor(hi * s + 1e-6)) if np.isfinite(hi) else cp_model.INT_MAX
         model.add_linear_constraint(sum(c * x[j] for j, c in zip(cols, coefs, strict=True)), low, high)
@@ -446,7 +446,7 @@ def _cpsat(d: dict, checkpoints: list[float], workers: int) -> dict:
     c[y0:z0] -= 1e-6  # drop the tiny reception cost: the objective is then exact in integers
     coef = np.rint(c * OBJ_SCALE).astype(int)
     model.minimize(sum(int(k) * x[j] for j, k in enumerate(coef) if k))
-    hint = list(zip(x, (int(round(v)) for v in d["start"]), strict=True)) if "start" in d else None
+    hint = list(zip(x, (round(v) for v in d["start"]), strict=True)) if "start" in d else None
     return _cpsat_solve(model, checkpoints, workers, _Progress(), hint)
 
 
@@ -475,20 +475,20 @@ def _cpsat_cp(d: dict, checkpoints: list[float], workers: int) -> dict:
             for k in ks:
                 model.add_implication(z[g][j], y[(k, j)])
     for j in range(n_j):
-        terms = [int(round(cpu[c, j] * 1000)) * count[c][j] for c in range(n_c)]
-        terms += [int(round(tcpu[k, j] * 1000)) * y[(k, j)] for k in read]
+        terms = [round(cpu[c, j] * 1000) * count[c][j] for c in range(n_c)]
+        terms += [round(tcpu[k, j] * 1000) * y[(k, j)] for k in read]
         model.add(sum(terms) <= int(np.floor(cap[j] * 1000 + 1e-6)))
-    objective = [int(round(delay[k, j] * OBJ_SCALE)) * y[(k, j)] for k in read for j in range(n_j)]
-    objective += [-int(round(1e-3 * OBJ_SCALE)) * count[c][int(current[c])] for c in range(n_c) if current[c] >= 0]
+    objective = [round(delay[k, j] * OBJ_SCALE) * y[(k, j)] for k in read for j in range(n_j)]
+    objective += [-round(1e-3 * OBJ_SCALE) * count[c][int(current[c])] for c in range(n_c) if current[c] >= 0]
     model.minimize(sum(objective))
     assert n_k >= len(read)
     hint = None
     if "start" in d:
         s = d["start"]
         y0, z0 = int(d["y0"][0]), int(d["z0"][0])
-        hint = [(count[c][j], int(round(s[c * n_j + j]))) for c in range(n_c) for j in range(n_j)]
-        hint += [(z[g][j], int(round(s[z0 + g * n_j + j]))) for g in range(len(sets)) for j in range(n_j)]
-        hint += [(y[(k, j)], int(round(s[y0 + k * n_j + j]))) for k in read for j in range(n_j)]
+        hint = [(count[c][j], round(s[c * n_j + j])) for c in range(n_c) for j in range(n_j)]
+        hint += [(z[g][j], round(s[z0 + g * n_j + j])) for g in range(len(sets)) for j in range(n_j)]
+        hint += [(y[(k, j)], round(s[y0 + k * n_j + j])) for k in read for j in range(n_j)]
     return _cpsat_solve(model, checkpoints, workers, _Progress(), hint)
 
 
