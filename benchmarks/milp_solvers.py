@@ -2,7 +2,7 @@
 
     PYTHONPATH=/tmp/milpx-pkgs python benchmarks/milp_solvers.py [--sizes 500x5,500x10,1000x20]
         [--fleets uniform,heterogeneous] [--solvers highs,scip,cpsat,cpsat-cp] [--time-limit 60]
-        [--checkpoints 1,10,60] [--start] [--workers 2]
+        [--checkpoints 1,10,60] [--start] [--workers 2] [--cpsat-params 'linearization_level:2']
 
 Question: does any solver prove optimality of the "covers" model on the cross-robot fleets of
 benchmarks/milp_scaling.py (``fleet(m, n, seed=m+n, uniform, cross=0.1)``) where HiGHS cannot?
@@ -22,6 +22,8 @@ its own HiGHS whose symbols clash with highspy's, so they cannot share a process
     becomes 1, both exact; the 1e-6 cost per reception is dropped) and each row by the smallest power of
     10 (<= 1e6) that makes its coefficients and bounds integral (CPU shares have 3 decimals: exact);
     y is declared boolean (it is integral at every optimum). Reported values are divided by 1000.
+    ``--cpsat-params`` adds SatParameters in protobuf text format (e.g. ``linearization_level:2``, which
+    puts every constraint in CP-SAT's LP, for a bound closer to the MILP solvers').
   * ``cpsat-cp``: CP-SAT on the natural model written directly (n[c,j] integer, z[g,j] and y[k,j]
     booleans, n <= |c|·z, z => y, capacities as linear constraints scaled by 1000; no covers).
 
@@ -54,6 +56,7 @@ sys.path.insert(0, str(ROOT))
 SOLVERS = ("highs", "scip", "cpsat", "cpsat-cp")
 OBJ_SCALE = 1000.0  # CP-SAT objective scale (see the docstring)
 GAP = 1e-4  # the relative gap every solver stops at (monitor_milp's mip_rel_gap default)
+CPSAT_PARAMS = ""  # --cpsat-params, set in the child
 
 
 def loadavg() -> str:
@@ -132,7 +135,7 @@ def export(m: int, n: int, uniform: bool, path: Path, start: bool) -> dict:
 
 def run_child(solver: str, path: Path, args: argparse.Namespace) -> dict:
     cmd = [sys.executable, str(Path(__file__).resolve()), "--child", solver, "--model", str(path)]
-    cmd += ["--checkpoints", args.checkpoints, "--workers", str(args.workers)]
+    cmd += ["--checkpoints", args.checkpoints, "--workers", str(args.workers), "--cpsat-params", args.cpsat_params]
     limit = max(float(t) for t in args.checkpoints.split(","))
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=limit * 3 + 120, env=os.environ.copy())
@@ -190,11 +193,14 @@ def main() -> None:
     parser.add_argument("--checkpoints", default="1,10,60", help="seconds; the last is the time limit")
     parser.add_argument("--start", action="store_true", help="give every solver allocate()'s seed")
     parser.add_argument("--workers", type=int, default=2, help="CP-SAT workers")
+    parser.add_argument("--cpsat-params", default="", help="extra CP-SAT SatParameters, protobuf text format")
     parser.add_argument("--child", default=None, help=argparse.SUPPRESS)
     parser.add_argument("--model", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     checkpoints = [float(t) for t in args.checkpoints.split(",")]
     if args.child:
+        global CPSAT_PARAMS
+        CPSAT_PARAMS = args.cpsat_params
         print(json.dumps(child(args.child, Path(args.model), checkpoints, args.workers)))
         return
     solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
@@ -202,7 +208,10 @@ def main() -> None:
     if bad:
         print(f"milp_solvers: unknown solver {bad[0]!r} (choices: {', '.join(SOLVERS)})", file=sys.stderr)
         sys.exit(2)
-    print(f"load average at start: {loadavg()}; checkpoints {checkpoints} s; start given: {args.start}")
+    print(
+        f"load average at start: {loadavg()}; checkpoints {checkpoints} s; start given: {args.start}; "
+        f"CP-SAT workers {args.workers}, extra parameters {args.cpsat_params!r}"
+    )
     head = " | ".join(f"{f'obj@{t:g}s':>8} {f'bnd@{t:g}s':>8} {'gap':>6}" for t in checkpoints)
     with tempfile.TemporaryDirectory(prefix="milp_solvers-") as tmp:
         for kind in [f.strip() for f in args.fleets.split(",") if f.strip()]:
@@ -404,6 +413,10 @@ def _cpsat_solve(model, checkpoints: list[float], workers: int, progress: _Progr
     solver.parameters.num_workers = workers
     solver.parameters.max_time_in_seconds = float(max(checkpoints))
     solver.parameters.relative_gap_limit = GAP
+    if CPSAT_PARAMS:
+        from google.protobuf import text_format
+
+        text_format.Merge(CPSAT_PARAMS, solver.parameters)
 
     class Cb(cp_model.CpSolverSolutionCallback):
         def on_solution_callback(self) -> None:
