@@ -22,7 +22,7 @@ its own HiGHS whose symbols clash with highspy's, so they cannot share a process
     becomes 1, both exact; the 1e-6 cost per reception is dropped) and each row by the smallest power of
     10 (<= 1e6) that makes its coefficients and bounds integral (CPU shares have 3 decimals: exact);
     y is declared boolean (it is integral at every optimum). Reported values are divided by 1000.
-    ``--cpsat-params`` adds SatParameters in protobuf text format (e.g. ``linearization_level:2``, which
+    ``--cpsat-params`` sets SatParameters fields, ``name:value`` pairs (e.g. ``linearization_level:2``, which
     puts every constraint in CP-SAT's LP, for a bound closer to the MILP solvers').
   * ``cpsat-cp``: CP-SAT on the natural model written directly (n[c,j] integer, z[g,j] and y[k,j]
     booleans, n <= |c|·z, z => y, capacities as linear constraints scaled by 1000; no covers).
@@ -193,7 +193,7 @@ def main() -> None:
     parser.add_argument("--checkpoints", default="1,10,60", help="seconds; the last is the time limit")
     parser.add_argument("--start", action="store_true", help="give every solver allocate()'s seed")
     parser.add_argument("--workers", type=int, default=2, help="CP-SAT workers")
-    parser.add_argument("--cpsat-params", default="", help="extra CP-SAT SatParameters, protobuf text format")
+    parser.add_argument("--cpsat-params", default="", help="extra CP-SAT SatParameters, name:value pairs")
     parser.add_argument("--child", default=None, help=argparse.SUPPRESS)
     parser.add_argument("--model", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -413,10 +413,10 @@ def _cpsat_solve(model, checkpoints: list[float], workers: int, progress: _Progr
     solver.parameters.num_workers = workers
     solver.parameters.max_time_in_seconds = float(max(checkpoints))
     solver.parameters.relative_gap_limit = GAP
-    if CPSAT_PARAMS:
-        from google.protobuf import text_format
-
-        text_format.Merge(CPSAT_PARAMS, solver.parameters)
+    for item in CPSAT_PARAMS.replace(",", " ").split():  # name:value pairs (solver.parameters is no protobuf)
+        name, value = item.split(":", 1)
+        kind = type(getattr(solver.parameters, name))
+        setattr(solver.parameters, name, value.lower() in ("1", "true") if kind is bool else kind(value))
 
     class Cb(cp_model.CpSolverSolutionCallback):
         def on_solution_callback(self) -> None:
