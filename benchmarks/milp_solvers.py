@@ -33,7 +33,30 @@ the neighbourhood step). For each, at each checkpoint: best objective, best boun
 (objective - bound) / objective, plus the time of the first solution, the final status and the CPU
 seconds of the subprocess (CP-SAT uses both cores: its CPU is about twice its wall time). Objectives
 are the model's (delay - ε per monitor kept on its unit). Times are wall-clock on a shared machine: the
-load average is printed at the start and end of every instance.
+load average is printed at the start and end of every instance. With ``--start`` SCIP's "first" is
+its first solution better than the start, or "-".
+
+Measured (2026-11-24, HiGHS 1.15.1, SCIP 10.0 via PySCIPOpt 6.3.0, OR-Tools 9.15.6755; 2-core machine
+shared with another benchmark, load average 1.0-4.6; objective / bound after 60 s, no start):
+
+* No solver proves optimality of any cross-robot fleet in 1 s; at 1 s every bound is the root LP's or
+  nothing. Only uniform 500 x 5 is proven at all, optimum 855.84: HiGHS in 35.0 s (34.5 s CPU), SCIP
+  34.7 s (31.9 s CPU), CP-SAT 20.9 s wall (31.7 s CPU on 2 workers); CP-SAT on the natural model
+  (no covers) finds it but ends at bound 610.
+* uniform 500 x 10: HiGHS 544 / 312, SCIP 664 / 323, CP-SAT 412 / 114, CP-SAT natural 413 / 133. Given
+  300 s: HiGHS 400.3 / 329.6 (gap 18 %), SCIP 544 / 308, CP-SAT 411.1 / 142.
+* uniform 1000 x 20: HiGHS no solution better than 9211 / 636.7 (root bound 635 after ~10 s); SCIP no
+  bound in 60 s; CP-SAT 891.7 / 95 (allocate's seed: 1123, its 30 s run: 970); CP-SAT natural 916 / 94.
+  With allocate's seed as start: HiGHS 1123 / 636.7, SCIP 1123 / 635.5, CP-SAT 1005 / 84.
+* heterogeneous 500 x 5: HiGHS 936 / 636, SCIP 996 / 684 (the best bound), CP-SAT 899 / none;
+  500 x 10: HiGHS 447 / 304, SCIP 858 / 302, CP-SAT 414 / none; 1000 x 20: HiGHS 15526 / 643, SCIP
+  6043 / none, CP-SAT 1068 / none, CP-SAT natural 1008 / none.
+* CP-SAT is the best primal heuristic here (it matches HiGHS's 900 s solution at 500 x 10 in 60 s and
+  beats allocate's at 1000 x 20) but its bound, even with ``linearization_level:2``, stays far below the
+  LP's: on 2 workers it hardly runs the LP. The bounds of HiGHS and SCIP are the LP relaxation's plus
+  little; SCIP's moved from 304 to 323 in one run and stayed at 308 after 300 s in another (timing
+  dependent). What stops all of them is the weak relaxation described in monitor_milp's docstring, not
+  the solver.
 """
 
 from __future__ import annotations
