@@ -27,14 +27,16 @@ def best_of(fn: Callable[[], Any], repeats: int) -> tuple[Any, float]:
     return out, best
 
 
-def ensure_venv(path: Path, requirement: str, module: str) -> Path:
-    """A virtual environment at ``path`` with ``requirement`` installed (kept for later runs); its python."""
+def ensure_venv(path: Path, requirement: str | Sequence[str], module: str) -> Path:
+    """A virtual environment at ``path`` with ``requirement`` (one or several) installed (kept for later runs);
+    its python."""
     python = path / "bin" / "python"
     if python.exists() and subprocess.run([python, "-c", f"import {module}"], capture_output=True).returncode == 0:
         return python
-    print(f"installing {requirement} into {path} ...", flush=True)
+    wanted = [requirement] if isinstance(requirement, str) else list(requirement)
+    print(f"installing {' '.join(wanted)} into {path} ...", flush=True)
     venv.EnvBuilder(with_pip=True, clear=True).create(path)
-    subprocess.run([python, "-m", "pip", "install", "-q", requirement], check=True)
+    subprocess.run([python, "-m", "pip", "install", "-q", *wanted], check=True)
     return python
 
 

@@ -1,6 +1,6 @@
 """The monitor-allocation MILP (Eqs. 3.21-3.22) of the cross-robot fleets given to other solvers.
 
-    PYTHONPATH=/tmp/milpx-pkgs python benchmarks/milp_solvers.py [--sizes 500x5,500x10,1000x20]
+    python benchmarks/milp_solvers.py [--sizes 500x5,500x10,1000x20]
         [--fleets uniform,heterogeneous] [--solvers highs,scip,cpsat,cpsat-cp] [--time-limit 60]
         [--checkpoints 1,10,60] [--start] [--workers 2] [--cpsat-params 'linearization_level:2']
 
@@ -75,6 +75,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+
+from benchmarks._bench import ensure_venv  # noqa: E402
 
 SOLVERS = ("highs", "scip", "cpsat", "cpsat-cp")
 OBJ_SCALE = 1000.0  # CP-SAT objective scale (see the docstring)
@@ -156,8 +158,29 @@ def export(m: int, n: int, uniform: bool, path: Path, start: bool) -> dict:
     }
 
 
+#: The peers' own environments (installed at the first run, kept): pyscipopt and ortools are not Continuum's
+#: dependencies, and ortools cannot share a process with highspy anyway (see the docstring).
+PEERS = {
+    "scip": (Path("/tmp/continuum-bench-scip"), ["pyscipopt==6.3.0", "numpy", "scipy"], "pyscipopt"),
+    "cpsat": (Path("/tmp/continuum-bench-ortools"), ["ortools==9.15.6755", "numpy", "scipy"], "ortools"),
+}
+PEERS["cpsat-cp"] = PEERS["cpsat"]
+
+
+def peer_python(solver: str) -> str:
+    """The python that runs ``solver``'s child: the shared venv's for HiGHS, the peer's own environment else
+    (``sys.executable`` when it cannot be installed: the child then says the module is not importable)."""
+    if solver not in PEERS:
+        return sys.executable
+    try:
+        return str(ensure_venv(*PEERS[solver]))
+    except (OSError, subprocess.CalledProcessError) as exc:
+        print(f"could not install {solver}'s peer environment: {exc}", flush=True)
+        return sys.executable
+
+
 def run_child(solver: str, path: Path, args: argparse.Namespace) -> dict:
-    cmd = [sys.executable, str(Path(__file__).resolve()), "--child", solver, "--model", str(path)]
+    cmd = [peer_python(solver), str(Path(__file__).resolve()), "--child", solver, "--model", str(path)]
     cmd += ["--checkpoints", args.checkpoints, "--workers", str(args.workers), "--cpsat-params", args.cpsat_params]
     limit = max(float(t) for t in args.checkpoints.split(","))
     try:
