@@ -278,6 +278,8 @@ WRITE_EVERY = 0.25
 SWITCH_INTERVAL = 0.001
 #: Per-pod timings kept for the benchmark (the latest ones).
 TIMINGS = 20_000
+#: Seconds a cycle waits for the rt-taints thread's read of the monitor's taints before reading them itself.
+TAINT_WAIT = 1.0
 
 
 class RTScheduler:
@@ -344,6 +346,17 @@ class RTScheduler:
         self._last_record = 0.0
         #: The views memo (see _views): its key (RealTime generation, node names), the rows, engines and views.
         self._rt_generation = 0
+        #: The RealTime rows read off the loop (by the sync and RealTime watch threads, see _reload_realtimes):
+        #: (the generation they are current for, their content, the rows); the lock orders bumps and publishing.
+        self._rt_lock = threading.Lock()
+        self._rt_loaded: tuple[int, tuple, dict[tuple[str, str], RealTime]] | None = None
+        self._rt_content: tuple | None = None
+        #: The monitor's active taints while run() loops (see _monitor_taints): the rt-taints thread reads them when
+        #: asked (a new pending pod, a cycle); (monotonic time the newest read started, its rows or None: failed).
+        self._taint_cond = threading.Condition()
+        self._taint_asked = 0.0
+        self._taint_rows: tuple[float, list[tuple] | None] | None = None
+        self._taint_reader = False
         #: See _state: (cluster, policy, node rows), when read, and the monotonic time the next taint expires.
         self._state_cache: tuple[Cluster, RTPolicy, dict[str, ComputeNode]] | None = None
         self._state_at = 0.0
@@ -389,6 +402,10 @@ class RTScheduler:
             t = threading.Thread(target=self._sync_loop, args=(stop,), daemon=True, name="rt-sync")
             t.start()
             self.threads.append(t)
+            self._taint_reader = True
+            t = threading.Thread(target=self._taint_loop, args=(stop,), daemon=True, name="rt-taints")
+            t.start()
+            self.threads.append(t)
         try:
             while not stop.is_set():
                 wait = self.period
@@ -426,6 +443,9 @@ class RTScheduler:
             writer.join(timeout=60)
             self._writes = None
             self._background_sync = False
+            self._taint_reader = False
+            with self._taint_cond:
+                self._taint_cond.notify_all()
             self._close_watches()
             deadline = time.monotonic() + 10
             for t in self.threads:
@@ -465,9 +485,33 @@ class RTScheduler:
             "monitorings": sync.push_monitorings(cluster, kube),
         }
         self.last_sync = time.monotonic()
-        self._rt_generation += 1  # the RealTime rows are read again
+        generation = self._bump_realtimes()  # the RealTime rows are read again
+        if self._background_sync:
+            self._reload_realtimes(cluster, generation)  # here, not on the next cycle's clock
         self._rewrite.set()  # every ledger row is written at the next record
         return synced
+
+    def _bump_realtimes(self) -> int:
+        """The RealTime rows may have changed: the next cycle's views use rows read after this (a new generation)."""
+        with self._rt_lock:
+            self._rt_generation += 1
+            return self._rt_generation
+
+    def _load_realtimes(self, cluster: Cluster) -> dict[tuple[str, str], RealTime]:
+        rows = cluster.realtimes.prefetch_related("wcets__node")
+        ns = sync.namespaces_of(cluster, self.namespace)
+        if ns is not None:
+            rows = rows.filter(namespace=ns)
+        return {(r.namespace, r.name): r for r in rows}
+
+    def _reload_realtimes(self, cluster: Cluster, generation: int) -> None:
+        """Read the RealTime rows for ``generation`` (a thread off the loop's path: the read, with each row's WCETs,
+        took ~17 ms of the first cycle after every sync and RealTime event); kept only if no change came since."""
+        rows = self._load_realtimes(cluster)
+        content = _realtimes_content(rows)
+        with self._rt_lock:
+            if self._rt_generation == generation:
+                self._rt_loaded = (generation, content, rows)
 
     def _sync_loop(self, stop: threading.Event) -> None:
         """The RT sync in its own thread while run() loops (off the path watch -> decide -> bind); a cycle
@@ -503,15 +547,78 @@ class RTScheduler:
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
         return api_nodes, pods
 
-    def _monitor_taints(self, cluster: Cluster, nodes: list[RTNode]) -> list[RTNode]:
+    def _read_taints(self) -> list[tuple]:
+        """The monitor's active taints: (node name, key, value, effect, expires_at) per row."""
+        return list(
+            NodeTaint.objects.filter(
+                cluster_id=self.cluster_id, lifted_at__isnull=True, expires_at__gt=timezone.now()
+            ).values_list("node__name", "key", "value", "effect", "expires_at")
+        )
+
+    def _ask_taints(self, since: float) -> None:
+        """A read of the taints starting after ``since`` (monotonic) is wanted (the rt-taints thread does it)."""
+        with self._taint_cond:
+            if since > self._taint_asked:
+                self._taint_asked = since
+                self._taint_cond.notify_all()
+
+    def _taint_loop(self, stop: threading.Event) -> None:
+        """The rt-taints thread: reads the monitor's taints each time a read newer than the last is asked for (the
+        pod watch asks as it reports a new pending pod), so that the read, a database round trip of 2-30 ms on a
+        loaded machine, is done while the loop wakes and prepares the cycle, not after."""
+        last = 0.0
+        try:
+            while not stop.is_set() and self._taint_reader:
+                with self._taint_cond:
+                    while self._taint_asked < last and not stop.is_set() and self._taint_reader:
+                        self._taint_cond.wait(1.0)
+                    if stop.is_set() or not self._taint_reader:
+                        break
+                started = time.monotonic()
+                rows: list[tuple] | None
+                try:
+                    rows = self._read_taints()
+                except Exception as exc:  # the cycle reads them itself (and fails there if the database is down)
+                    log.info("RT scheduler: reading the monitor's taints failed (%s)", problem(exc))
+                    close_old_connections()
+                    rows = None
+                last = started
+                with self._taint_cond:
+                    self._taint_rows = (started, rows)
+                    self._taint_cond.notify_all()
+        finally:
+            connection.close()
+
+    def _active_taints(self, need: float) -> list[tuple]:
+        """The taint rows of a read that started after ``need`` (monotonic: when the newest pending pod of the
+        cycle was seen) and less than a period ago: the rt-taints thread's, else read here."""
+        floor = max(need, time.monotonic() - self.period)
+        if self._taint_reader:
+            with self._taint_cond:
+                got = self._taint_rows
+                if got is None or got[0] < floor:
+                    if floor > self._taint_asked:
+                        self._taint_asked = floor
+                        self._taint_cond.notify_all()
+                    self._taint_cond.wait_for(lambda: not self._taint_reader or self._read_since(floor), TAINT_WAIT)
+                    got = self._taint_rows
+            if got is not None and got[0] >= floor and got[1] is not None:
+                return got[1]
+        return self._read_taints()
+
+    def _read_since(self, floor: float) -> bool:
+        return self._taint_rows is not None and self._taint_rows[0] >= floor
+
+    def _monitor_taints(self, nodes: list[RTNode], need: float) -> list[RTNode]:
         """The nodes with the monitor's active taints added from the database. The monitor taints a node in the
         API, commits the taint's row, then creates the evicted pod's replacement: the pod watch may report the
-        replacement before the node watch reports the taint (two streams), the committed row is already there."""
+        replacement before the node watch reports the taint (two streams), the committed row is already there
+        for a read started after the pod's event (``need``, see _active_taints)."""
         active: dict[str, list[Taint]] = {}
-        for name, key, value, effect in NodeTaint.objects.filter(
-            cluster=cluster, lifted_at__isnull=True, expires_at__gt=timezone.now()
-        ).values_list("node__name", "key", "value", "effect"):
-            active.setdefault(name, []).append(Taint(key, value, effect))
+        now = timezone.now()
+        for name, key, value, effect, expires in self._active_taints(need):
+            if expires > now:  # as a read now would filter them
+                active.setdefault(name, []).append(Taint(key, value, effect))
         if not active:
             return nodes
         out = []
@@ -548,14 +655,15 @@ class RTScheduler:
         api_nodes, pods = self._read(kube, ns)
         pods = [p for p in pods if not is_terminated(p)]
         nodes = rt_nodes(cluster, api_nodes, rows)
-        if self._background_sync:
-            nodes = self._monitor_taints(cluster, nodes)
         names = [n.name for n in nodes]
         views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
         if not pending:
             self._persist(cluster, views, {}, None, [])
             return result
+        if self._background_sync:
+            now = time.monotonic()
+            nodes = self._monitor_taints(nodes, max(self._seen.get(v.key, now) for v in pending))
         known = set(names)
         ledger = rt_kube.Ledger.with_reservations(
             nodes,
@@ -665,18 +773,26 @@ class RTScheduler:
     def _views(self, cluster: Cluster, ns: str | None, pods: list[dict], names: list[str]) -> list[PodView]:
         """Each pod's view, remembered from the last cycle while the pod (uid, resourceVersion, node), the node
         names and the RealTime rows are the same: a cycle for a few new pods does not parse the bound ones
-        again. The RealTime rows are read again after each sync and each RealTime event (every cycle when the
-        cycle runs on its own)."""
+        again. The RealTime rows are read again after each sync and each RealTime event (while run() loops, by
+        the thread that saw it: the cycle reads them only if a newer change came meanwhile; every cycle when the
+        cycle runs on its own); rows read again with the same content keep the views."""
         if not self._background_sync:
-            self._rt_generation += 1
-        memo_key = (self._rt_generation, tuple(names))
+            self._bump_realtimes()
+        generation = self._rt_generation
+        memo_key = (generation, tuple(names))
         if self._memo_key != memo_key:
-            rows = cluster.realtimes.prefetch_related("wcets__node")
-            if ns is not None:
-                rows = rows.filter(namespace=ns)
-            self._realtimes = {(r.namespace, r.name): r for r in rows}
-            self._engines = {}
-            self._memo = {}
+            loaded = self._rt_loaded
+            if loaded is not None and loaded[0] == generation:
+                _, content, rows = loaded  # read after the change, by the sync or RealTime watch thread
+            else:
+                rows = self._load_realtimes(cluster)
+                content = _realtimes_content(rows)
+            # Rows read again but equal (every sync reads them): the views and engines built from them stay.
+            if self._memo_key is None or content != self._rt_content or memo_key[1] != self._memo_key[1]:
+                self._realtimes = rows
+                self._rt_content = content
+                self._engines = {}
+                self._memo = {}
             self._memo_key = memo_key
         memo: dict[str, tuple[tuple, PodView]] = {}
         views = []
@@ -1010,6 +1126,7 @@ class RTScheduler:
                 if pod_relevant(None, p) and not (p.get("spec") or {}).get("nodeName"):
                     self._seen.setdefault(pod_key(p), now)
             self.pods.replace(items)
+            self._ask_taints(now)
             self.wake.set()
 
         def changed(event: dict) -> None:
@@ -1018,8 +1135,12 @@ class RTScheduler:
                 key = pod_key(obj) if obj.get("metadata") else ""
                 if event.get("type") == "DELETED":
                     self._seen.pop(key, None)
-                elif key and not (obj.get("spec") or {}).get("nodeName") and not is_terminated(obj):
-                    self._seen.setdefault(key, time.monotonic())
+                elif (
+                    key and key not in self._seen and not (obj.get("spec") or {}).get("nodeName")
+                ) and not is_terminated(obj):
+                    now = time.monotonic()
+                    self._seen[key] = now
+                    self._ask_taints(now)  # read while the loop wakes (see _taint_loop)
                 self.wake.set()
 
         return pick, changed, listed, self.pods
@@ -1040,7 +1161,7 @@ class RTScheduler:
 
     def _watch_realtimes(self, cluster: Cluster):
         def changed(event: dict) -> None:
-            self._rt_generation += 1  # a RealTime changed (here or there): its rows are read again
+            generation = self._bump_realtimes()  # a RealTime changed (here or there): its rows are read again
             obj = event.get("raw_object") or {}
             meta = obj.get("metadata") or {}
             rv = meta.get("resourceVersion")
@@ -1048,8 +1169,10 @@ class RTScheduler:
                 cluster_id=self.cluster_id, namespace=meta.get("namespace"), name=meta.get("name"), resource_version=rv
             ).exists()
             if event.get("type") == "DELETED" or not known:
-                self.sync_due.set()
+                self.sync_due.set()  # the sync thread reads the rows after it
                 self.wake.set()
+            else:  # the row has this version already: read here, not by the next cycle
+                self._reload_realtimes(cluster, generation)
 
         return self._custom(cluster, REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL), changed, None, None
 
@@ -1104,6 +1227,14 @@ class RTScheduler:
             )
         except (*KUBE_ERRORS, KeyError) as exc:
             log.info("cannot write the status of Monitoring %s: %s", meta.get("name"), exc)
+
+
+def _realtimes_content(rows: dict[tuple[str, str], RealTime]) -> tuple:
+    """What the views and engine containers are built from, per RealTime row (equal content: same views)."""
+    return tuple(
+        (key, r.pk, r.criticality, r.period, r.deadline, r.stateless, r.cpu, r.memory_mib, tuple(r.wcet_pairs()))
+        for key, r in sorted(rows.items())
+    )
 
 
 def _bound_at(pod: dict) -> datetime | None:
