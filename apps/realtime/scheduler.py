@@ -479,15 +479,26 @@ class RTScheduler:
 
     def _sync(self, cluster: Cluster, kube: Kube) -> dict[str, Any]:
         self.sync_due.clear()
+        before = self._rt_generation
+        read: dict[tuple[str, str], RealTime] = {}
+        # While run() loops the node informer has the nodes (a list of every node's full status per sync was
+        # most of a sync pass on a cluster of hollow nodes); it is a watch behind at most, as a list is a moment.
+        informed = self._background_sync and self.nodes.synced
         synced = {
-            "nodes": sync.sync_node_rt(cluster, kube),
-            "realtimes": sync.sync_realtimes(cluster, kube, self.namespace),
+            "nodes": sync.sync_node_rt(cluster, kube, self.nodes.snapshot() if informed else None),
+            "realtimes": sync.sync_realtimes(cluster, kube, self.namespace, rows_read=read),
             "monitorings": sync.push_monitorings(cluster, kube),
         }
         self.last_sync = time.monotonic()
         generation = self._bump_realtimes()  # the RealTime rows are read again
-        if self._background_sync:
-            self._reload_realtimes(cluster, generation)  # here, not on the next cycle's clock
+        if self._background_sync:  # here, not on the next cycle's clock
+            part = synced["realtimes"]
+            if generation == before + 1 and not any(
+                part[k] for k in ("read", "updated", "pushed", "deleted", "errors")
+            ):
+                self._publish_realtimes(generation, read)  # the sync's own read, no change since: current
+            else:
+                self._reload_realtimes(cluster, generation)
         self._rewrite.set()  # every ledger row is written at the next record
         return synced
 
@@ -507,7 +518,9 @@ class RTScheduler:
     def _reload_realtimes(self, cluster: Cluster, generation: int) -> None:
         """Read the RealTime rows for ``generation`` (a thread off the loop's path: the read, with each row's WCETs,
         took ~17 ms of the first cycle after every sync and RealTime event); kept only if no change came since."""
-        rows = self._load_realtimes(cluster)
+        self._publish_realtimes(generation, self._load_realtimes(cluster))
+
+    def _publish_realtimes(self, generation: int, rows: dict[tuple[str, str], RealTime]) -> None:
         content = _realtimes_content(rows)
         with self._rt_lock:
             if self._rt_generation == generation:
