@@ -280,6 +280,8 @@ SWITCH_INTERVAL = 0.001
 TIMINGS = 20_000
 #: Seconds a cycle waits for the rt-taints thread's read of the monitor's taints before reading them itself.
 TAINT_WAIT = 1.0
+#: The rt-taints thread reads the cycle's state (see RTScheduler._state) once it is this fraction of a period old.
+STATE_AHEAD = 0.8
 
 
 class RTScheduler:
@@ -375,8 +377,9 @@ class RTScheduler:
         #: Per bound pod: (seen -> decided, decided -> Binding sent, Binding sent -> answered) in seconds.
         self.timings: deque[tuple[float, float, float]] = deque(maxlen=TIMINGS)
         #: (namespace, name) -> the ledger row's fields as this process last wrote them: a row unchanged since
-        #: is not written again (a cycle of 1,000 pods would upsert them all), except at each sync, when every
-        #: row is written (what another writer changed meanwhile is reconciled at most sync_period late).
+        #: is not written again (a cycle of 1,000 pods would upsert them all) and a pod gone since is marked
+        #: deleted without reading the live rows back, except at each sync, when every row is written and the live
+        #: rows are read (what another writer changed meanwhile is reconciled at most sync_period late).
         self._recorded: dict[tuple[str, str], tuple] = {}
 
     # ---- the loop --------------------------------------------------------------------------------------------
@@ -578,15 +581,28 @@ class RTScheduler:
     def _taint_loop(self, stop: threading.Event) -> None:
         """The rt-taints thread: reads the monitor's taints each time a read newer than the last is asked for (the
         pod watch asks as it reports a new pending pod), so that the read, a database round trip of 2-30 ms on a
-        loaded machine, is done while the loop wakes and prepares the cycle, not after."""
+        loaded machine, is done while the loop wakes and prepares the cycle, not after; and reads the cycle's
+        state (_read_state) before the loop would have to."""
         last = 0.0
         try:
             while not stop.is_set() and self._taint_reader:
                 with self._taint_cond:
                     while self._taint_asked < last and not stop.is_set() and self._taint_reader:
-                        self._taint_cond.wait(1.0)
+                        left = self._state_at + STATE_AHEAD * self.period - time.monotonic()
+                        if left <= 0:
+                            break
+                        self._taint_cond.wait(left)
                     if stop.is_set() or not self._taint_reader:
                         break
+                if time.monotonic() - self._state_at >= STATE_AHEAD * self.period:
+                    try:
+                        self._read_state()
+                    except Exception as exc:  # the loop reads it itself when it is due (and fails there)
+                        log.info("RT scheduler: reading the cluster's state failed (%s)", problem(exc))
+                        close_old_connections()
+                        stop.wait(min(MAX_BACKOFF, self.period))
+                    if self._taint_asked < last:
+                        continue
                 started = time.monotonic()
                 rows: list[tuple] | None
                 try:
@@ -717,13 +733,20 @@ class RTScheduler:
         the policy or of a node's RT attributes applies within that; a taint is lifted when it expires)."""
         now = time.monotonic()
         if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period:
-            cluster = Cluster.objects.get(pk=self.cluster_id)
-            rows = {n.name: n for n in cluster.nodes.all()}
-            expiry = monitoring.next_taint_expiry(cluster)
-            self._state_cache = (cluster, RTPolicy.for_cluster(cluster), rows)
-            self._expiry_at = None if expiry is None else now + expiry
-            self._state_at = now
+            self._read_state()
+        assert self._state_cache is not None
         return self._state_cache
+
+    def _read_state(self) -> None:
+        """Read what _state returns (four queries: ~8 ms on a loaded machine, by the rt-taints thread before it is
+        due while run() loops, so that no cycle of a burst pays it)."""
+        now = time.monotonic()
+        cluster = Cluster.objects.get(pk=self.cluster_id)
+        rows = {n.name: n for n in cluster.nodes.all()}
+        expiry = monitoring.next_taint_expiry(cluster)
+        self._state_cache = (cluster, RTPolicy.for_cluster(cluster), rows)
+        self._expiry_at = None if expiry is None else now + expiry
+        self._state_at = now
 
     def _kube(self, cluster: Cluster) -> Kube:
         """``kube_for(cluster)``, remembered while :meth:`_state` keeps the same cluster row (``kube_for`` hashes the
@@ -947,7 +970,7 @@ class RTScheduler:
                     if self._rewrite.is_set():
                         self._rewrite.clear()
                         self._recorded.clear()
-                    self._record_pods(cluster, views, bound)
+                    self._record_pods(cluster, views, bound, trust_recorded=True)
                     for c, _, _, plan, fresh in items:
                         if fresh:
                             self._store(c, plan, fresh)
@@ -963,10 +986,15 @@ class RTScheduler:
             connection.close()
 
     def _record_pods(
-        self, cluster: Cluster, views: list[PodView], bound: dict[tuple[str, str], tuple[str, float]] | None = None
+        self,
+        cluster: Cluster,
+        views: list[PodView],
+        bound: dict[tuple[str, str], tuple[str, float]] | None = None,
+        trust_recorded: bool = False,
     ) -> None:
         """Upsert the ledger rows of the pods seen (``bound``: (namespace, name) -> (node, utilisation) of the
-        pods this cycle bound, bound now); pods gone from the API are marked deleted."""
+        pods this cycle bound, bound now); pods gone from the API are marked deleted. ``trust_recorded`` (the
+        writer thread, which empties ``_recorded`` at each sync): the live rows are the ones last written."""
         now = timezone.now()
         bound = bound or {}
         # Each pod's recorded fields (RECORDED's order) first: only the rows that differ from what this process
@@ -1012,9 +1040,19 @@ class RTScheduler:
             ns = sync.namespaces_of(cluster, self.namespace)
             if ns is not None:
                 live = live.filter(namespace=ns)
-            gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
-            if gone:
-                RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
+            if trust_recorded and self._recorded:
+                # The live rows are the ones this process last wrote (the others were marked deleted then): the
+                # pods gone since are known without reading every live row back (at each sync, _recorded is
+                # emptied and they are read, as for every field another writer may have changed meanwhile).
+                by_space: dict[str, list[str]] = {}
+                for space, name in self._recorded.keys() - seen:
+                    by_space.setdefault(space, []).append(name)
+                for space, names in by_space.items():
+                    live.filter(namespace=space, name__in=names).update(deleted_at=now)
+            else:
+                gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
+                if gone:
+                    RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
         self._recorded = {key: state[key] for key in seen}  # written (or unchanged) and committed
 
     def _store(self, cluster: Cluster, plan, fresh: list) -> None:
