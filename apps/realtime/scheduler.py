@@ -970,10 +970,13 @@ class RTScheduler:
                     if self._rewrite.is_set():
                         self._rewrite.clear()
                         self._recorded.clear()
-                    self._record_pods(cluster, views, bound, trust_recorded=True)
-                    for c, _, _, plan, fresh in items:
-                        if fresh:
-                            self._store(c, plan, fresh)
+                    # One commit for the batch: cycles of a pod or two each (a burst decided as it arrives) made
+                    # one plan and one commit each, every commit a WAL flush on the machine the binds share.
+                    with transaction.atomic():
+                        self._record_pods(cluster, views, bound, trust_recorded=True)
+                        for c, _, _, plan, fresh in items:
+                            if fresh:
+                                self._store(c, plan, fresh)
                     self.writes += len(items)
                 except Exception:  # logged and counted; the next batch writes every row that differs again
                     self.write_errors += 1
