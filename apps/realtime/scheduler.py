@@ -295,7 +295,11 @@ class RTScheduler:
       takes every pod pending by then (a burst is decided together);
     - the Bindings go out on a persistent pool of ``kube.binders()`` threads sharing one
       client; a bound pod is assumed bound in the cache until deleted, so it is never bound twice;
-    - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread;
+    - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread, and it (or
+      the RealTime watch, for a RealTime event) reads the RealTime rows for the next cycle;
+    - the monitor's active taints are read by an rt-taints thread as soon as the pod watch reports a new
+      pending pod, and the cycle's state (cluster, policy, node rows) before it is due: a deciding cycle holds
+      no database read;
     - the ledger rows and the decisions ("why" of the dashboard) are written by a writer thread after the
       binds, from a bounded queue (drained in batches at most every WRITE_EVERY s: one ledger upsert for several
       cycles);
