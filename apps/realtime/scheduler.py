@@ -281,7 +281,7 @@ TIMINGS = 20_000
 #: Seconds a cycle waits for the rt-taints thread's read of the monitor's taints before reading them itself.
 TAINT_WAIT = 1.0
 #: The rt-taints thread reads the cycle's state (see RTScheduler._state) once it is this fraction of a period old.
-STATE_AHEAD = 0.8
+STATE_AHEAD = 0.9
 
 
 class RTScheduler:
