@@ -278,6 +278,10 @@ WRITE_EVERY = 0.25
 SWITCH_INTERVAL = 0.001
 #: Per-pod timings kept for the benchmark (the latest ones).
 TIMINGS = 20_000
+#: Seconds a cycle waits for the rt-taints thread's read of the monitor's taints before reading them itself.
+TAINT_WAIT = 1.0
+#: The rt-taints thread reads the cycle's state (see RTScheduler._state) once it is this fraction of a period old.
+STATE_AHEAD = 0.9
 
 
 class RTScheduler:
@@ -291,7 +295,11 @@ class RTScheduler:
       takes every pod pending by then (a burst is decided together);
     - the Bindings go out on a persistent pool of ``kube.binders()`` threads sharing one
       client; a bound pod is assumed bound in the cache until deleted, so it is never bound twice;
-    - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread;
+    - the RT sync (RealTime objects, node attributes, Monitoring counters) runs in its own thread, and it (or
+      the RealTime watch, for a RealTime event) reads the RealTime rows for the next cycle;
+    - the monitor's active taints are read by an rt-taints thread as soon as the pod watch reports a new
+      pending pod, and the cycle's state (cluster, policy, node rows) before it is due: a deciding cycle holds
+      no database read;
     - the ledger rows and the decisions ("why" of the dashboard) are written by a writer thread after the
       binds, from a bounded queue (drained in batches at most every WRITE_EVERY s: one ledger upsert for several
       cycles);
@@ -344,6 +352,17 @@ class RTScheduler:
         self._last_record = 0.0
         #: The views memo (see _views): its key (RealTime generation, node names), the rows, engines and views.
         self._rt_generation = 0
+        #: The RealTime rows read off the loop (by the sync and RealTime watch threads, see _reload_realtimes):
+        #: (the generation they are current for, their content, the rows); the lock orders bumps and publishing.
+        self._rt_lock = threading.Lock()
+        self._rt_loaded: tuple[int, tuple, dict[tuple[str, str], RealTime]] | None = None
+        self._rt_content: tuple | None = None
+        #: The monitor's active taints while run() loops (see _monitor_taints): the rt-taints thread reads them when
+        #: asked (a new pending pod, a cycle); (monotonic time the newest read started, its rows or None: failed).
+        self._taint_cond = threading.Condition()
+        self._taint_asked = 0.0
+        self._taint_rows: tuple[float, list[tuple] | None] | None = None
+        self._taint_reader = False
         #: See _state: (cluster, policy, node rows), when read, and the monotonic time the next taint expires.
         self._state_cache: tuple[Cluster, RTPolicy, dict[str, ComputeNode]] | None = None
         self._state_at = 0.0
@@ -362,8 +381,9 @@ class RTScheduler:
         #: Per bound pod: (seen -> decided, decided -> Binding sent, Binding sent -> answered) in seconds.
         self.timings: deque[tuple[float, float, float]] = deque(maxlen=TIMINGS)
         #: (namespace, name) -> the ledger row's fields as this process last wrote them: a row unchanged since
-        #: is not written again (a cycle of 1,000 pods would upsert them all), except at each sync, when every
-        #: row is written (what another writer changed meanwhile is reconciled at most sync_period late).
+        #: is not written again (a cycle of 1,000 pods would upsert them all) and a pod gone since is marked
+        #: deleted without reading the live rows back, except at each sync, when every row is written and the live
+        #: rows are read (what another writer changed meanwhile is reconciled at most sync_period late).
         self._recorded: dict[tuple[str, str], tuple] = {}
 
     # ---- the loop --------------------------------------------------------------------------------------------
@@ -387,6 +407,10 @@ class RTScheduler:
             self._start_watches(stop)
             self._background_sync = True
             t = threading.Thread(target=self._sync_loop, args=(stop,), daemon=True, name="rt-sync")
+            t.start()
+            self.threads.append(t)
+            self._taint_reader = True
+            t = threading.Thread(target=self._taint_loop, args=(stop,), daemon=True, name="rt-taints")
             t.start()
             self.threads.append(t)
         try:
@@ -426,6 +450,9 @@ class RTScheduler:
             writer.join(timeout=60)
             self._writes = None
             self._background_sync = False
+            self._taint_reader = False
+            with self._taint_cond:
+                self._taint_cond.notify_all()
             self._close_watches()
             deadline = time.monotonic() + 10
             for t in self.threads:
@@ -459,15 +486,52 @@ class RTScheduler:
 
     def _sync(self, cluster: Cluster, kube: Kube) -> dict[str, Any]:
         self.sync_due.clear()
+        before = self._rt_generation
+        read: dict[tuple[str, str], RealTime] = {}
+        # While run() loops the node informer has the nodes (a list of every node's full status per sync was
+        # most of a sync pass on a cluster of hollow nodes); it is a watch behind at most, as a list is a moment.
+        informed = self._background_sync and self.nodes.synced
         synced = {
-            "nodes": sync.sync_node_rt(cluster, kube),
-            "realtimes": sync.sync_realtimes(cluster, kube, self.namespace),
+            "nodes": sync.sync_node_rt(cluster, kube, self.nodes.snapshot() if informed else None),
+            "realtimes": sync.sync_realtimes(cluster, kube, self.namespace, rows_read=read),
             "monitorings": sync.push_monitorings(cluster, kube),
         }
         self.last_sync = time.monotonic()
-        self._rt_generation += 1  # the RealTime rows are read again
+        generation = self._bump_realtimes()  # the RealTime rows are read again
+        if self._background_sync:  # here, not on the next cycle's clock
+            part = synced["realtimes"]
+            if generation == before + 1 and not any(
+                part[k] for k in ("read", "updated", "pushed", "deleted", "errors")
+            ):
+                self._publish_realtimes(generation, read)  # the sync's own read, no change since: current
+            else:
+                self._reload_realtimes(cluster, generation)
         self._rewrite.set()  # every ledger row is written at the next record
         return synced
+
+    def _bump_realtimes(self) -> int:
+        """The RealTime rows may have changed: the next cycle's views use rows read after this (a new generation)."""
+        with self._rt_lock:
+            self._rt_generation += 1
+            return self._rt_generation
+
+    def _load_realtimes(self, cluster: Cluster) -> dict[tuple[str, str], RealTime]:
+        rows = cluster.realtimes.prefetch_related("wcets__node")
+        ns = sync.namespaces_of(cluster, self.namespace)
+        if ns is not None:
+            rows = rows.filter(namespace=ns)
+        return {(r.namespace, r.name): r for r in rows}
+
+    def _reload_realtimes(self, cluster: Cluster, generation: int) -> None:
+        """Read the RealTime rows for ``generation`` (a thread off the loop's path: the read, with each row's WCETs,
+        took ~17 ms of the first cycle after every sync and RealTime event); kept only if no change came since."""
+        self._publish_realtimes(generation, self._load_realtimes(cluster))
+
+    def _publish_realtimes(self, generation: int, rows: dict[tuple[str, str], RealTime]) -> None:
+        content = _realtimes_content(rows)
+        with self._rt_lock:
+            if self._rt_generation == generation:
+                self._rt_loaded = (generation, content, rows)
 
     def _sync_loop(self, stop: threading.Event) -> None:
         """The RT sync in its own thread while run() loops (off the path watch -> decide -> bind); a cycle
@@ -503,15 +567,91 @@ class RTScheduler:
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
         return api_nodes, pods
 
-    def _monitor_taints(self, cluster: Cluster, nodes: list[RTNode]) -> list[RTNode]:
+    def _read_taints(self) -> list[tuple]:
+        """The monitor's active taints: (node name, key, value, effect, expires_at) per row."""
+        return list(
+            NodeTaint.objects.filter(
+                cluster_id=self.cluster_id, lifted_at__isnull=True, expires_at__gt=timezone.now()
+            ).values_list("node__name", "key", "value", "effect", "expires_at")
+        )
+
+    def _ask_taints(self, since: float) -> None:
+        """A read of the taints starting after ``since`` (monotonic) is wanted (the rt-taints thread does it)."""
+        with self._taint_cond:
+            if since > self._taint_asked:
+                self._taint_asked = since
+                self._taint_cond.notify_all()
+
+    def _taint_loop(self, stop: threading.Event) -> None:
+        """The rt-taints thread: reads the monitor's taints each time a read newer than the last is asked for (the
+        pod watch asks as it reports a new pending pod), so that the read, a database round trip of 2-30 ms on a
+        loaded machine, is done while the loop wakes and prepares the cycle, not after; and reads the cycle's
+        state (_read_state) before the loop would have to."""
+        last = 0.0
+        try:
+            while not stop.is_set() and self._taint_reader:
+                with self._taint_cond:
+                    while self._taint_asked < last and not stop.is_set() and self._taint_reader:
+                        left = self._state_at + STATE_AHEAD * self.period - time.monotonic()
+                        if left <= 0:
+                            break
+                        self._taint_cond.wait(left)
+                    if stop.is_set() or not self._taint_reader:
+                        break
+                if time.monotonic() - self._state_at >= STATE_AHEAD * self.period:
+                    try:
+                        self._read_state()
+                    except Exception as exc:  # the loop reads it itself when it is due (and fails there)
+                        log.info("RT scheduler: reading the cluster's state failed (%s)", problem(exc))
+                        close_old_connections()
+                        stop.wait(min(MAX_BACKOFF, self.period))
+                    if self._taint_asked < last:
+                        continue
+                started = time.monotonic()
+                rows: list[tuple] | None
+                try:
+                    rows = self._read_taints()
+                except Exception as exc:  # the cycle reads them itself (and fails there if the database is down)
+                    log.info("RT scheduler: reading the monitor's taints failed (%s)", problem(exc))
+                    close_old_connections()
+                    rows = None
+                last = started
+                with self._taint_cond:
+                    self._taint_rows = (started, rows)
+                    self._taint_cond.notify_all()
+        finally:
+            connection.close()
+
+    def _active_taints(self, need: float) -> list[tuple]:
+        """The taint rows of a read that started after ``need`` (monotonic: when the newest pending pod of the
+        cycle was seen) and less than a period ago: the rt-taints thread's, else read here."""
+        floor = max(need, time.monotonic() - self.period)
+        if self._taint_reader:
+            with self._taint_cond:
+                got = self._taint_rows
+                if got is None or got[0] < floor:
+                    if floor > self._taint_asked:
+                        self._taint_asked = floor
+                        self._taint_cond.notify_all()
+                    self._taint_cond.wait_for(lambda: not self._taint_reader or self._read_since(floor), TAINT_WAIT)
+                    got = self._taint_rows
+            if got is not None and got[0] >= floor and got[1] is not None:
+                return got[1]
+        return self._read_taints()
+
+    def _read_since(self, floor: float) -> bool:
+        return self._taint_rows is not None and self._taint_rows[0] >= floor
+
+    def _monitor_taints(self, nodes: list[RTNode], need: float) -> list[RTNode]:
         """The nodes with the monitor's active taints added from the database. The monitor taints a node in the
         API, commits the taint's row, then creates the evicted pod's replacement: the pod watch may report the
-        replacement before the node watch reports the taint (two streams), the committed row is already there."""
+        replacement before the node watch reports the taint (two streams), the committed row is already there
+        for a read started after the pod's event (``need``, see _active_taints)."""
         active: dict[str, list[Taint]] = {}
-        for name, key, value, effect in NodeTaint.objects.filter(
-            cluster=cluster, lifted_at__isnull=True, expires_at__gt=timezone.now()
-        ).values_list("node__name", "key", "value", "effect"):
-            active.setdefault(name, []).append(Taint(key, value, effect))
+        now = timezone.now()
+        for name, key, value, effect, expires in self._active_taints(need):
+            if expires > now:  # as a read now would filter them
+                active.setdefault(name, []).append(Taint(key, value, effect))
         if not active:
             return nodes
         out = []
@@ -548,14 +688,15 @@ class RTScheduler:
         api_nodes, pods = self._read(kube, ns)
         pods = [p for p in pods if not is_terminated(p)]
         nodes = rt_nodes(cluster, api_nodes, rows)
-        if self._background_sync:
-            nodes = self._monitor_taints(cluster, nodes)
         names = [n.name for n in nodes]
         views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
         if not pending:
             self._persist(cluster, views, {}, None, [])
             return result
+        if self._background_sync:
+            now = time.monotonic()
+            nodes = self._monitor_taints(nodes, max(self._seen.get(v.key, now) for v in pending))
         known = set(names)
         ledger = rt_kube.Ledger.with_reservations(
             nodes,
@@ -596,13 +737,20 @@ class RTScheduler:
         the policy or of a node's RT attributes applies within that; a taint is lifted when it expires)."""
         now = time.monotonic()
         if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period:
-            cluster = Cluster.objects.get(pk=self.cluster_id)
-            rows = {n.name: n for n in cluster.nodes.all()}
-            expiry = monitoring.next_taint_expiry(cluster)
-            self._state_cache = (cluster, RTPolicy.for_cluster(cluster), rows)
-            self._expiry_at = None if expiry is None else now + expiry
-            self._state_at = now
+            self._read_state()
+        assert self._state_cache is not None
         return self._state_cache
+
+    def _read_state(self) -> None:
+        """Read what _state returns (four queries: ~8 ms on a loaded machine, by the rt-taints thread before it is
+        due while run() loops, so that no cycle of a burst pays it)."""
+        now = time.monotonic()
+        cluster = Cluster.objects.get(pk=self.cluster_id)
+        rows = {n.name: n for n in cluster.nodes.all()}
+        expiry = monitoring.next_taint_expiry(cluster)
+        self._state_cache = (cluster, RTPolicy.for_cluster(cluster), rows)
+        self._expiry_at = None if expiry is None else now + expiry
+        self._state_at = now
 
     def _kube(self, cluster: Cluster) -> Kube:
         """``kube_for(cluster)``, remembered while :meth:`_state` keeps the same cluster row (``kube_for`` hashes the
@@ -665,18 +813,26 @@ class RTScheduler:
     def _views(self, cluster: Cluster, ns: str | None, pods: list[dict], names: list[str]) -> list[PodView]:
         """Each pod's view, remembered from the last cycle while the pod (uid, resourceVersion, node), the node
         names and the RealTime rows are the same: a cycle for a few new pods does not parse the bound ones
-        again. The RealTime rows are read again after each sync and each RealTime event (every cycle when the
-        cycle runs on its own)."""
+        again. The RealTime rows are read again after each sync and each RealTime event (while run() loops, by
+        the thread that saw it: the cycle reads them only if a newer change came meanwhile; every cycle when the
+        cycle runs on its own); rows read again with the same content keep the views."""
         if not self._background_sync:
-            self._rt_generation += 1
-        memo_key = (self._rt_generation, tuple(names))
+            self._bump_realtimes()
+        generation = self._rt_generation
+        memo_key = (generation, tuple(names))
         if self._memo_key != memo_key:
-            rows = cluster.realtimes.prefetch_related("wcets__node")
-            if ns is not None:
-                rows = rows.filter(namespace=ns)
-            self._realtimes = {(r.namespace, r.name): r for r in rows}
-            self._engines = {}
-            self._memo = {}
+            loaded = self._rt_loaded
+            if loaded is not None and loaded[0] == generation:
+                _, content, rows = loaded  # read after the change, by the sync or RealTime watch thread
+            else:
+                rows = self._load_realtimes(cluster)
+                content = _realtimes_content(rows)
+            # Rows read again but equal (every sync reads them): the views and engines built from them stay.
+            if self._memo_key is None or content != self._rt_content or memo_key[1] != self._memo_key[1]:
+                self._realtimes = rows
+                self._rt_content = content
+                self._engines = {}
+                self._memo = {}
             self._memo_key = memo_key
         memo: dict[str, tuple[tuple, PodView]] = {}
         views = []
@@ -818,10 +974,13 @@ class RTScheduler:
                     if self._rewrite.is_set():
                         self._rewrite.clear()
                         self._recorded.clear()
-                    self._record_pods(cluster, views, bound)
-                    for c, _, _, plan, fresh in items:
-                        if fresh:
-                            self._store(c, plan, fresh)
+                    # One commit for the batch: cycles of a pod or two each (a burst decided as it arrives) made
+                    # one plan and one commit each, every commit a WAL flush on the machine the binds share.
+                    with transaction.atomic():
+                        self._record_pods(cluster, views, bound, trust_recorded=True)
+                        for c, _, _, plan, fresh in items:
+                            if fresh:
+                                self._store(c, plan, fresh)
                     self.writes += len(items)
                 except Exception:  # logged and counted; the next batch writes every row that differs again
                     self.write_errors += 1
@@ -834,10 +993,15 @@ class RTScheduler:
             connection.close()
 
     def _record_pods(
-        self, cluster: Cluster, views: list[PodView], bound: dict[tuple[str, str], tuple[str, float]] | None = None
+        self,
+        cluster: Cluster,
+        views: list[PodView],
+        bound: dict[tuple[str, str], tuple[str, float]] | None = None,
+        trust_recorded: bool = False,
     ) -> None:
         """Upsert the ledger rows of the pods seen (``bound``: (namespace, name) -> (node, utilisation) of the
-        pods this cycle bound, bound now); pods gone from the API are marked deleted."""
+        pods this cycle bound, bound now); pods gone from the API are marked deleted. ``trust_recorded`` (the
+        writer thread, which empties ``_recorded`` at each sync): the live rows are the ones last written."""
         now = timezone.now()
         bound = bound or {}
         # Each pod's recorded fields (RECORDED's order) first: only the rows that differ from what this process
@@ -883,9 +1047,19 @@ class RTScheduler:
             ns = sync.namespaces_of(cluster, self.namespace)
             if ns is not None:
                 live = live.filter(namespace=ns)
-            gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
-            if gone:
-                RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
+            if trust_recorded and self._recorded:
+                # The live rows are the ones this process last wrote (the others were marked deleted then): the
+                # pods gone since are known without reading every live row back (at each sync, _recorded is
+                # emptied and they are read, as for every field another writer may have changed meanwhile).
+                by_space: dict[str, list[str]] = {}
+                for space, name in self._recorded.keys() - seen:
+                    by_space.setdefault(space, []).append(name)
+                for space, names in by_space.items():
+                    live.filter(namespace=space, name__in=names).update(deleted_at=now)
+            else:
+                gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
+                if gone:
+                    RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
         self._recorded = {key: state[key] for key in seen}  # written (or unchanged) and committed
 
     def _store(self, cluster: Cluster, plan, fresh: list) -> None:
@@ -1010,6 +1184,7 @@ class RTScheduler:
                 if pod_relevant(None, p) and not (p.get("spec") or {}).get("nodeName"):
                     self._seen.setdefault(pod_key(p), now)
             self.pods.replace(items)
+            self._ask_taints(now)
             self.wake.set()
 
         def changed(event: dict) -> None:
@@ -1018,8 +1193,12 @@ class RTScheduler:
                 key = pod_key(obj) if obj.get("metadata") else ""
                 if event.get("type") == "DELETED":
                     self._seen.pop(key, None)
-                elif key and not (obj.get("spec") or {}).get("nodeName") and not is_terminated(obj):
-                    self._seen.setdefault(key, time.monotonic())
+                elif (
+                    key and key not in self._seen and not (obj.get("spec") or {}).get("nodeName")
+                ) and not is_terminated(obj):
+                    now = time.monotonic()
+                    self._seen[key] = now
+                    self._ask_taints(now)  # read while the loop wakes (see _taint_loop)
                 self.wake.set()
 
         return pick, changed, listed, self.pods
@@ -1040,7 +1219,7 @@ class RTScheduler:
 
     def _watch_realtimes(self, cluster: Cluster):
         def changed(event: dict) -> None:
-            self._rt_generation += 1  # a RealTime changed (here or there): its rows are read again
+            generation = self._bump_realtimes()  # a RealTime changed (here or there): its rows are read again
             obj = event.get("raw_object") or {}
             meta = obj.get("metadata") or {}
             rv = meta.get("resourceVersion")
@@ -1048,8 +1227,10 @@ class RTScheduler:
                 cluster_id=self.cluster_id, namespace=meta.get("namespace"), name=meta.get("name"), resource_version=rv
             ).exists()
             if event.get("type") == "DELETED" or not known:
-                self.sync_due.set()
+                self.sync_due.set()  # the sync thread reads the rows after it
                 self.wake.set()
+            else:  # the row has this version already: read here, not by the next cycle
+                self._reload_realtimes(cluster, generation)
 
         return self._custom(cluster, REALTIME_GROUP, REALTIME_VERSION, REALTIME_PLURAL), changed, None, None
 
@@ -1104,6 +1285,14 @@ class RTScheduler:
             )
         except (*KUBE_ERRORS, KeyError) as exc:
             log.info("cannot write the status of Monitoring %s: %s", meta.get("name"), exc)
+
+
+def _realtimes_content(rows: dict[tuple[str, str], RealTime]) -> tuple:
+    """What the views and engine containers are built from, per RealTime row (equal content: same views)."""
+    return tuple(
+        (key, r.pk, r.criticality, r.period, r.deadline, r.stateless, r.cpu, r.memory_mib, tuple(r.wcet_pairs()))
+        for key, r in sorted(rows.items())
+    )
 
 
 def _bound_at(pod: dict) -> datetime | None:

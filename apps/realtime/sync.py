@@ -116,7 +116,11 @@ def delete_realtime_object(row: RealTime) -> str | None:
     return None
 
 
-def sync_realtimes(cluster: Cluster, kube: Kube, namespace: str | None = None) -> dict[str, Any]:
+def sync_realtimes(
+    cluster: Cluster, kube: Kube, namespace: str | None = None, rows_read: dict | None = None
+) -> dict[str, Any]:
+    """``rows_read``, when given, receives the rows as read before any change, each with its WCETs (the RT
+    scheduler keeps them when the sync changed nothing, rather than reading them again)."""
     ns = namespaces_of(cluster, namespace)
     if ns is not None:
         kube.ensure_namespace(ns)
@@ -125,6 +129,8 @@ def sync_realtimes(cluster: Cluster, kube: Kube, namespace: str | None = None) -
     if ns is not None:
         rows_qs = rows_qs.filter(namespace=ns)
     rows = {(r.namespace, r.name): r for r in rows_qs}
+    if rows_read is not None:
+        rows_read.update(rows)
     out: dict[str, Any] = {"read": [], "updated": [], "pushed": [], "deleted": [], "errors": {}}
     for obj in objects:
         meta = obj["metadata"]
@@ -163,11 +169,12 @@ def sync_realtimes(cluster: Cluster, kube: Kube, namespace: str | None = None) -
 
 
 # ---- nodes ----------------------------------------------------------------------------------------------
-def sync_node_rt(cluster: Cluster, kube: Kube) -> dict[str, Any]:
+def sync_node_rt(cluster: Cluster, kube: Kube, api_nodes: list[dict] | None = None) -> dict[str, Any]:
+    """``api_nodes``: the API's nodes as known already (the RT scheduler's node informer), else listed."""
     out: dict[str, Any] = {"tainted": [], "marked_rt": [], "errors": {}}
     rows = {n.name: n for n in cluster.nodes.all()}
     rt_taint = {"key": RT_TAINT.key, "value": RT_TAINT.value, "effect": RT_TAINT.effect}
-    for node in kube.list_nodes():
+    for node in kube.list_nodes() if api_nodes is None else api_nodes:
         name = node["metadata"]["name"]
         row = rows.get(name)
         if row is None:

@@ -295,7 +295,13 @@ def place_one(
     e = _Eval(c, m, p, now)
     best = _choose(e.score)
     if full:
-        verdicts = tuple(rt_kube.node_verdict(c, node, m.ledger, p, now) for node in m.nodes)
+        # A node that passed the filters: its verdict from the arrays (the reference's values and text, as the
+        # bounded form keeps them); a rejected one: the reference's filters say which rejects it and why.
+        passed = e.left[-1][1].tolist()
+        verdicts = tuple(
+            _scored_verdict(c, m, e, i) if ok else rt_kube.node_verdict(c, node, m.ledger, p, now)
+            for i, (node, ok) in enumerate(zip(m.nodes, passed, strict=True))
+        )
         rejections: dict[str, int] = {}
     else:
         shown = _top(e.score, top_k)
