@@ -40,6 +40,14 @@ def ensure_venv(path: Path, requirement: str | Sequence[str], module: str) -> Pa
     return python
 
 
+def loadavg() -> str:
+    """The 1, 5 and 15 minute load averages as printed by uptime ("n/a" where /proc is missing)."""
+    try:
+        return " ".join(Path("/proc/loadavg").read_text().split()[:3])
+    except OSError:
+        return "n/a"
+
+
 def fit_exponent(xs: Sequence[float], ys: Sequence[float]) -> float:
     """Least-squares slope of log(y) against log(x): the growth exponent k in y ~ x^k."""
     lx = [math.log(x) for x in xs]

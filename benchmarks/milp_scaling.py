@@ -41,6 +41,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from benchmarks._bench import loadavg
 from continuum.engine.verification.monitor_milp import FORMULATIONS, MonitorStats, allocate
 
 
@@ -179,13 +180,6 @@ def line(label: str, ms: float, r, cpu_ms: float | None = None) -> str:
 
 def _num(v: float) -> str:
     return f"{v:9.2f}" if v > -1e300 else "      n/a"
-
-
-def loadavg() -> str:
-    try:
-        return " ".join(Path("/proc/loadavg").read_text().split()[:3])
-    except OSError:
-        return "n/a"
 
 
 FLEETS = [

@@ -76,19 +76,12 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks._bench import ensure_venv  # noqa: E402
+from benchmarks._bench import ensure_venv, loadavg  # noqa: E402
 
 SOLVERS = ("highs", "scip", "cpsat", "cpsat-cp")
 OBJ_SCALE = 1000.0  # CP-SAT objective scale (see the docstring)
 GAP = 1e-4  # the relative gap every solver stops at (monitor_milp's mip_rel_gap default)
 CPSAT_PARAMS = ""  # --cpsat-params, set in the child
-
-
-def loadavg() -> str:
-    try:
-        return " ".join(Path("/proc/loadavg").read_text().split()[:3])
-    except OSError:
-        return "n/a"
 
 
 # ===================================================================================================
