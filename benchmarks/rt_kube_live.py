@@ -327,7 +327,7 @@ def serve_scheduler(cluster_id: int, profile_path: str | None, sample: bool = Fa
     last_bind = scheduler.timings.cpu_at if scheduler.timings.cpu_at is not None else stopped
     summary = {"cycles": scheduler.cycles, "errors": scheduler.errors, "last_error": scheduler.last_error,
                "cpu_s": last_bind - began, "cpu_to_stop_s": stopped - began, "bound": len(timings), "stages": stages,
-               "writes": scheduler.writes, "write_errors": scheduler.write_errors,
+               "writes": scheduler.ledger.writes, "write_errors": scheduler.ledger.write_errors,
                "pods": scheduler.pods.stats(), "nodes": scheduler.nodes.stats(), "api_reads": scheduler.api_reads,
                "threads": threads}  # fmt: skip
     print(json.dumps(summary), flush=True)

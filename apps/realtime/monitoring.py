@@ -898,16 +898,5 @@ def lift_expired_taints(cluster: Cluster | None = None, now: datetime | None = N
     return lifted
 
 
-def next_taint_expiry(cluster: Cluster) -> float | None:
-    """Seconds until the next active taint of the cluster expires (None: no active taint)."""
-    nxt = (
-        NodeTaint.objects.filter(cluster=cluster, lifted_at__isnull=True)
-        .order_by("expires_at")
-        .values_list("expires_at", flat=True)
-        .first()
-    )
-    return None if nxt is None else max(0.0, nxt.timestamp() - time.time())
-
-
 def active_taints(cluster: Cluster) -> Q:
     return Q(cluster=cluster, lifted_at__isnull=True)

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from typing import Any
 
-from django.db import close_old_connections, connection, transaction
+from django.db import close_old_connections, connection
 from django.utils import timezone
 
 from apps.clusters.kube import api_client_for
@@ -66,6 +66,7 @@ from continuum.engine.rtkube.rt_model import (
 )
 
 from . import monitoring, sync
+from .cycle_state import CycleState
 from .informer import Informer
 from .kube import (
     KUBE_ERRORS,
@@ -82,14 +83,12 @@ from .kube import (
     problem,
     requests_of,
 )
-from .models import MonitoringReport, NodeTaint, RealTime, RTDecision, RTPlan, RTPod, RTPolicy
+from .ledger_writer import CycleWrite, LedgerWriter
+from .models import MonitoringReport, RealTime, RTDecision
 
 log = logging.getLogger("continuum.rt_scheduler")
 STATELESS_LABEL = "rt.monitoring/stateless"
 MAX_BACKOFF = 30.0
-#: The ledger fields a cycle writes from the API's view of a pod (besides deleted_at, cleared, and seen).
-RECORDED = ("uid", "node", "container_name", "scheduler_name", "realtime", "criticality", "stateless", "cpu",
-            "memory_mib", "utilization", "owned", "phase", "bound_at")  # fmt: skip
 
 
 def pod_key(pod: dict) -> str:
@@ -266,22 +265,12 @@ class _Decided:
     total: int
 
 
-#: Bounded: a database slower than the binds makes the loop wait (back-pressure), never grow without end.
-WRITE_QUEUE = 64
-#: The writer writes at most this often (seconds): while pods stream in, a cycle every ~25 ms each upserted the
-#: ledger of every pod (and looked for gone ones) in the writer's own batch, beside the Bindings for the GIL and
-#: the database's CPU; the rows and decisions of several cycles now go together, at most this late.
-WRITE_EVERY = 0.25
 #: The GIL's switch interval while run() loops with the watch (Python's default: 5 ms). The Binding threads and the
 #: pod watch thread mostly wait for the API; when an answer or an event arrives, the thread waits for the GIL
 #: behind the deciding loop or the writer for up to one interval, on the pod's clock.
 SWITCH_INTERVAL = 0.001
 #: Per-pod timings kept for the benchmark (the latest ones).
 TIMINGS = 20_000
-#: Seconds a cycle waits for the rt-taints thread's read of the monitor's taints before reading them itself.
-TAINT_WAIT = 1.0
-#: The rt-taints thread reads the cycle's state (see RTScheduler._state) once it is this fraction of a period old.
-STATE_AHEAD = 0.9
 
 
 class RTScheduler:
@@ -300,9 +289,8 @@ class RTScheduler:
     - the monitor's active taints are read by an rt-taints thread as soon as the pod watch reports a new
       pending pod, and the cycle's state (cluster, policy, node rows) before it is due: a deciding cycle holds
       no database read;
-    - the ledger rows and the decisions ("why" of the dashboard) are written by a writer thread after the
-      binds, from a bounded queue (drained in batches at most every WRITE_EVERY s: one ledger upsert for several
-      cycles);
+    - the ledger rows and the decisions ("why" of the dashboard) are written after the binds by the writer
+      thread of :mod:`apps.realtime.ledger_writer`;
     - Events and pending explanations are sent in the background.
 
     A cycle called on its own (``--once``, tests) does all of it inline, listing from the API.
@@ -342,14 +330,12 @@ class RTScheduler:
         #: (each batch with its calls overlapping) while the next cycle already decides and binds, as
         #: kube-scheduler's event broadcaster does. A cycle called on its own sends them before returning.
         self._explainer: ThreadPoolExecutor | None = None
-        #: While run() loops: the Binding threads (warm, one client) and the writer of rows (see the class doc).
+        #: While run() loops: the Binding threads (warm, one client); the writer of rows (see the class doc).
         self._binder: ThreadPoolExecutor | None = None
-        self._writes: queue.Queue | None = None
-        self._rewrite = threading.Event()
+        self.ledger = LedgerWriter(namespace)
         #: Pipelined mode: (decided cycle, its binds, why they stopped) once a cycle's last Binding answered.
         self._done: queue.SimpleQueue = queue.SimpleQueue()
         self._background_sync = False
-        self._last_record = 0.0
         #: The views memo (see _views): its key (RealTime generation, node names), the rows, engines and views.
         self._rt_generation = 0
         #: The RealTime rows read off the loop (by the sync and RealTime watch threads, see _reload_realtimes):
@@ -357,34 +343,19 @@ class RTScheduler:
         self._rt_lock = threading.Lock()
         self._rt_loaded: tuple[int, tuple, dict[tuple[str, str], RealTime]] | None = None
         self._rt_content: tuple | None = None
-        #: The monitor's active taints while run() loops (see _monitor_taints): the rt-taints thread reads them when
-        #: asked (a new pending pod, a cycle); (monotonic time the newest read started, its rows or None: failed).
-        self._taint_cond = threading.Condition()
-        self._taint_asked = 0.0
-        self._taint_rows: tuple[float, list[tuple] | None] | None = None
-        self._taint_reader = False
-        #: See _state: (cluster, policy, node rows), when read, and the monotonic time the next taint expires.
-        self._state_cache: tuple[Cluster, RTPolicy, dict[str, ComputeNode]] | None = None
-        self._state_at = 0.0
         self._kube_of: tuple[Cluster, Kube] | None = None
-        self._expiry_at: float | None = None
+        #: The cluster, its policy, node rows and monitor taints (read ahead by a thread while run() loops).
+        self.state = CycleState(cluster_id, period)
         self._memo_key: tuple | None = None
         self._realtimes: dict[tuple[str, str], RealTime] = {}
         self._engines: dict[tuple[str, str], RTContainer | InputError] = {}
         self._memo: dict[str, tuple[tuple, PodView]] = {}
-        self.write_errors = 0
-        self.writes = 0
         #: Cycles that listed nodes and pods from the API (the informers were not in sync).
         self.api_reads = 0
         #: pod key -> monotonic time the watch first reported it pending (the start of its latency).
         self._seen: dict[str, float] = {}
         #: Per bound pod: (seen -> decided, decided -> Binding sent, Binding sent -> answered) in seconds.
         self.timings: deque[tuple[float, float, float]] = deque(maxlen=TIMINGS)
-        #: (namespace, name) -> the ledger row's fields as this process last wrote them: a row unchanged since
-        #: is not written again (a cycle of 1,000 pods would upsert them all) and a pod gone since is marked
-        #: deleted without reading the live rows back, except at each sync, when every row is written and the live
-        #: rows are read (what another writer changed meanwhile is reconciled at most sync_period late).
-        self._recorded: dict[tuple[str, str], tuple] = {}
 
     # ---- the loop --------------------------------------------------------------------------------------------
     def run(self, stop: threading.Event | None = None, max_cycles: int | None = None) -> int:
@@ -400,19 +371,14 @@ class RTScheduler:
         self._binder = ThreadPoolExecutor(max_workers=binders(), thread_name_prefix="rt-bind")
         if self.use_watch:
             self._warm_binders()
-        self._writes = queue.Queue(maxsize=WRITE_QUEUE)
-        writer = threading.Thread(target=self._write_loop, args=(self._writes,), daemon=True, name="rt-writer")
-        writer.start()
+        self.ledger.start()
         if self.use_watch:
             self._start_watches(stop)
             self._background_sync = True
             t = threading.Thread(target=self._sync_loop, args=(stop,), daemon=True, name="rt-sync")
             t.start()
             self.threads.append(t)
-            self._taint_reader = True
-            t = threading.Thread(target=self._taint_loop, args=(stop,), daemon=True, name="rt-taints")
-            t.start()
-            self.threads.append(t)
+            self.threads.append(self.state.start(stop))
         try:
             while not stop.is_set():
                 wait = self.period
@@ -422,8 +388,8 @@ class RTScheduler:
                     failures = 0
                     if self.on_cycle:
                         self.on_cycle(result)
-                    if self._expiry_at is not None:
-                        wait = min(wait, max(0.0, self._expiry_at - time.monotonic()) + 0.01)
+                    if self.state.expiry_at is not None:
+                        wait = min(wait, max(0.0, self.state.expiry_at - time.monotonic()) + 0.01)
                 except Exception as exc:  # a failing cycle must never end the process
                     failures += 1
                     self.errors += 1
@@ -446,13 +412,9 @@ class RTScheduler:
                 log.warning("RT scheduler: concluding the last binds failed (%s)", problem(exc))
             self._explainer.shutdown(wait=True)  # the explanations of the last cycle are sent
             self._explainer = None
-            self._writes.put(None)  # the writer stores what is queued, then ends
-            writer.join(timeout=60)
-            self._writes = None
+            self.ledger.stop()  # the writer stores what is queued, then ends
             self._background_sync = False
-            self._taint_reader = False
-            with self._taint_cond:
-                self._taint_cond.notify_all()
+            self.state.stop()
             self._close_watches()
             deadline = time.monotonic() + 10
             for t in self.threads:
@@ -506,7 +468,7 @@ class RTScheduler:
                 self._publish_realtimes(generation, read)  # the sync's own read, no change since: current
             else:
                 self._reload_realtimes(cluster, generation)
-        self._rewrite.set()  # every ledger row is written at the next record
+        self.ledger.rewrite_all()
         return synced
 
     def _bump_realtimes(self) -> int:
@@ -567,89 +529,14 @@ class RTScheduler:
         api_nodes, pods = gather(kube.list_nodes, lambda: kube.list_pods(ns))
         return api_nodes, pods
 
-    def _read_taints(self) -> list[tuple]:
-        """The monitor's active taints: (node name, key, value, effect, expires_at) per row."""
-        return list(
-            NodeTaint.objects.filter(
-                cluster_id=self.cluster_id, lifted_at__isnull=True, expires_at__gt=timezone.now()
-            ).values_list("node__name", "key", "value", "effect", "expires_at")
-        )
-
-    def _ask_taints(self, since: float) -> None:
-        """A read of the taints starting after ``since`` (monotonic) is wanted (the rt-taints thread does it)."""
-        with self._taint_cond:
-            if since > self._taint_asked:
-                self._taint_asked = since
-                self._taint_cond.notify_all()
-
-    def _taint_loop(self, stop: threading.Event) -> None:
-        """The rt-taints thread: reads the monitor's taints each time a read newer than the last is asked for (the
-        pod watch asks as it reports a new pending pod), so that the read, a database round trip of 2-30 ms on a
-        loaded machine, is done while the loop wakes and prepares the cycle, not after; and reads the cycle's
-        state (_read_state) before the loop would have to."""
-        last = 0.0
-        try:
-            while not stop.is_set() and self._taint_reader:
-                with self._taint_cond:
-                    while self._taint_asked < last and not stop.is_set() and self._taint_reader:
-                        left = self._state_at + STATE_AHEAD * self.period - time.monotonic()
-                        if left <= 0:
-                            break
-                        self._taint_cond.wait(left)
-                    if stop.is_set() or not self._taint_reader:
-                        break
-                if time.monotonic() - self._state_at >= STATE_AHEAD * self.period:
-                    try:
-                        self._read_state()
-                    except Exception as exc:  # the loop reads it itself when it is due (and fails there)
-                        log.info("RT scheduler: reading the cluster's state failed (%s)", problem(exc))
-                        close_old_connections()
-                        stop.wait(min(MAX_BACKOFF, self.period))
-                    if self._taint_asked < last:
-                        continue
-                started = time.monotonic()
-                rows: list[tuple] | None
-                try:
-                    rows = self._read_taints()
-                except Exception as exc:  # the cycle reads them itself (and fails there if the database is down)
-                    log.info("RT scheduler: reading the monitor's taints failed (%s)", problem(exc))
-                    close_old_connections()
-                    rows = None
-                last = started
-                with self._taint_cond:
-                    self._taint_rows = (started, rows)
-                    self._taint_cond.notify_all()
-        finally:
-            connection.close()
-
-    def _active_taints(self, need: float) -> list[tuple]:
-        """The taint rows of a read that started after ``need`` (monotonic: when the newest pending pod of the
-        cycle was seen) and less than a period ago: the rt-taints thread's, else read here."""
-        floor = max(need, time.monotonic() - self.period)
-        if self._taint_reader:
-            with self._taint_cond:
-                got = self._taint_rows
-                if got is None or got[0] < floor:
-                    if floor > self._taint_asked:
-                        self._taint_asked = floor
-                        self._taint_cond.notify_all()
-                    self._taint_cond.wait_for(lambda: not self._taint_reader or self._read_since(floor), TAINT_WAIT)
-                    got = self._taint_rows
-            if got is not None and got[0] >= floor and got[1] is not None:
-                return got[1]
-        return self._read_taints()
-
-    def _read_since(self, floor: float) -> bool:
-        return self._taint_rows is not None and self._taint_rows[0] >= floor
-
     def _monitor_taints(self, nodes: list[RTNode], need: float) -> list[RTNode]:
         """The nodes with the monitor's active taints added from the database. The monitor taints a node in the
         API, commits the taint's row, then creates the evicted pod's replacement: the pod watch may report the
         replacement before the node watch reports the taint (two streams), the committed row is already there
-        for a read started after the pod's event (``need``, see _active_taints)."""
+        for a read started after the pod's event (``need``, see CycleState.active_taints)."""
         active: dict[str, list[Taint]] = {}
         now = timezone.now()
-        for name, key, value, effect, expires in self._active_taints(need):
+        for name, key, value, effect, expires in self.state.active_taints(need):
             if expires > now:  # as a read now would filter them
                 active.setdefault(name, []).append(Taint(key, value, effect))
         if not active:
@@ -664,24 +551,24 @@ class RTScheduler:
 
     def cycle(self) -> CycleResult:
         began = time.monotonic()
-        cluster, policy, rows = self._state()
+        cluster, policy, rows = self.state.get()
         kube = self._kube(cluster)
         result = CycleResult()
         self._conclude_finished(result)
-        if not self._background_sync or (self._expiry_at is not None and began >= self._expiry_at):
+        if not self._background_sync or (self.state.expiry_at is not None and began >= self.state.expiry_at):
             result.lifted = monitoring.lift_expired_taints(cluster)
             if self._background_sync:
-                cluster, policy, rows = self._state(fresh=True)  # the node rows lost the taint
+                cluster, policy, rows = self.state.get(fresh=True)  # the node rows lost the taint
         if not self._background_sync and (
             self.sync_due.is_set() or time.monotonic() - self.last_sync >= self.sync_period
         ):
             result.synced = self._sync(cluster, kube)
         ns = sync.namespaces_of(cluster, self.namespace)
         if (
-            self._writes is not None
+            self.ledger.threaded
             and self._background_sync
             and self.pods.synced
-            and time.monotonic() - self._last_record < self.period
+            and time.monotonic() - self.ledger.last_cycle < self.period
             and not any(waits_for_us(p) and not is_terminated(p) for p in self.pods.snapshot())
         ):
             return result  # nothing to decide; the ledger rows are written at most once a period meanwhile
@@ -692,7 +579,7 @@ class RTScheduler:
         views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
         if not pending:
-            self._persist(cluster, views, {}, None, [])
+            self.ledger.write(CycleWrite(cluster, views, {}, None, []))
             return result
         if self._background_sync:
             now = time.monotonic()
@@ -731,29 +618,8 @@ class RTScheduler:
         log.debug("RT cycle: %d pending, %d bound in %.3f s", len(pending), len(result.bound), time.monotonic() - began)
         return result
 
-    def _state(self, fresh: bool = False) -> tuple[Cluster, RTPolicy, dict[str, ComputeNode]]:
-        """The cluster, its RT policy, its node rows and when its next taint expires: read at each cycle when a
-        cycle runs on its own, at most once every ``period`` while run() loops with the watch (a change of
-        the policy or of a node's RT attributes applies within that; a taint is lifted when it expires)."""
-        now = time.monotonic()
-        if fresh or self._state_cache is None or not self._background_sync or now - self._state_at >= self.period:
-            self._read_state()
-        assert self._state_cache is not None
-        return self._state_cache
-
-    def _read_state(self) -> None:
-        """Read what _state returns (four queries: ~8 ms on a loaded machine, by the rt-taints thread before it is
-        due while run() loops, so that no cycle of a burst pays it)."""
-        now = time.monotonic()
-        cluster = Cluster.objects.get(pk=self.cluster_id)
-        rows = {n.name: n for n in cluster.nodes.all()}
-        expiry = monitoring.next_taint_expiry(cluster)
-        self._state_cache = (cluster, RTPolicy.for_cluster(cluster), rows)
-        self._expiry_at = None if expiry is None else now + expiry
-        self._state_at = now
-
     def _kube(self, cluster: Cluster) -> Kube:
-        """``kube_for(cluster)``, remembered while :meth:`_state` keeps the same cluster row (``kube_for`` hashes the
+        """``kube_for(cluster)``, remembered while the cycle state keeps the same cluster row (``kube_for`` hashes the
         kubeconfig, which releases and takes back the GIL: ~1.5 ms of each cycle on a busy machine)."""
         if self._kube_of is None or self._kube_of[0] is not cluster:
             self._kube_of = (cluster, kube_for(cluster))
@@ -805,7 +671,7 @@ class RTScheduler:
                 d = Decision(v.key, None)
                 result.pending[v.key] = v.problem
                 outcomes.append((v, d, RTDecision.Outcome.PENDING, v.problem))
-        self._persist(cycle.cluster, cycle.views, bound_rows, cycle.plan, self._fresh(outcomes))
+        self.ledger.write(CycleWrite(cycle.cluster, cycle.views, bound_rows, cycle.plan, self._fresh(outcomes)))
         self._explain(cycle.kube, outcomes)
         if stopped:  # the pods bound before it are recorded; the cycle fails and is retried with back-off
             raise KubeError(stopped)
@@ -940,156 +806,6 @@ class RTScheduler:
             fresh.append((v, d, outcome, message))
         return fresh
 
-    def _persist(self, cluster: Cluster, views: list[PodView], bound: dict, plan, fresh: list) -> None:
-        """Ledger rows and decisions: queued for the writer thread while run() loops, else written now."""
-        self._last_record = time.monotonic()
-        if self._writes is None:
-            self._record_pods(cluster, views, bound)
-            if fresh:
-                self._store(cluster, plan, fresh)
-            return
-        self._writes.put((cluster, views, bound, plan, fresh))  # blocks when full: back-pressure
-
-    def _write_loop(self, writes: queue.Queue) -> None:
-        """The writer thread: drains the queue, one ledger upsert for the batch (the latest views, every pod
-        bound in it) and the decisions of each cycle; ends at ``None`` after writing what came before."""
-        try:
-            done = False
-            while not done:
-                batch = [writes.get()]
-                while True:
-                    try:
-                        batch.append(writes.get_nowait())
-                    except queue.Empty:
-                        break
-                done = any(item is None for item in batch)
-                items = [item for item in batch if item is not None]
-                if not items:
-                    continue
-                bound: dict = {}
-                for item in items:
-                    bound.update(item[2])
-                cluster, views = items[-1][0], items[-1][1]
-                try:
-                    if self._rewrite.is_set():
-                        self._rewrite.clear()
-                        self._recorded.clear()
-                    # One commit for the batch: cycles of a pod or two each (a burst decided as it arrives) made
-                    # one plan and one commit each, every commit a WAL flush on the machine the binds share.
-                    with transaction.atomic():
-                        self._record_pods(cluster, views, bound, trust_recorded=True)
-                        for c, _, _, plan, fresh in items:
-                            if fresh:
-                                self._store(c, plan, fresh)
-                    self.writes += len(items)
-                except Exception:  # logged and counted; the next batch writes every row that differs again
-                    self.write_errors += 1
-                    self._recorded.clear()
-                    log.exception("RT scheduler: writing the ledger and decisions failed")
-                    close_old_connections()
-                if not done:  # the cycles of the next WRITE_EVERY seconds are written together (not at stop)
-                    self.stopping.wait(WRITE_EVERY)
-        finally:
-            connection.close()
-
-    def _record_pods(
-        self,
-        cluster: Cluster,
-        views: list[PodView],
-        bound: dict[tuple[str, str], tuple[str, float]] | None = None,
-        trust_recorded: bool = False,
-    ) -> None:
-        """Upsert the ledger rows of the pods seen (``bound``: (namespace, name) -> (node, utilisation) of the
-        pods this cycle bound, bound now); pods gone from the API are marked deleted. ``trust_recorded`` (the
-        writer thread, which empties ``_recorded`` at each sync): the live rows are the ones last written."""
-        now = timezone.now()
-        bound = bound or {}
-        # Each pod's recorded fields (RECORDED's order) first: only the rows that differ from what this process
-        # last wrote become model instances (a batch of a few new pods among 1,000 built 1,000 of them).
-        state: dict[tuple[str, str], tuple] = {}
-        for v in views:
-            meta, spec = v.pod["metadata"], v.pod.get("spec") or {}
-            key = (meta["namespace"], meta["name"])
-            just_bound = bound.get(key)
-            node = just_bound[0] if just_bound else spec.get("nodeName") or ""
-            c = v.container
-            containers = spec.get("containers") or [{}]
-            state[key] = (
-                meta.get("uid", ""),
-                node,
-                containers[0].get("name", ""),
-                spec.get("schedulerName", ""),
-                v.realtime.pk if v.realtime else None,
-                c.criticality if c else (v.realtime.criticality if v.realtime else NONE),
-                c.stateless if c else False,
-                c.cpu if c else 0.0,
-                c.memory_mib if c else 0.0,
-                c.utilization(node) if c and node else None,
-                any(o.get("controller") for o in meta.get("ownerReferences") or []),
-                (v.pod.get("status") or {}).get("phase", ""),
-                now if just_bound else (_bound_at(v.pod) if node else None),
-            )
-        seen = set(state)
-        columns = [RTPod._meta.get_field(f).attname for f in RECORDED]
-        rows = [
-            RTPod(cluster=cluster, namespace=space, name=name, deleted_at=None, **dict(zip(columns, row, strict=True)))
-            for (space, name), row in state.items()
-            if self._recorded.get((space, name)) != row
-        ]
-        with transaction.atomic():
-            RTPod.objects.bulk_create(
-                sorted(rows, key=lambda r: (r.namespace, r.name)),
-                update_conflicts=True,
-                unique_fields=["cluster", "namespace", "name"],
-                update_fields=[*RECORDED, "deleted_at", "seen"],
-            )
-            live = RTPod.objects.filter(cluster=cluster, deleted_at__isnull=True)
-            ns = sync.namespaces_of(cluster, self.namespace)
-            if ns is not None:
-                live = live.filter(namespace=ns)
-            if trust_recorded and self._recorded:
-                # The live rows are the ones this process last wrote (the others were marked deleted then): the
-                # pods gone since are known without reading every live row back (at each sync, _recorded is
-                # emptied and they are read, as for every field another writer may have changed meanwhile).
-                by_space: dict[str, list[str]] = {}
-                for space, name in self._recorded.keys() - seen:
-                    by_space.setdefault(space, []).append(name)
-                for space, names in by_space.items():
-                    live.filter(namespace=space, name__in=names).update(deleted_at=now)
-            else:
-                gone = [pk for pk, n, name in live.values_list("pk", "namespace", "name") if (n, name) not in seen]
-                if gone:
-                    RTPod.objects.filter(pk__in=gone).update(deleted_at=now)
-        self._recorded = {key: state[key] for key in seen}  # written (or unchanged) and committed
-
-    def _store(self, cluster: Cluster, plan, fresh: list) -> None:
-        """Store the plan and the given decisions (see :meth:`_fresh`)."""
-        with transaction.atomic():
-            row = RTPlan.objects.create(
-                cluster=cluster,
-                kind=RTPlan.Kind.SCHEDULER,
-                plan={**plan.to_dict(), "explain": rt_kube.explain(plan)},
-                placed=sum(1 for _, _, o, _ in fresh if o == RTDecision.Outcome.BOUND),
-                pending=sum(1 for _, _, o, _ in fresh if o != RTDecision.Outcome.BOUND),
-            )
-            RTDecision.objects.bulk_create(
-                RTDecision(
-                    cluster=cluster,
-                    plan=row,
-                    namespace=v.pod["metadata"]["namespace"],
-                    pod=v.pod["metadata"]["name"],
-                    pod_uid=v.pod["metadata"].get("uid", ""),
-                    realtime=v.realtime,
-                    criticality=v.container.criticality if v.container else NONE,
-                    outcome=outcome,
-                    node=d.node or "",
-                    score=d.score,
-                    message=message[:1000],
-                    decision=d.to_dict(),
-                )
-                for v, d, outcome, message in fresh
-            )
-
     def _explain(self, kube: Kube, outcomes: list) -> None:
         """A ``Scheduled`` Event per bound pod, the reason on each pod left pending (when it changed); the
         calls overlap, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` in flight (one round trip each). While
@@ -1184,7 +900,7 @@ class RTScheduler:
                 if pod_relevant(None, p) and not (p.get("spec") or {}).get("nodeName"):
                     self._seen.setdefault(pod_key(p), now)
             self.pods.replace(items)
-            self._ask_taints(now)
+            self.state.ask_taints(now)
             self.wake.set()
 
         def changed(event: dict) -> None:
@@ -1198,7 +914,7 @@ class RTScheduler:
                 ) and not is_terminated(obj):
                     now = time.monotonic()
                     self._seen[key] = now
-                    self._ask_taints(now)  # read while the loop wakes (see _taint_loop)
+                    self.state.ask_taints(now)  # read while the loop wakes (see CycleState)
                 self.wake.set()
 
         return pick, changed, listed, self.pods
@@ -1293,10 +1009,3 @@ def _realtimes_content(rows: dict[tuple[str, str], RealTime]) -> tuple:
         (key, r.pk, r.criticality, r.period, r.deadline, r.stateless, r.cpu, r.memory_mib, tuple(r.wcet_pairs()))
         for key, r in sorted(rows.items())
     )
-
-
-def _bound_at(pod: dict) -> datetime | None:
-    for c in (pod.get("status") or {}).get("conditions") or []:
-        if c.get("type") == "PodScheduled" and c.get("status") == "True":
-            return parse_time(c.get("lastTransitionTime"))
-    return parse_time(pod["metadata"].get("creationTimestamp"))

@@ -349,4 +349,4 @@ def test_decisions_are_stored_after_the_bind_and_a_replayed_event_never_binds_tw
     assert RTDecision.objects.filter(cluster=cluster, pod="cam", outcome="bound").count() == 1
     assert not RTDecision.objects.filter(cluster=cluster, pod="cam").exclude(outcome="bound").exists()
     assert RTPod.objects.get(cluster=cluster, name="cam").node == "node1"
-    assert scheduler.errors == 0 and scheduler.write_errors == 0, scheduler.last_error
+    assert scheduler.errors == 0 and scheduler.ledger.write_errors == 0, scheduler.last_error
