@@ -3,8 +3,8 @@ RT policy, its node rows, when its next monitor taint expires, and the monitor's
 
 A cycle run on its own reads them inline. While the scheduler loops, an rt-taints thread reads them ahead: the
 taints each time the pod watch reports a new pending pod (a database round trip of 2-30 ms on a loaded machine,
-done while the loop wakes and prepares the cycle, not after), and the rest before it is due (four queries,
-7-19 ms of CPU under eviction churn): a deciding cycle holds no database read.
+done while the loop wakes and prepares the cycle, not after), and the rest before it is due (two queries, see
+``CycleState._read_state``): a deciding cycle holds no database read.
 """
 
 from __future__ import annotations
