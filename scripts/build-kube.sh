@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the rest of a local Kubernetes v1.20.2 offline from Debian bookworm's `kubernetes` source package:
-# kube-controller-manager, kube-scheduler and kubemark (whose `--morph=kubelet` is a hollow node: a real
-# kubelet with a fake container runtime). kube-apiserver comes from scripts/build-kube-apiserver.sh (same
+# kube-controller-manager, kube-scheduler, kubemark (whose `--morph=kubelet` is a hollow node: a real
+# kubelet with a fake container runtime), the kubelet itself (a real node over containerd, for clusters whose
+# nodes say "runtime": "real") and the pause binary of the pod sandbox image (build/pause, never pulled). kube-apiserver comes from scripts/build-kube-apiserver.sh (same
 # source, same reflect2/json-iterator swap, its own cache entry, so the tests' apiserver is not rebuilt).
 #
 # Two small patches make several hollow nodes safe on one machine (upstream runs each in its own pod):
@@ -9,7 +10,7 @@
 #   over the first one's socket (and its pods); it now listens under $TMPDIR, which scripts/cluster sets per node;
 # - the hollow kubelet's API binds 0.0.0.0; it now binds loopback.
 #
-# Output: $CONTINUUM_CACHE/kube-bin-<hash of this script>/ holding the three binaries plus a symlink to the
+# Output: $CONTINUUM_CACHE/kube-bin-<hash of this script>/ holding the binaries plus a symlink to the
 # apiserver; the directory's path is the last line of stdout. Progress goes to stderr.
 set -euo pipefail
 
@@ -17,11 +18,11 @@ here="$(cd "$(dirname "$0")" && pwd)"
 cache="${CONTINUUM_CACHE:-$HOME/.cache/continuum}"
 hash=$(sha256sum "$0" | cut -c1-12)
 out="$cache/kube-bin-$hash"
-bins="kube-controller-manager kube-scheduler kubemark"
+bins="kube-controller-manager kube-scheduler kubemark kubelet"
 log() { echo "[build-kube] $*" >&2; }
 
 apiserver=$("$here/build-kube-apiserver.sh" | tail -n1)
-complete() { for b in $bins kube-apiserver; do [ -x "$out/$b" ] || return 1; done; }
+complete() { for b in $bins kube-apiserver pause; do [ -x "$out/$b" ] || return 1; done; }
 if complete; then echo "$out"; exit 0; fi
 mkdir -p "$cache"
 
@@ -57,6 +58,12 @@ sed -i 's|c.Address = "0.0.0.0"|c.Address = "127.0.0.1"|' pkg/kubemark/hollow_ku
 grep -q 'os.TempDir()' "$fake" && grep -q 'c.Address = "127.0.0.1"' pkg/kubemark/hollow_kubelet.go \
   || { log "the kubemark patches no longer apply to this source"; exit 1; }
 
+for p in gcc libc6-dev; do
+  dpkg -s "$p" >/dev/null 2>&1 || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$p" >&2
+done
+# The pod sandbox's process: static, so the image needs nothing else (build/pause/Dockerfile does the same).
+gcc -Os -static -o "$work/pause" build/pause/linux/pause.c
+
 start=$(date +%s)
 log "building $bins (cold: about 17 minutes on a busy 2-core machine; Go's build cache makes reruns fast)"
 # make is silent for minutes while Go compiles: say that it is still alive.
@@ -70,6 +77,7 @@ log "built in $(( $(date +%s) - start )) s"
 
 mkdir -p "$out.tmp"
 for b in $bins; do cp "_output/bin/$b" "$out.tmp/$b"; done
+cp "$work/pause" "$out.tmp/pause"
 ln -sf "$apiserver" "$out.tmp/kube-apiserver"
 rm -rf "$out"
 mv "$out.tmp" "$out"
