@@ -181,7 +181,10 @@ def placement_kairos() -> None:
     k8s = [default_kubernetes(wl, cl, seed=s) for s in seeds]
     total = sum(wl.bandwidth.values()) * 8 / 1e6
     inter_k8s = [p.metrics["inter_node_bandwidth"] * 8 / 1e6 for p in k8s]
-    print("\n== Placement, RB-Kairos containers of Table 4.26 (bandwidths SYNTHETIC), MCB / Jetson NX / server ==")
+    print(
+        "\n== Placement, RB-Kairos containers of Table 4.26 (thesis scenario: bandwidths designed so that the "
+        "thesis' grouping follows), MCB / Jetson NX / server =="
+    )
     print(f"total container-to-container traffic: {total:.2f} Mbps")
     print(f"super-clustering   inter-node {sc.metrics['inter_node_bandwidth'] * 8 / 1e6:6.2f} Mbps  ({ms_sc:.2f} ms)")
     print(f"default Kubernetes inter-node {statistics.mean(inter_k8s):6.2f} Mbps mean over {len(seeds)} seeds "
