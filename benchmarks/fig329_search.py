@@ -1,4 +1,4 @@
-"""How ``tests/data/fig-3.29.dag.json`` was found: the thesis' Fig. 3.29/3.30 example prints only makespans.
+"""How ``tests/data/fig-3.29.dag.json`` was found (a thesis scenario: searched for the thesis' four makespans).
 
 The thesis gives, for one DAG on two nodes with two CPUs each, the makespans 14.7 ms (default Kubernetes),
 11 ms (ideal HEFT), 13.3 ms (HEFT on Kubernetes) and, via the speedups, 11.0 ms for HEFT4K, with the critical

@@ -1,9 +1,11 @@
 """ROS nodes -> containers -> nodes, measured side by side (run on demand: ``python benchmarks/ros_clustering.py``).
 
-1. Clustering (thesis Listing 3.20) against one ROS node per container and networkx community detection
-   (greedy modularity with ``best_n``, Louvain with its resolution searched to hit the same container
-   count), on the Autoware reference system and iRobot's sierra_nevada topology: bytes/s left between
-   containers, container count, largest container, run time.
+1. Clustering: Listing 3.20 (``thesis``), the default (``refined``: Listing 3.20 then KL/FM refinement under
+   Listing 3.20's container-size bound), recursive Kernighan-Lin bisection (networkx, balanced, so within that
+   bound), one ROS node per container and networkx community detection (greedy modularity with ``best_n``,
+   Louvain with its resolution searched to hit the same container count), on every ROS graph of
+   ``tests/data`` (Autoware reference system JSON and .dot, iRobot's sierra_nevada) and issue 27's minimal
+   path a-b (1), b-c (100): bytes/s left between containers, container count, largest container, run time.
 2. Placement: super-clustering (Eqs. 3.14-3.15) against the default-Kubernetes-like policy (least allocated
    + balanced allocation, seeded random ties): inter-node bandwidth each leaves, on the Table 4.26 containers
    (synthetic bandwidths) and on the Autoware containers, with the thesis' Table 4.27 figures printed
@@ -23,6 +25,7 @@ import networkx as nx
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from continuum.engine.containers.cut_refinement import kl_partition  # noqa: E402
 from continuum.engine.containers.ros_clustering import cluster_ros, split_bandwidth  # noqa: E402
 from continuum.engine.containers.rosgraph import RosGraph, load_rosgraph  # noqa: E402
 from continuum.engine.containers.superclustering import default_kubernetes, load_workload, superclustering  # noqa: E402
@@ -80,6 +83,66 @@ def louvain_at(g: nx.Graph, n: int) -> tuple[list[list[str]], str]:
     return [sorted(c) for c in comms], note
 
 
+def compare(graph: RosGraph, n: int) -> dict[str, float | int]:
+    """Bytes/s cut by Listing 3.20, the default and Kernighan-Lin on ``graph`` at ``n`` containers, with the
+    size bound they share (Listing 3.20's largest container); used by benchmarks/thesis.py too."""
+    weights = graph.weights()
+    thesis = cluster_ros(graph, n, method="thesis")
+    refined = cluster_ros(graph, n)
+    kl = kl_partition(list(graph.nodes), weights, len(thesis.containers))
+    assignment = {m: i for i, g in enumerate(kl) for m in g}
+    return {
+        "containers": len(thesis.containers),
+        "bound": max(len(c.nodes) for c in thesis.containers),
+        "total": sum(weights.values()),
+        "thesis": thesis.inter_container_bandwidth,
+        "refined": refined.inter_container_bandwidth,
+        "kernighan_lin": split_bandwidth(weights, assignment)[0],
+    }
+
+
+def minimal_path() -> RosGraph:
+    """Issue 27's minimal case: path a-b at 1 B/s, b-c at 100 B/s."""
+    return RosGraph.from_dict(
+        {
+            "name": "path a-b(1) b-c(100)",
+            "nodes": [{"name": n} for n in "abc"],
+            "topics": [
+                {"name": "ab", "publishers": ["a"], "subscribers": ["b"], "rate_hz": 1, "msg_bytes": 1},
+                {"name": "bc", "publishers": ["b"], "subscribers": ["c"], "rate_hz": 1, "msg_bytes": 100},
+            ],
+        }
+    )
+
+
+def repository_graphs() -> list[RosGraph]:
+    """Every ROS graph in tests/data the readers take (JSON of the known formats and rqt_graph .dot)."""
+    graphs = []
+    for path in sorted(DATA.glob("*")):
+        if path.suffix not in (".json", ".dot"):
+            continue
+        try:
+            graphs.append(load_rosgraph(path.read_text(), name=path.name))
+        except Exception:  # not a ROS graph (DAGs, clusters, workloads share the folder)
+            continue
+    return graphs
+
+
+def comparison_table() -> None:
+    print("== Bytes/s left between containers: Listing 3.20 vs the default vs Kernighan-Lin (same size bound) ==")
+    print(f"{'graph':<34}{'N':>3}{'bound':>6}{'Listing 3.20':>15}{'default':>12}{'KL':>12}  default<=KL")
+    for graph in [minimal_path(), *repository_graphs()]:
+        for n in [2, 3, 4, 5, 6, 8, 12]:
+            if n > len(graph.nodes) or (n > 2 and len(graph.nodes) <= 3):
+                continue
+            c = compare(graph, n)
+            total = c["total"] or 1.0
+            ok = c["refined"] <= c["kernighan_lin"] + 1e-6
+            print(f"{graph.name:<34}{c['containers']:>3}{c['bound']:>6}"
+                  f"{c['thesis'] / total * 100:>14.2f}%{c['refined'] / total * 100:>11.2f}%"
+                  f"{c['kernighan_lin'] / total * 100:>11.2f}%  {ok}")  # fmt: skip
+
+
 def clustering_table(graph: RosGraph, counts: list[int]) -> None:
     weights = graph.weights()
     total = sum(weights.values())
@@ -92,9 +155,13 @@ def clustering_table(graph: RosGraph, counts: list[int]) -> None:
           f"{r['inter'] / total * 100:>7.1f}%{r['ms']:>9.2f}")  # fmt: skip
     for n in counts:
         rows = []
-        res, ms = timed(lambda n=n: cluster_ros(graph, n))
+        res, ms = timed(lambda n=n: cluster_ros(graph, n, method="thesis"))
         rows.append(row("Listing 3.20", [list(c.nodes) for c in res.containers], weights, ms,
                         "guard fired" if res.guard_fired else ""))  # fmt: skip
+        res, ms = timed(lambda n=n: cluster_ros(graph, n))
+        rows.append(row("default (refined)", [list(c.nodes) for c in res.containers], weights, ms))
+        kl, ms = timed(lambda n=n: kl_partition(list(graph.nodes), weights, n))
+        rows.append(row("Kernighan-Lin (recursive)", kl, weights, ms))
         comms, ms = timed(
             lambda n=n: nx.community.greedy_modularity_communities(g, weight="weight", cutoff=n, best_n=n)
         )
@@ -114,7 +181,10 @@ def placement_kairos() -> None:
     k8s = [default_kubernetes(wl, cl, seed=s) for s in seeds]
     total = sum(wl.bandwidth.values()) * 8 / 1e6
     inter_k8s = [p.metrics["inter_node_bandwidth"] * 8 / 1e6 for p in k8s]
-    print("\n== Placement, RB-Kairos containers of Table 4.26 (bandwidths SYNTHETIC), MCB / Jetson NX / server ==")
+    print(
+        "\n== Placement, RB-Kairos containers of Table 4.26 (thesis scenario: bandwidths designed so that the "
+        "thesis' grouping follows), MCB / Jetson NX / server =="
+    )
     print(f"total container-to-container traffic: {total:.2f} Mbps")
     print(f"super-clustering   inter-node {sc.metrics['inter_node_bandwidth'] * 8 / 1e6:6.2f} Mbps  ({ms_sc:.2f} ms)")
     print(f"default Kubernetes inter-node {statistics.mean(inter_k8s):6.2f} Mbps mean over {len(seeds)} seeds "
@@ -168,6 +238,7 @@ def placement_autoware(n: int = 6) -> None:
 
 
 def main() -> None:
+    comparison_table()
     autoware = load_rosgraph((DATA / "autoware_reference_system.json").read_text())
     clustering_table(autoware, [2, 3, 4, 6, 8, 12])
     sierra = load_rosgraph((DATA / "irobot_sierra_nevada.json").read_text(), name="irobot sierra_nevada")

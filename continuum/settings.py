@@ -327,6 +327,10 @@ CONTINUUM_ROBOT_LABEL = os.environ.get("CONTINUUM_ROBOT_LABEL", "zone=robot")
 # a proposal: the thesis prints no per-node model). A JSON object overriding any of its parameters, e.g.
 # {"per_message_us": 40, "process_mib": 30}; checked at start-up (containers.E001).
 CONTINUUM_RESOURCE_MODEL = os.environ.get("CONTINUUM_RESOURCE_MODEL", "{}")
+# ROS nodes into containers (continuum/engine/containers/ros_clustering.py): "refined" (Listing 3.20 then
+# Kernighan-Lin/Fiduccia-Mattheyses refinement under Listing 3.20's container-size bound) or "thesis"
+# (Listing 3.20 alone). Checked at start-up (containers.E002).
+CONTINUUM_ROS_CLUSTERING = os.environ.get("CONTINUUM_ROS_CLUSTERING", "refined")
 # ---- Limits (continuum/engine/core/limits.py; README "Limits"; CONTINUUM_MAX_<NAME> overrides) -----------
 from continuum.engine.core import limits as _limits  # noqa: E402
 

@@ -17,9 +17,10 @@ class ContainersConfig(AppConfig):
 
         from apps.clusters.live import register_pod_handler
 
-        from .resources import check_resource_model
+        from .resources import check_clustering_method, check_resource_model
 
         checks.register(check_resource_model)
+        checks.register(check_clustering_method)
 
         from . import jobs  # noqa: F401 - registers the cluster_ros, place and push_placement job kinds
         from .live import store_pod_state

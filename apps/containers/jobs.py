@@ -21,6 +21,7 @@ from continuum.engine.core.errors import InputError
 
 from . import services
 from .models import Clustering, Placement, RosGraph
+from .resources import clustering_method
 
 BASELINES = {"superclustering": "default-kubernetes", "default-kubernetes": "superclustering"}
 
@@ -54,6 +55,7 @@ def cluster_job(job, progress) -> tuple[dict, str]:
         overhead_mib=args.get("overhead_mib"),
         max_cluster_share=args.get("max_cluster_share"),
         max_cluster_memory_mib=args.get("max_cluster_memory_mib"),
+        method=clustering_method(),
     )
     groups = {c.name: list(c.nodes) for c in result.containers}
     images = None
@@ -68,6 +70,7 @@ def cluster_job(job, progress) -> tuple[dict, str]:
         if args.get(key) is not None
     }
     params["images"] = options
+    params["method"] = result.params["method"]
     with transaction.atomic():
         Clustering.objects.filter(job=job).delete()
         row = Clustering.objects.create(

@@ -11,6 +11,7 @@ from django.conf import settings
 from django.core import checks
 
 from continuum.engine.containers.resource_model import ResourceModel
+from continuum.engine.containers.ros_clustering import METHODS
 from continuum.engine.core.errors import InputError
 
 
@@ -25,4 +26,21 @@ def check_resource_model(app_configs: Any = None, **kwargs: Any) -> list[checks.
         resource_model()
     except (ValueError, InputError) as exc:  # json.JSONDecodeError is a ValueError
         return [checks.Error(f"CONTINUUM_RESOURCE_MODEL: {exc}", id="containers.E001")]
+    return []
+
+
+def clustering_method() -> str:
+    """The deployment's ROS clustering method (``settings.CONTINUUM_ROS_CLUSTERING``)."""
+    return str(settings.CONTINUUM_ROS_CLUSTERING)
+
+
+def check_clustering_method(app_configs: Any = None, **kwargs: Any) -> list[checks.CheckMessage]:
+    """A start-up check: an unknown CONTINUUM_ROS_CLUSTERING stops the server, not the first clustering job."""
+    if clustering_method() not in METHODS:
+        return [
+            checks.Error(
+                f"CONTINUUM_ROS_CLUSTERING: unknown method {clustering_method()!r} (one of {', '.join(METHODS)})",
+                id="containers.E002",
+            )
+        ]
     return []

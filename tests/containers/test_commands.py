@@ -38,6 +38,32 @@ def test_cluster_ros_reads_dot_and_irobot_and_uses_eq_3_13():
     assert sierra["params"]["eq_3_13_bound"] == 3 and len(sierra["containers"]) == 3
 
 
+PATH_GRAPH = {
+    "format": "continuum.rosgraph/v1",
+    "nodes": [{"name": n} for n in "abc"],
+    "topics": [
+        {"name": "ab", "publishers": ["a"], "subscribers": ["b"], "rate_hz": 1, "msg_bytes": 1},
+        {"name": "bc", "publishers": ["b"], "subscribers": ["c"], "rate_hz": 1, "msg_bytes": 100},
+    ],
+}
+
+
+def test_cluster_ros_method_is_the_setting(tmp_path, settings):
+    """Issue 27's minimal case: the default refines Listing 3.20's {a,b},{c} (cut 100) to {a},{b,c} (cut 1)."""
+    path = tmp_path / "path.json"
+    path.write_text(json.dumps(PATH_GRAPH))
+    _, refined = run(cluster_ros, str(path), "--containers", "2")
+    assert refined["params"]["method"] == "refined" and refined["inter_container_bandwidth"] == 1
+    settings.CONTINUUM_ROS_CLUSTERING = "thesis"
+    _, thesis = run(cluster_ros, str(path), "--containers", "2")
+    assert thesis["params"]["method"] == "thesis" and thesis["inter_container_bandwidth"] == 100
+    from apps.containers.resources import check_clustering_method
+
+    assert check_clustering_method() == []
+    settings.CONTINUUM_ROS_CLUSTERING = "metis"
+    assert [e.id for e in check_clustering_method()] == ["containers.E002"]
+
+
 def test_cluster_ros_writes_the_dockerfiles(tmp_path):
     graph = {
         "format": "continuum.rosgraph/v1",

@@ -76,18 +76,25 @@ def fig_graph(**node_attrs) -> RosGraph:
 
 
 def test_cluster_ros_attaches_culled_nodes_and_accounts_bandwidth():
-    r = cluster_ros(fig_graph(), 2)
+    r = cluster_ros(fig_graph(), 2, method="thesis")
     # v0 joins the lowest-demand cluster: equal (zero) demand, so the smaller one.
     assert clusters(r) == [["v0", "v6", "v7", "v8", "v9"], ["v1", "v2", "v3", "v4", "v5"]]
     assert r.inter_container_bandwidth == 0 and r.intra_container_bandwidth == sum(FIG_3_21.values())
-    r3 = cluster_ros(fig_graph(), 3)
+    r3 = cluster_ros(fig_graph(), 3, method="thesis")
     # Left between {v1,v3,v5} and {v2,v4}: 6 + 1 (Definition 3.2.1).
     assert r3.inter_container_bandwidth == 7
+    # The refinement (the default) finds a cut of 3 under the same bound (5 ROS nodes per container).
+    refined = cluster_ros(fig_graph(), 3)
+    assert refined.inter_container_bandwidth == 3 and len(refined.containers) == 3
+    assert max(len(c.nodes) for c in refined.containers) <= 5
 
 
 def test_culled_node_prefers_its_context():
     g = fig_graph(v0={"context": "vision"}, v2={"context": "vision"})
-    assert clusters(cluster_ros(g, 2)) == [["v0", "v1", "v2", "v3", "v4", "v5"], ["v6", "v7", "v8", "v9"]]
+    assert clusters(cluster_ros(g, 2, method="thesis")) == [
+        ["v0", "v1", "v2", "v3", "v4", "v5"],
+        ["v6", "v7", "v8", "v9"],
+    ]
 
 
 def test_resource_tie_breaker_splits_the_heaviest_node():

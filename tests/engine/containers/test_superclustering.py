@@ -154,7 +154,8 @@ def test_preferred_affinity_and_node_selector():
 
 
 def test_kairos_table_4_26_keeps_the_heavy_group_on_the_jetson():
-    # Spec 02 acceptance 6 on the synthetic-bandwidth fixture.
+    # Spec 02 acceptance 6 on the synthetic-bandwidth fixture. Thesis scenario: the RB-Kairos bandwidths were
+    # designed so that the thesis' grouping follows; this checks the placer, it reproduces nothing.
     wl = load_workload(json.loads((DATA / "kairos_synthetic.containers.json").read_text()))
     cl = Cluster.from_dict(json.loads((DATA / "kairos_synthetic.cluster.json").read_text()))
     plan = superclustering(wl, cl)

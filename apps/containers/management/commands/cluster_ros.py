@@ -1,10 +1,12 @@
-"""``python manage.py cluster_ros GRAPH --containers N [--json]``: ROS nodes into containers (Listing 3.20)."""
+"""``python manage.py cluster_ros GRAPH --containers N [--json]``: ROS nodes into containers (Listing 3.20, then
+the refinement of ``settings.CONTINUUM_ROS_CLUSTERING``)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
+from apps.containers.resources import clustering_method
 from apps.containers.serializers import ClusterRequestSerializer
 from apps.tenancy.api import contract_error
 from continuum.commands import EngineCommand
@@ -61,6 +63,7 @@ class Command(EngineCommand):
             overhead_mib=overhead,
             max_cluster_share=options.get("max_share"),
             max_cluster_memory_mib=options.get("max_memory_mib"),
+            method=clustering_method(),
         )
         out = result.to_dict()
         out["bandwidth_unit"] = "bytes/s"
