@@ -22,7 +22,7 @@ from typing import Any
 from tqdm import tqdm
 
 from .api import MAX_EVENTS, ApiError, Fleet, JobFailed, MissReport
-from .rosbag import BagError, events_from_bag, rosgraph_from_bag
+from .rosbag import BagError, describe_bag, events_from_bag, rosgraph_from_bag
 
 #: Largest file the command line reads (a DAG, a ROS graph, an events CSV is read as a stream instead).
 MAX_FILE = 64 * 1024 * 1024
@@ -190,14 +190,29 @@ def cmd_events(args: argparse.Namespace) -> None:
 
 
 def cmd_bag_events(args: argparse.Namespace) -> None:
+    skipped: dict[str, None] = {}  # one line per topic that cannot be decoded, said once at the end
+
     def events() -> Iterator[list[Any]]:
-        return events_from_bag(args.bag, topics=args.topic or None, signals=args.signal or None)
+        return events_from_bag(args.bag, topics=args.topic or None, signals=args.signal or None,
+                               on_skip=lambda line: skipped.setdefault(line))  # fmt: skip
 
     if args.dry_run:
         for e in events():
             print(json.dumps(e))
-        return
-    _post(args, events, Path(args.bag).name)
+    else:
+        _post(args, events, Path(args.bag).name)
+    for line in skipped:
+        print(f"warning: {line}", file=sys.stderr)
+
+
+def cmd_bag_info(args: argparse.Namespace) -> None:
+    info = describe_bag(args.bag)
+    lines = [f"{info['kind']} {info['path']}: {len(info['topics'])} topics over {info['window_s']:.3f} s"]
+    for t in info["topics"]:
+        state = "decodable" if t["decodable"] else f"not decodable: {t['why']}"
+        lines.append(f"  {t['name']} ({t['msg_type']}): {t['messages']} messages, {t['rate_hz']:g} Hz, "
+                     f"{t['msg_bytes']:g} B; {state}")  # fmt: skip
+    _emit(args, info, "\n".join(lines))
 
 
 def cmd_report(args: argparse.Namespace) -> None:
@@ -282,8 +297,12 @@ def build_parser() -> argparse.ArgumentParser:
     up.add_argument("--format", help="the file's format (default: guessed by the server)")
     up.set_defaults(func=cmd_upload)
 
-    bg = sub.add_parser("bag-graph", help="a continuum.rosgraph/v1 document from a rosbag2 recording")
-    bg.add_argument("bag", help="the recording's directory (sqlite3 or MCAP)")
+    bi = sub.add_parser("bag-info", help="what a recording holds: topics, types, counts, rates, decodable or why not")
+    bi.add_argument("bag", help="a rosbag1 .bag file, a rosbag2 directory, or a .db3/.mcap file")
+    bi.set_defaults(func=cmd_bag_info)
+
+    bg = sub.add_parser("bag-graph", help="a continuum.rosgraph/v1 document from a recording (rosbag1 or rosbag2)")
+    bg.add_argument("bag", help="a rosbag1 .bag file, a rosbag2 directory, or a .db3/.mcap file")
     bg.add_argument("--nodes", help='JSON {"publishers": {topic: [node]}, "subscribers": {topic: [node]}}')
     bg.add_argument("--topic", action="append", help="only this topic (repeatable)")
     bg.add_argument("--name")
@@ -291,7 +310,7 @@ def build_parser() -> argparse.ArgumentParser:
     bg.set_defaults(func=cmd_bag_graph)
 
     for name, helptext in (("events", "stream STL events from a CSV file"),
-                           ("bag-events", "stream STL events from a rosbag2 recording")):  # fmt: skip
+                           ("bag-events", "stream STL events from a recording (rosbag1 or rosbag2)")):  # fmt: skip
         ev = sub.add_parser(name, help=helptext)
         if name == "events":
             ev.add_argument("csv", help="variable,value,timestamp rows, or a time column plus one per signal")
