@@ -22,10 +22,13 @@ from typing import Any
 from tqdm import tqdm
 
 from .api import MAX_EVENTS, ApiError, Fleet, JobFailed, MissReport
+from .capture_errors import CaptureError
 from .rosbag import BagError, describe_bag, events_from_bag, rosgraph_from_bag
 
 #: Largest file the command line reads (a DAG, a ROS graph, an events CSV is read as a stream instead).
 MAX_FILE = 64 * 1024 * 1024
+#: Longest measurement window of ``capture`` (seconds).
+MAX_CAPTURE_S = 3600
 
 
 class BadInput(Exception):
@@ -215,6 +218,40 @@ def cmd_bag_info(args: argparse.Namespace) -> None:
     _emit(args, info, "\n".join(lines))
 
 
+def cmd_capture(args: argparse.Namespace) -> None:
+    if args.duration > MAX_CAPTURE_S:
+        raise BadInput(f"--duration must be at most {MAX_CAPTURE_S} s")
+    if args.upload:
+        fleet = _fleet(args)  # before the window: a missing token fails at once, not after minutes of measuring
+    try:
+        if args.ros1:
+            from .ros1 import capture_ros1
+
+            doc = capture_ros1(args.ros1, args.duration, name=args.name, topics=args.topic or None)
+        else:
+            from .ros2 import capture_ros2
+
+            doc = capture_ros2(args.domain, args.duration, name=args.name)
+    except CaptureError as exc:
+        raise BadInput(str(exc)) from None
+    text = json.dumps(doc, indent=2)
+    if args.out:
+        try:
+            Path(args.out).write_text(text + "\n")
+        except OSError as exc:
+            raise BadInput(f"{args.out}: {exc.strerror or exc}") from None
+    if args.upload:
+        with fleet:
+            row = fleet.upload_rosgraph(doc, f"{doc['name']}.json", name=args.name or doc["name"])
+        _emit(args, row, f"ROS graph {row.id} {row.name!r}: {row.node_count} nodes, {row.topic_count} topics")
+    elif args.out:
+        measured = sum(1 for t in doc["topics"] if t.get("measured"))
+        _emit(args, {"out": args.out, "nodes": len(doc["nodes"]), "topics": len(doc["topics"]), "measured": measured},
+              f"{args.out}: {len(doc['nodes'])} nodes, {len(doc['topics'])} topics ({measured} measured)")  # fmt: skip
+    else:
+        print(text)
+
+
 def cmd_report(args: argparse.Namespace) -> None:
     if args.missed_period < 0 or args.missed_total < args.missed_period:
         raise BadInput("need 0 <= --missed-period <= --missed-total")
@@ -324,6 +361,20 @@ def build_parser() -> argparse.ArgumentParser:
         ev.add_argument("--cluster", type=_positive(int), required=name == "events")
         ev.add_argument("--now", type=float, help="advance the monitors' clock to this time (ms) at the end")
         ev.add_argument("--batch-size", type=_positive(int), default=1000, help=f"events per request (<= {MAX_EVENTS})")
+
+    ca = sub.add_parser("capture", help="capture a live ROS graph with measured rates (continuum.rosgraph/v1)")
+    source = ca.add_mutually_exclusive_group(required=True)
+    source.add_argument("--ros1", metavar="MASTER_URI", help="a ROS 1 master, e.g. http://robot:11311/")
+    source.add_argument("--ros2", action="store_true", help="ROS 2 over DDS (Cyclone DDS discovery)")
+    ca.add_argument("--domain", type=int, choices=range(0, 233), default=0, metavar="0..232",
+                    help="the ROS 2 domain id (ROS_DOMAIN_ID)")  # fmt: skip
+    ca.add_argument("--duration", type=_positive(float), default=5.0, help="measurement window in seconds")
+    ca.add_argument("--topic", action="append", help="only this topic (repeatable; ROS 1)")
+    ca.add_argument("--name", help="the graph's name")
+    dest = ca.add_mutually_exclusive_group()
+    dest.add_argument("--out", help="write the graph to this file (else print it)")
+    dest.add_argument("--upload", action="store_true", help="upload it to the server")
+    ca.set_defaults(func=cmd_capture)
 
     rp = sub.add_parser("report", help="report missed deadlines of a container")
     rp.add_argument("--node", required=True)

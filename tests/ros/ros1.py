@@ -53,9 +53,9 @@ class Ros1:
         return proc
 
     def node(self, name: str, publish: list[dict] | None = None, subscribe: list[str] | None = None,
-             timeout: float = 60) -> subprocess.Popen:  # fmt: skip
+             timeout: float = 60, **extra: Any) -> subprocess.Popen:  # fmt: skip
         """A rospy node; returns once it printed ``ready`` (its publishers and subscribers are registered)."""
-        spec = {"name": name, "publish": publish or [], "subscribe": subscribe or []}
+        spec = {"name": name, "publish": publish or [], "subscribe": subscribe or [], **extra}
         log = (self.home / f"{name}.log").open("w")
         proc = self.spawn([ROS_PYTHON, str(NODE), json.dumps(spec)], stdout=subprocess.PIPE, stderr=log, text=True)
         assert proc.stdout is not None

@@ -7,11 +7,13 @@ Each publication sends ``std_msgs/String`` messages whose serialized size is ``b
 ``bytes - 4`` characters; a ``seq:<n>;`` prefix numbers them), or with ``"type": "float64"`` ``std_msgs/Float64``
 messages whose value is the sequence number 0, 1, 2, ..., at ``rate`` messages per second, on a ``rospy.Timer``
 per topic. It prints ``ready`` once every publisher and subscriber is registered with the
-master, and runs until it is terminated.
+master, and runs until it is terminated. ``"burn": f`` keeps a thread busy for a share ``f`` of the time.
 """
 
 import json
 import sys
+import threading
+import time
 
 import rospy
 from std_msgs.msg import Float64, String
@@ -39,6 +41,17 @@ def main() -> None:
             state["n"] += 1
 
         timers.append(rospy.Timer(rospy.Duration(1.0 / float(pub["rate"])), send))
+    if spec.get("burn"):  # a CPU load: busy for `burn` of every 20 ms
+        busy = 0.02 * float(spec["burn"])
+
+        def burn():
+            while True:
+                until = time.monotonic() + busy
+                while time.monotonic() < until:
+                    pass
+                time.sleep(0.02 - busy)
+
+        threading.Thread(target=burn, daemon=True).start()
     print("ready", flush=True)
     rospy.spin()
 
