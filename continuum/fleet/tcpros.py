@@ -70,6 +70,11 @@ class Link:
     first: float | None = None
     last: float | None = None
     error: str | None = None
+    #: Called with (payload, arrival time) for every counted message, when set (the payload is then kept until
+    #: it is complete, up to ``max_payload`` bytes; a longer one is an error): the monitors' topic source.
+    on_message: Any = None
+    max_payload: int = 64 << 20
+    _payload: bytearray = field(default_factory=bytearray)
     _buf: bytearray = field(default_factory=bytearray)
     _have_header: bool = False
     _header_len: int | None = None
@@ -104,7 +109,11 @@ class Link:
                 (self._size,) = struct.unpack_from("<I", self._buf)
                 del self._buf[:4]
                 self._need = self._size
+                if self.on_message is not None and self._size > self.max_payload:
+                    raise TcprosError(f"a message of {self._size} bytes (more than {self.max_payload})")
             take = min(self._need, len(self._buf))
+            if self.on_message is not None:
+                self._payload += self._buf[:take]
             del self._buf[:take]
             self._need -= take
             if self._need:
@@ -115,6 +124,9 @@ class Link:
                 self.total_bytes += self._size
                 self.first = now if self.first is None else self.first
                 self.last = now
+                if self.on_message is not None:
+                    self.on_message(self, bytes(self._payload), now)
+            self._payload.clear()
 
     def _read_header(self) -> bool:
         if self._header_len is None:
@@ -130,8 +142,36 @@ class Link:
         del self._buf[: self._header_len]
         if "error" in self.header:
             raise TcprosError(f"publisher refused: {self.header['error'][:200]}")
-        self.header.pop("message_definition", None)  # large and not needed
+        if self.on_message is None:
+            self.header.pop("message_definition", None)  # large, and only decoding needs it
         return True
+
+
+def connect(link: Link, caller_id: str, timeout: float = 5.0) -> None:
+    """Open the link's TCP connection and send the subscriber's header (errors kept on the link)."""
+    try:
+        sock = socket.create_connection((link.host, link.port), timeout=timeout)
+        sock.sendall(pack_header({"callerid": caller_id, "topic": link.topic, "md5sum": "*", "type": "*",
+                                  "tcp_nodelay": "1"}))  # fmt: skip
+        sock.setblocking(False)
+        link.sock = sock
+    except OSError as exc:
+        link.error = f"cannot connect to {link.host}:{link.port} ({exc.strerror or exc})"
+
+
+def pump(sel: selectors.BaseSelector, until: float) -> None:
+    """Read every registered link until the monotonic time ``until``."""
+    while (left := until - time.monotonic()) > 0:
+        for key, _ in sel.select(timeout=min(left, 0.5)):
+            link = key.data
+            try:
+                data = link.sock.recv(1 << 16)
+                if not data:
+                    raise TcprosError("the publisher closed the connection")
+                link.feed(data, time.monotonic())
+            except (OSError, TcprosError) as exc:
+                link.error = str(exc) if isinstance(exc, TcprosError) else f"read failed ({exc})"
+                sel.unregister(link.sock)
 
 
 def measure(links: list[Link], caller_id: str, duration: float, settle: float = 0.0,
@@ -142,30 +182,13 @@ def measure(links: list[Link], caller_id: str, duration: float, settle: float = 
     sel = selectors.DefaultSelector()
     try:
         for link in links:
-            try:
-                sock = socket.create_connection((link.host, link.port), timeout=connect_timeout)
-                sock.sendall(pack_header({"callerid": caller_id, "topic": link.topic, "md5sum": "*", "type": "*",
-                                          "tcp_nodelay": "1"}))  # fmt: skip
-                sock.setblocking(False)
-                link.sock = sock
-                sel.register(sock, selectors.EVENT_READ, link)
-            except OSError as exc:
-                link.error = f"cannot connect to {link.host}:{link.port} ({exc.strerror or exc})"
+            connect(link, caller_id, connect_timeout)
+            if link.sock is not None:
+                sel.register(link.sock, selectors.EVENT_READ, link)
         start = time.monotonic()
         for link in links:
             link._count_from = start + settle
-        end = start + settle + duration
-        while (left := end - time.monotonic()) > 0:
-            for key, _ in sel.select(timeout=min(left, 0.5)):
-                link = key.data
-                try:
-                    data = link.sock.recv(1 << 16)
-                    if not data:
-                        raise TcprosError("the publisher closed the connection")
-                    link.feed(data, time.monotonic())
-                except (OSError, TcprosError) as exc:
-                    link.error = str(exc) if isinstance(exc, TcprosError) else f"read failed ({exc})"
-                    sel.unregister(link.sock)
+        pump(sel, start + settle + duration)
     finally:
         for link in links:
             if link.sock is not None:
