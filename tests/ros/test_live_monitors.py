@@ -53,15 +53,37 @@ def stl_check(trace: Path, assertion: str) -> dict:
     return json.loads(out.getvalue())
 
 
-def test_monitors_migrate_between_handlers_while_a_topic_streams_at_100_hz(ros1, bus, tmp_path):
+@pytest.fixture(params=["processes", "netns"])
+def handler_hosts(request):
+    """How the two handlers run: as processes here, or each on a host of its own (a network namespace that
+    reaches Redis through a relay at its gateway address)."""
+    if request.param == "processes":
+        yield {"edge": ([], REDIS_URL), "cloud": ([], REDIS_URL)}
+        return
+    from urllib.parse import urlsplit
+
+    from .netns import Relay, hosts
+
+    target = urlsplit(REDIS_URL)
+    with hosts(2) as (edge, cloud):
+        relays = [Relay((h.gateway, 0), (target.hostname or "127.0.0.1", target.port or 6379)) for h in (edge, cloud)]
+        try:
+            yield {name: (h.argv(), f"redis://{h.gateway}:{r.port}{target.path}")
+                   for name, h, r in (("edge", edge, relays[0]), ("cloud", cloud, relays[1]))}  # fmt: skip
+        finally:
+            for r in relays:
+                r.close()
+
+
+def test_monitors_migrate_between_handlers_while_a_topic_streams_at_100_hz(ros1, bus, tmp_path, handler_hosts):
     ros1.node("odom", publish=[{"topic": "/speed", "rate": 100, "type": "float64"}])
     for name, text in MONITORS.items():
         bus.register_monitor(name, text)
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     handlers = {
-        h: subprocess.Popen([sys.executable, "-m", "continuum.verification_runtime.handler", "--name", h, "--redis",
-                             REDIS_URL, "--prefix", bus.prefix, "--stats-period", "0.1"], cwd=ROOT, env=env)
-        for h in ("edge", "cloud")
+        h: subprocess.Popen([*wrap, sys.executable, "-m", "continuum.verification_runtime.handler", "--name", h,
+                             "--redis", url, "--prefix", bus.prefix, "--stats-period", "0.1"], cwd=ROOT, env=env)
+        for h, (wrap, url) in handler_hosts.items()
     }  # fmt: skip
     source = None
     try:
