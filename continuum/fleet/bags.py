@@ -264,7 +264,10 @@ class _Decoder:
         if self.failed is not None:
             raise BagError(self.failed)
         if self.chosen is not None:
-            return self._run(self.chosen, raw, msgtype)
+            try:
+                return self._run(self.chosen, raw, msgtype)
+            except Exception as exc:  # a damaged message of a type that decoded before
+                raise BagError(f"a message of {msgtype} does not decode ({one_line(exc, 160)})") from None
         errors = []
         for store, _source in self.candidates:
             try:

@@ -228,3 +228,19 @@ def test_not_a_recording(tmp_path):
         code, _, err = run("bag-info", str(path))
         assert code == 2 and problem in err and err.count("\n") == 1
     shutil.rmtree(tmp_path / "empty")
+
+
+def test_a_damaged_message_of_a_decodable_topic_is_one_line(tmp_path):
+    """Found by the bag fuzzer: the first /scan message decodes, a later one holds bytes that are not UTF-8."""
+    import sqlite3
+
+    bag = write_bag(tmp_path / "damaged", "sqlite3", robot_topics())
+    (db,) = bag.glob("*.db3")
+    with sqlite3.connect(db) as con:
+        (topic_id,) = con.execute("SELECT id FROM topics WHERE name = '/scan'").fetchone()
+        (msg_id, data) = con.execute("SELECT id, data FROM messages WHERE topic_id = ? ORDER BY timestamp "
+                                     "LIMIT 1 OFFSET 3", (topic_id,)).fetchone()  # fmt: skip
+        con.execute("UPDATE messages SET data = ? WHERE id = ?", (data[:8] + b"\xf3" + data[9:], msg_id))
+    code, out, err = run("bag-events", "--dry-run", str(bag))
+    assert code == 0 and err.count("\n") == 1 and "/scan (std_msgs/msg/String) skipped: a message" in err, err
+    assert sum(1 for line in out.splitlines() if "speed.data" in line) == 21  # the other topics are whole
