@@ -142,6 +142,8 @@ def capture_ros1(master: str, duration: float = 5.0, *, name: str | None = None,
         raise CaptureError(f"{master}: getSystemState answered no [publishers, subscribers, services]")
     pubs, subs, services = (_pairs(state[i], what) for i, what in enumerate(("publishers", "subscribers", "services")))
     types_raw = _call(master, "getTopicTypes", timeout=timeout)
+    if not isinstance(types_raw, list):
+        raise CaptureError(f"{master}: getTopicTypes answered no list")
     types = {
         t[0]: t[1] for t in types_raw if isinstance(t, list) and len(t) == 2 and all(isinstance(x, str) for x in t)
     }

@@ -151,3 +151,34 @@ def test_captured_graph_is_uploaded_and_clustered(ros1, live_server, fleet_token
     form = {k: f.initial for k, f in ClusterForm().fields.items() if f.initial not in (None, "")}
     clustered = member.post(f"/ros/{row.pk}/cluster/", {**form, "containers": 2, "mode": "per_topic"})
     assert clustered.status_code == 302, clustered.content[:500]
+
+
+@pytest.mark.parametrize(
+    ("state", "types", "message"),
+    [
+        ("garbage", [], "getSystemState answered no [publishers, subscribers, services]"),
+        ([[["/a", [1]]], [], []], [], "bad publishers entry"),
+        ([[], [], []], 7, "getTopicTypes answered no list"),
+        ([[["/a", ["/n"]]], [], []], [], "lookupNode"),  # a node the master cannot look up: said, not measured
+    ],
+)
+def test_a_hostile_master_is_one_line_or_said(state, types, message):
+    """A master that answers the Master API with the wrong shapes (an XML-RPC server made here)."""
+    import threading
+    from xmlrpc.server import SimpleXMLRPCServer
+
+    server = SimpleXMLRPCServer(("127.0.0.1", 0), logRequests=False, allow_none=True)
+    server.register_function(lambda caller: [1, "", state], "getSystemState")
+    server.register_function(lambda caller: [1, "", types], "getTopicTypes")
+    server.register_function(lambda caller, node: [-1, f"unknown node {node}", ""], "lookupNode")
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        done = capture("capture", "--ros1", f"http://127.0.0.1:{server.server_address[1]}/", "--duration", "0.5")
+    finally:
+        server.shutdown()
+        server.server_close()
+    if done.returncode == 0:  # the graph is still written: the node and topic say why they were not measured
+        doc = json.loads(done.stdout)
+        assert message in doc["topics"][0]["why_unmeasured"] and message in doc["nodes"][0]["why_unmeasured"]
+    else:
+        assert done.returncode == 2 and done.stderr.count("\n") == 1 and message in done.stderr, done.stderr
