@@ -14,6 +14,8 @@ import pytest
 
 from continuum.engine.containers.rosgraph import RosGraph
 
+pytestmark = pytest.mark.ros
+
 ROOT = Path(__file__).resolve().parents[2]
 
 #: name -> (publications, subscriptions, extra); publications: (topic, rate Hz, bytes or "float64")

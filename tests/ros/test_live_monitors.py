@@ -20,6 +20,8 @@ from django.core.management import call_command
 
 from continuum.verification_runtime.bus import Bus
 
+pytestmark = pytest.mark.ros
+
 ROOT = Path(__file__).resolve().parents[2]
 REDIS_URL = os.environ.get("CONTINUUM_TEST_REDIS_URL", "redis://127.0.0.1:6379/15")
 MONITORS = {

@@ -9,6 +9,8 @@ import pytest
 
 from continuum.fleet.rosbag import describe_bag, events_from_bag, rosgraph_from_bag
 
+pytestmark = pytest.mark.ros
+
 
 @pytest.mark.parametrize("compression", [None, "--bz2", "--lz4"])
 def test_rosbag_record_of_rospy_nodes(ros1, tmp_path, compression):
