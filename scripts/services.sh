@@ -82,6 +82,10 @@ ensure_chromium() {
   [ -x /usr/bin/chromium ] || apt_install chromium
 }
 
+ensure_ros1() {  # Debian's ROS 1: a real roscore, rospy (for /usr/bin/python3), rosbag, rostopic (tests/ros/)
+  apt_install ros-core python3-rospy python3-rosbag python3-rostopic python3-std-msgs
+}
+
 ensure_kube_apiserver() {  # builds (or takes from the cache) kube-apiserver and etcd
   KUBE_APISERVER=$(bash "$ROOT/scripts/build-kube-apiserver.sh")
   export KUBE_APISERVER

@@ -22,10 +22,13 @@ from typing import Any
 from tqdm import tqdm
 
 from .api import MAX_EVENTS, ApiError, Fleet, JobFailed, MissReport
-from .rosbag import BagError, events_from_bag, rosgraph_from_bag
+from .capture_errors import CaptureError
+from .rosbag import BagError, describe_bag, events_from_bag, rosgraph_from_bag
 
 #: Largest file the command line reads (a DAG, a ROS graph, an events CSV is read as a stream instead).
 MAX_FILE = 64 * 1024 * 1024
+#: Longest measurement window of ``capture`` (seconds).
+MAX_CAPTURE_S = 3600
 
 
 class BadInput(Exception):
@@ -190,14 +193,63 @@ def cmd_events(args: argparse.Namespace) -> None:
 
 
 def cmd_bag_events(args: argparse.Namespace) -> None:
+    skipped: dict[str, None] = {}  # one line per topic that cannot be decoded, said once at the end
+
     def events() -> Iterator[list[Any]]:
-        return events_from_bag(args.bag, topics=args.topic or None, signals=args.signal or None)
+        return events_from_bag(args.bag, topics=args.topic or None, signals=args.signal or None,
+                               on_skip=lambda line: skipped.setdefault(line))  # fmt: skip
 
     if args.dry_run:
         for e in events():
             print(json.dumps(e))
-        return
-    _post(args, events, Path(args.bag).name)
+    else:
+        _post(args, events, Path(args.bag).name)
+    for line in skipped:
+        print(f"warning: {line}", file=sys.stderr)
+
+
+def cmd_bag_info(args: argparse.Namespace) -> None:
+    info = describe_bag(args.bag)
+    lines = [f"{info['kind']} {info['path']}: {len(info['topics'])} topics over {info['window_s']:.3f} s"]
+    for t in info["topics"]:
+        state = "decodable" if t["decodable"] else f"not decodable: {t['why']}"
+        lines.append(f"  {t['name']} ({t['msg_type']}): {t['messages']} messages, {t['rate_hz']:g} Hz, "
+                     f"{t['msg_bytes']:g} B; {state}")  # fmt: skip
+    _emit(args, info, "\n".join(lines))
+
+
+def cmd_capture(args: argparse.Namespace) -> None:
+    if args.duration > MAX_CAPTURE_S:
+        raise BadInput(f"--duration must be at most {MAX_CAPTURE_S} s")
+    if args.upload:
+        fleet = _fleet(args)  # before the window: a missing token fails at once, not after minutes of measuring
+    try:
+        if args.ros1:
+            from .ros1 import capture_ros1
+
+            doc = capture_ros1(args.ros1, args.duration, name=args.name, topics=args.topic or None)
+        else:
+            from .ros2 import capture_ros2
+
+            doc = capture_ros2(args.domain, args.duration, name=args.name)
+    except CaptureError as exc:
+        raise BadInput(str(exc)) from None
+    text = json.dumps(doc, indent=2)
+    if args.out:
+        try:
+            Path(args.out).write_text(text + "\n")
+        except OSError as exc:
+            raise BadInput(f"{args.out}: {exc.strerror or exc}") from None
+    if args.upload:
+        with fleet:
+            row = fleet.upload_rosgraph(doc, f"{doc['name']}.json", name=args.name or doc["name"])
+        _emit(args, row, f"ROS graph {row.id} {row.name!r}: {row.node_count} nodes, {row.topic_count} topics")
+    elif args.out:
+        measured = sum(1 for t in doc["topics"] if t.get("measured"))
+        _emit(args, {"out": args.out, "nodes": len(doc["nodes"]), "topics": len(doc["topics"]), "measured": measured},
+              f"{args.out}: {len(doc['nodes'])} nodes, {len(doc['topics'])} topics ({measured} measured)")  # fmt: skip
+    else:
+        print(text)
 
 
 def cmd_report(args: argparse.Namespace) -> None:
@@ -282,8 +334,12 @@ def build_parser() -> argparse.ArgumentParser:
     up.add_argument("--format", help="the file's format (default: guessed by the server)")
     up.set_defaults(func=cmd_upload)
 
-    bg = sub.add_parser("bag-graph", help="a continuum.rosgraph/v1 document from a rosbag2 recording")
-    bg.add_argument("bag", help="the recording's directory (sqlite3 or MCAP)")
+    bi = sub.add_parser("bag-info", help="what a recording holds: topics, types, counts, rates, decodable or why not")
+    bi.add_argument("bag", help="a rosbag1 .bag file, a rosbag2 directory, or a .db3/.mcap file")
+    bi.set_defaults(func=cmd_bag_info)
+
+    bg = sub.add_parser("bag-graph", help="a continuum.rosgraph/v1 document from a recording (rosbag1 or rosbag2)")
+    bg.add_argument("bag", help="a rosbag1 .bag file, a rosbag2 directory, or a .db3/.mcap file")
     bg.add_argument("--nodes", help='JSON {"publishers": {topic: [node]}, "subscribers": {topic: [node]}}')
     bg.add_argument("--topic", action="append", help="only this topic (repeatable)")
     bg.add_argument("--name")
@@ -291,7 +347,7 @@ def build_parser() -> argparse.ArgumentParser:
     bg.set_defaults(func=cmd_bag_graph)
 
     for name, helptext in (("events", "stream STL events from a CSV file"),
-                           ("bag-events", "stream STL events from a rosbag2 recording")):  # fmt: skip
+                           ("bag-events", "stream STL events from a recording (rosbag1 or rosbag2)")):  # fmt: skip
         ev = sub.add_parser(name, help=helptext)
         if name == "events":
             ev.add_argument("csv", help="variable,value,timestamp rows, or a time column plus one per signal")
@@ -305,6 +361,20 @@ def build_parser() -> argparse.ArgumentParser:
         ev.add_argument("--cluster", type=_positive(int), required=name == "events")
         ev.add_argument("--now", type=float, help="advance the monitors' clock to this time (ms) at the end")
         ev.add_argument("--batch-size", type=_positive(int), default=1000, help=f"events per request (<= {MAX_EVENTS})")
+
+    ca = sub.add_parser("capture", help="capture a live ROS graph with measured rates (continuum.rosgraph/v1)")
+    source = ca.add_mutually_exclusive_group(required=True)
+    source.add_argument("--ros1", metavar="MASTER_URI", help="a ROS 1 master, e.g. http://robot:11311/")
+    source.add_argument("--ros2", action="store_true", help="ROS 2 over DDS (Cyclone DDS discovery)")
+    ca.add_argument("--domain", type=int, choices=range(0, 233), default=0, metavar="0..232",
+                    help="the ROS 2 domain id (ROS_DOMAIN_ID)")  # fmt: skip
+    ca.add_argument("--duration", type=_positive(float), default=5.0, help="measurement window in seconds")
+    ca.add_argument("--topic", action="append", help="only this topic (repeatable; ROS 1)")
+    ca.add_argument("--name", help="the graph's name")
+    dest = ca.add_mutually_exclusive_group()
+    dest.add_argument("--out", help="write the graph to this file (else print it)")
+    dest.add_argument("--upload", action="store_true", help="upload it to the server")
+    ca.set_defaults(func=cmd_capture)
 
     rp = sub.add_parser("report", help="report missed deadlines of a container")
     rp.add_argument("--node", required=True)

@@ -9,14 +9,21 @@ import pytest
 T0 = 1_700_000_000_000_000_000  # ns: the recordings' first message
 
 
-def write_bag(path: Path, storage: str, topics: dict[str, tuple[str, float, int, object]]) -> Path:
-    """A rosbag2 recording: per topic (msgtype, rate_hz, count, make(i) -> message), evenly spaced from T0."""
+def write_bag(
+    path: Path, storage: str, topics: dict[str, tuple[str, float, int, object]], compression: str | None = None
+) -> Path:
+    """A rosbag2 recording: per topic (msgtype, rate_hz, count, make(i) -> message), evenly spaced from T0.
+    ``compression``: None, "file" or "message" (zstd, rosbag2's modes) or "storage" (MCAP's zstd chunks)."""
     from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS2_HUMBLE)
     plugin = {"sqlite3": StoragePlugin.SQLITE3, "mcap": StoragePlugin.MCAP}[storage]
-    with Writer(path, version=9, storage_plugin=plugin) as w:
+    w = Writer(path, version=9, storage_plugin=plugin)
+    if compression:
+        w.set_compression(CompressionMode[compression.upper()], CompressionFormat.ZSTD)
+    with w:
         rows = []
         for topic, (msgtype, rate, count, make) in topics.items():
             conn = w.add_connection(topic, msgtype, typestore=store)
@@ -37,6 +44,31 @@ def robot_topics() -> dict:
         "/speed": ("std_msgs/msg/Float64", 20.0, 21, lambda t, i: t(data=0.5 * i)),
         "/arrived": ("std_msgs/msg/Bool", 1.0, 2, lambda t, i: t(data=bool(i))),
     }
+
+
+def write_bag1(
+    path: Path,
+    topics: dict[str, tuple[str, float, int, object]],
+    compression: str | None = None,
+    callerid: str = "/talker",
+) -> Path:
+    """A rosbag1 recording (``rosbags``' writer, ROS 1 Noetic types), like :func:`write_bag`; ``compression``
+    None, "bz2" or "lz4" (rosbag1's chunk compressions)."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    w = Writer(path)
+    if compression:
+        w.set_compression(Writer.CompressionFormat[compression.upper()])
+    with w:
+        rows = []
+        for topic, (msgtype, rate, count, make) in topics.items():
+            conn = w.add_connection(topic, msgtype, typestore=store, callerid=callerid)
+            rows += [(T0 + round(i * 1e9 / rate), conn, msgtype, make(store.types[msgtype], i)) for i in range(count)]
+        for stamp, conn, msgtype, msg in sorted(rows, key=lambda r: r[0]):
+            w.write(conn, stamp, store.serialize_ros1(msg, msgtype))
+    return path
 
 
 @pytest.fixture(params=["sqlite3", "mcap"])

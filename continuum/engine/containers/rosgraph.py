@@ -120,6 +120,10 @@ class RosNode:
     packages: tuple[str, ...] = ()
     #: One of :data:`PINS`, or ``None`` (the level decides).
     pin: str | None = None
+    #: Whether ``cpu``/``memory_mib`` were measured on the running node (a live capture), and if not, why;
+    #: ``None``: the document does not say (written by hand, a design file).
+    measured: bool | None = None
+    why_unmeasured: str = ""
 
 
 @dataclass(frozen=True)
@@ -131,6 +135,10 @@ class Topic:
     rates: Mapping[str, float]
     msg_bytes: float
     msg_type: str = ""
+    #: Whether rate and size were measured on the running system (a live capture), and if not, why;
+    #: ``None``: the document does not say.
+    measured: bool | None = None
+    why_unmeasured: str = ""
 
     def rate(self, publisher: str) -> float:
         return self.rates.get(publisher, 0.0)
@@ -236,6 +244,7 @@ class RosGraph:
                 item["packages"] = list(n.packages)
             if n.pin:
                 item["pin"] = n.pin
+            _put_measured(item, n.measured, n.why_unmeasured)
             nodes.append(item)
         topics = []
         for t in self.topics.values():
@@ -252,6 +261,7 @@ class RosGraph:
                 item["publisher_rates_hz"] = dict(t.rates)
             if t.msg_type:
                 item["msg_type"] = t.msg_type
+            _put_measured(item, t.measured, t.why_unmeasured)
             topics.append(item)
         doc: dict[str, Any] = {"format": FORMAT, "name": self.name, "nodes": nodes, "topics": topics}
         if self.packages:
@@ -981,6 +991,26 @@ def _parse_level(where: str, raw: Any) -> str | None:
     return level
 
 
+def _put_measured(item: dict[str, Any], measured: bool | None, why: str) -> None:
+    if measured is not None:
+        item["measured"] = measured
+    if why:
+        item["why_unmeasured"] = why
+
+
+def _parse_measured(where: str, raw: Mapping[str, Any], field: str) -> tuple[bool | None, str]:
+    """``measured`` (a boolean, optional) and ``why_unmeasured`` (a short text) of a captured node or topic."""
+    measured = raw.get("measured")
+    if measured is not None and not isinstance(measured, bool):
+        raise InputError(f"{where}: 'measured' must be true or false", field)
+    why = raw.get("why_unmeasured", "")
+    if why is None:
+        why = ""
+    if not isinstance(why, str) or len(why) > 1000 or "\x00" in why:
+        raise InputError(f"{where}: 'why_unmeasured' must be a text of at most 1000 characters", field)
+    return measured, why
+
+
 def _parse_node(index: int, raw: Any) -> RosNode:
     if not isinstance(raw, Mapping):
         raise InputError(f"nodes[{index}] must be an object", "nodes")
@@ -1004,8 +1034,11 @@ def _parse_node(index: int, raw: Any) -> RosNode:
         pin = None
     elif pin not in PINS:
         raise InputError(f"{where} has unknown pin {pin!r} (one of {', '.join(PINS)}, or none)", "nodes")
+    measured, why = _parse_measured(where, raw, "nodes")
     return RosNode(
         name,
+        measured=measured,
+        why_unmeasured=why,
         pin=pin,
         level=_parse_level(where, raw.get("level")),
         context=str(raw.get("context", "") or ""),
@@ -1039,7 +1072,8 @@ def _parse_topic(index: int, raw: Any) -> Topic:
     if not _finite_nonneg(size):
         raise InputError(f"{where} has invalid msg_bytes {size!r}", "topics")
     rates = _topic_rates(where, raw, publishers)
-    return Topic(name, publishers, subscribers, rates, float(size), str(raw.get("msg_type", "") or ""))
+    measured, why = _parse_measured(where, raw, "topics")
+    return Topic(name, publishers, subscribers, rates, float(size), str(raw.get("msg_type", "") or ""), measured, why)
 
 
 def _topic_rates(where: str, raw: Mapping[str, Any], publishers: Sequence[str]) -> dict[str, float]:
