@@ -17,7 +17,8 @@ import urllib.request
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-from .report import Reporter, Target
+from .privileges import User, default_user, drop_for_agent, parse_user
+from .report import Reporter, Target, http_problem, urlopen
 from .sched import DeadlineParams, refusal
 from .trace import run_traced
 
@@ -97,6 +98,13 @@ def _positive(text: str) -> float:
     return value
 
 
+def _user(text: str) -> User:
+    try:
+        return parse_user(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def parser() -> argparse.ArgumentParser:
     ap = _Parser(prog=f"python -m {PROG}", description="Continuum's node agent (RT-Kube, thesis 3.4).")
     sub = ap.add_subparsers(dest="action", required=True)
@@ -111,6 +119,8 @@ def parser() -> argparse.ArgumentParser:
     api.add_argument("--cluster", type=int, help="cluster id (default: the RealTime object's, or the fleet's only)")
     api.add_argument("--server", default=os.environ.get("CONTINUUM_SERVER"),
                      help="base URL, e.g. http://continuum:8000 (env CONTINUUM_SERVER)")  # fmt: skip
+    api.add_argument("--allow-http", action="store_true",
+                     help="allow a plain http:// --server (the token then crosses the network in clear)")  # fmt: skip
     api.add_argument("--token", default=os.environ.get("CONTINUUM_TOKEN"),
                      help="fleet API token (env CONTINUUM_TOKEN; better: arguments show in ps)")  # fmt: skip
     api.add_argument("--node", default=os.environ.get("NODE_NAME") or socket.gethostname(),
@@ -124,6 +134,8 @@ def parser() -> argparse.ArgumentParser:
     api.add_argument("--http-timeout", type=_positive, default=5.0, help="seconds per request (5)")
     run.add_argument("--tracer-priority", type=int, default=1, choices=range(0, 100), metavar="0-99",
                      help="SCHED_FIFO priority of the agent's tracing thread (1; 0: leave it SCHED_OTHER)")  # fmt: skip
+    run.add_argument("--user", type=_user, default=None, metavar="USER[:GID]",
+                     help="who COMMAND runs as, with no capability (default: nobody if the agent is root)")  # fmt: skip
     run.add_argument("--json", action="store_true", help="print one JSON object on stdout at the end")
     run.add_argument("command", nargs=argparse.REMAINDER, help="-- COMMAND ARGS...")
     return ap
@@ -132,7 +144,7 @@ def parser() -> argparse.ArgumentParser:
 def _get_json(server: str, token: str, path: str, params: dict[str, Any], timeout: float) -> Any:
     url = server.rstrip("/") + path + "?" + urllib.parse.urlencode({k: v for k, v in params.items() if v is not None})
     request = urllib.request.Request(url, headers={"Authorization": f"Token {token}", "Accept": "application/json"})
-    with urllib.request.urlopen(request, timeout=timeout) as response:
+    with urlopen(request, timeout=timeout) as response:
         return json.loads(response.read())
 
 
@@ -142,7 +154,7 @@ def fetch_realtime(args: argparse.Namespace) -> dict[str, Any]:
     try:
         page = _get_json(args.server, args.token, "/api/v1/realtimes/", params, args.http_timeout)
     except urllib.error.HTTPError as exc:
-        raise UsageError(f"cannot read RealTime {args.realtime!r}: HTTP {exc.code} from {args.server}") from exc
+        raise UsageError(f"cannot read RealTime {args.realtime!r} from {args.server}: {http_problem(exc)}") from exc
     except (OSError, ValueError) as exc:
         raise ConnectionError(f"cannot reach {args.server} to read RealTime {args.realtime!r}: {exc}") from exc
     rows = page.get("results", page) if isinstance(page, dict) else page
@@ -163,8 +175,13 @@ def resolve(args: argparse.Namespace) -> tuple[DeadlineParams, Target | None, di
     args.command = command
     if args.server and not args.token:
         raise UsageError("--server needs --token (or CONTINUUM_TOKEN)")
-    if args.server and urllib.parse.urlsplit(args.server).scheme not in ("http", "https"):
-        raise UsageError(f"--server {args.server!r} must be an http(s) URL")
+    if args.server:
+        scheme = urllib.parse.urlsplit(args.server).scheme
+        if scheme not in ("http", "https"):
+            raise UsageError(f"--server {args.server!r} must be an http(s) URL")
+        if scheme == "http" and not args.allow_http:
+            raise UsageError(f"--server {args.server!r} is plain http: the token would cross in clear; use https "
+                             "or give --allow-http")  # fmt: skip
     info: dict[str, Any] = {}
     timing = {"runtime": args.runtime_ms, "deadline": args.deadline_ms, "period": args.period_ms}
     cluster = args.cluster
@@ -222,10 +239,14 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
 
     previous = {sig: signal.signal(sig, forward) for sig in FORWARDED}
 
-    tracer = {"policy": "other"}
+    tracer: dict[str, Any] = {"policy": "other", "caps": None}
+    user = args.user or default_user()
+    # The command never sees the fleet token (it could send it anywhere).
+    env = {k: v for k, v in os.environ.items() if k != "CONTINUUM_TOKEN"}
 
     def started(pid: int) -> None:
         child["pid"] = pid
+        tracer["caps"] = drop_for_agent()  # before any other thread: they inherit what this one keeps
         reporter.start()  # after the fork: the child never shares the reporter's thread
         # A command stopped at its SIGXCPU waits for this thread: it must get the CPU at once, also when SCHED_OTHER
         # work (a stress, other pods) fills what the deadline tasks leave. Only this thread (not the reporter).
@@ -238,7 +259,7 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
 
     began = time.monotonic()
     try:
-        outcome = run_traced(args.command, params, reporter.overrun, started)
+        outcome = run_traced(args.command, params, reporter.overrun, started, user=user, env=env)
     except OSError as exc:
         print(f"{PROG}: cannot trace the command: {exc}", file=sys.stderr)
         return EXIT_UNAVAILABLE
@@ -253,6 +274,11 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
             reporter.kernel_rejected(reason)
         reporter.start()
         print(f"{PROG}: {reason}", file=sys.stderr)
+    elif outcome.drop_errno is not None:
+        status = EXIT_NOT_PERMITTED
+        reason = f"cannot drop privileges to uid {user.uid} gid {user.gid}: {os.strerror(outcome.drop_errno)}"
+        reporter.start()
+        print(f"{PROG}: {reason}", file=sys.stderr)
     elif outcome.exec_errno is not None:
         status = EXIT_NOT_FOUND if outcome.exec_errno == errno.ENOENT else EXIT_NOT_EXECUTABLE
         reason = f"cannot run {args.command[0]!r}: {os.strerror(outcome.exec_errno)}"
@@ -263,11 +289,12 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
     else:
         status = outcome.exit_code or 0
     duration = time.monotonic() - began
+    ran = outcome.refused is None and outcome.exec_errno is None and outcome.drop_errno is None
     reporter.close(args.flush_timeout)
     result = {
         "overruns": reporter.overruns,
         "kernel_rejected": outcome.refused == errno.EBUSY,
-        "exit_code": outcome.exit_code if outcome.refused is None and outcome.exec_errno is None else None,
+        "exit_code": outcome.exit_code if ran else None,
         "signal": outcome.signal if outcome.refused is None else None,
         "reported": reporter.acknowledged,
         "pending": reporter.pending if target is not None else 0,
@@ -285,6 +312,9 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         "bandwidth": params.bandwidth,
         "duration_s": round(duration, 3),
         "tracer_policy": tracer["policy"],
+        "command_uid": user.uid,
+        "command_gid": user.gid,
+        "agent_capabilities": tracer["caps"],
         **info,
     }
     if target is not None and reporter.pending:

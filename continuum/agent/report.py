@@ -14,6 +14,11 @@ to ``max_backoff``). Past ``max_outbox`` waiting reports the two oldest are merg
 the later total, the earlier missAt), so memory stays bounded and every count still arrives. A 4xx answer
 other than 408/429 (a malformed report, a node the cluster does not have, a bad token) is not retried: the
 counting goes on, and the error is reported by :meth:`Reporter.summary`.
+
+A redirect is never followed (:func:`urlopen`): following it sent the fleet token to whatever host the
+``Location`` named, and urllib turned the POST into a GET whose 200 counted the report as delivered. A 3xx
+answer is a failure that is not retried, like a 4xx: the reports stay pending and the error says where the server
+tried to send them.
 """
 
 from __future__ import annotations
@@ -31,6 +36,28 @@ from datetime import UTC, datetime
 from typing import Any
 
 ENDPOINT = "/api/v1/rt-reports/"
+
+
+class _NoRedirect(urllib.request.HTTPRedirectHandler):
+    def redirect_request(self, req, fp, code, msg, headers, newurl):  # type: ignore[no-untyped-def,unused-ignore]
+        return None  # urllib then raises HTTPError with the 3xx status: nothing is sent to the new location
+
+
+_OPENER = urllib.request.build_opener(_NoRedirect)
+
+
+def urlopen(request: urllib.request.Request, timeout: float) -> Any:
+    """``urllib.request.urlopen`` that never follows a redirect (a 3xx raises ``HTTPError``)."""
+    return _OPENER.open(request, timeout=timeout)
+
+
+def http_problem(exc: urllib.error.HTTPError) -> str:
+    """An HTTP error in words (a redirect names where it pointed, and that it was not followed)."""
+    if 300 <= exc.code < 400:
+        where = exc.headers.get("Location", "?") if exc.headers else "?"
+        return (f"HTTP {exc.code}: the server redirected to {where[:200]!r}; redirects are refused (the token goes "
+                "only to --server)")  # fmt: skip
+    return f"HTTP {exc.code}: {exc.read()[:500].decode(errors='replace')}"
 
 
 def rfc3339(t: float) -> str:
@@ -215,13 +242,12 @@ class Reporter:
             headers={"Content-Type": "application/json", "Authorization": f"Token {self.target.token}"},
         )
         try:
-            with urllib.request.urlopen(request, timeout=self.target.timeout) as response:
+            with urlopen(request, timeout=self.target.timeout) as response:
                 answer = json.loads(response.read() or b"{}")
         except urllib.error.HTTPError as exc:
-            detail = exc.read()[:500].decode(errors="replace")
             self.failures += 1
-            self.last_error = f"HTTP {exc.code}: {detail}"
-            if 400 <= exc.code < 500 and exc.code not in (408, 429):
+            self.last_error = http_problem(exc)
+            if 300 <= exc.code < 500 and exc.code not in (408, 429):
                 self.fatal = self.last_error
             return False
         except (OSError, ValueError) as exc:  # refused, reset, timed out, DNS, a non-JSON answer
