@@ -1,3 +1,5 @@
+import math
+
 from django.db import transaction
 from rest_framework import serializers
 
@@ -56,6 +58,7 @@ class RealTimeSerializer(ScopedModelSerializer):
             "stateless",
             "cpu",
             "memory_mib",
+            "warmup_ms",
             "utilization",
             "sync_state",
             "sync_error",
@@ -75,6 +78,11 @@ class RealTimeSerializer(ScopedModelSerializer):
         data = super().to_representation(instance)
         data["wcets"] = [{"node": w.node.name, "wcet": w.wcet} for w in instance.wcets.all()]
         return data
+
+    def validate_warmup_ms(self, value):
+        if value is not None and not math.isfinite(value):
+            raise serializers.ValidationError("must be a finite number of milliseconds")
+        return value
 
     def validate(self, attrs):
         inst = self.instance
@@ -224,7 +232,8 @@ class MonitoringReportSerializer(ScopedModelSerializer):
     class Meta:
         model = MonitoringReport
         fields = ["id", "cluster", "name", "node", "container_name", "pod", "missed_period", "missed_total",
-                  "violation", "miss_at", "sent_at", "received_at", "source", "report_id"]  # fmt: skip
+                  "violation", "miss_at", "sent_at", "received_at", "source", "report_id",
+                  "startup_overruns"]  # fmt: skip
         read_only_fields = fields
 
 

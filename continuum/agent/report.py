@@ -88,6 +88,7 @@ class _Report:
     missed_total: int
     miss_at: float | None
     extra: dict[str, Any] = field(default_factory=dict)
+    startup: int = 0  # overruns during the command's warm-up in this report's period (not missed deadlines)
 
     def spec(self, target: Target, sent_at: float) -> dict[str, Any]:
         doc: dict[str, Any] = {
@@ -102,6 +103,8 @@ class _Report:
             doc["pod"] = target.pod
         if self.miss_at is not None:
             doc["missAt"] = rfc3339(self.miss_at)
+        if self.startup:
+            doc["startupOverruns"] = self.startup
         return doc | self.extra
 
 
@@ -125,6 +128,8 @@ class Reporter:
         self._wake = threading.Condition(self._lock)
         self.overruns = 0  # SIGXCPU counted
         self.total = 0  # missedDeadlinesTotal: the overruns, plus the job a kernel refusal could not run
+        self.startup_overruns = 0  # overruns before the command was ready: counted apart, never missed deadlines
+        self._startup_period = 0
         self._period = 0
         self._first_miss: float | None = None
         self._outbox: deque[_Report] = deque()
@@ -132,6 +137,7 @@ class Reporter:
         self._thread: threading.Thread | None = None
         # what reached the server
         self.acknowledged = 0  # overruns (missedDeadlinesPeriod) in acknowledged reports
+        self.startup_acknowledged = 0
         self.reports_acknowledged = 0
         self.rejection_acknowledged = False
         self.server_violations = 0
@@ -151,17 +157,26 @@ class Reporter:
             if self._first_miss is None:
                 self._first_miss = at
 
+    def startup_overrun(self, at: float) -> None:
+        """An overrun during the command's warm-up (interpreter start, loading): reported as ``startupOverruns``,
+        not in ``missedDeadlines*``, so it never counts towards an eviction."""
+        with self._lock:
+            self.startup_overruns += 1
+            self._startup_period += 1
+
     # -- the reports --
     def _snapshot(self, extra: dict[str, Any] | None = None, force: bool = False) -> None:
         """Turn the counters into a report (lock held)."""
-        if not self._period and not force:
+        if not self._period and not self._startup_period and not force:
             return
-        self._outbox.append(_Report(str(uuid.uuid4()), self._period, self.total, self._first_miss, extra or {}))
-        self._period, self._first_miss = 0, None
+        self._outbox.append(_Report(str(uuid.uuid4()), self._period, self.total, self._first_miss, extra or {},
+                                    self._startup_period))  # fmt: skip
+        self._period, self._first_miss, self._startup_period = 0, None, 0
         while len(self._outbox) > self.max_outbox:
             a, b = self._outbox.popleft(), self._outbox.popleft()
             merged = _Report(b.id, a.missed_period + b.missed_period, b.missed_total,
-                             a.miss_at if a.miss_at is not None else b.miss_at, a.extra | b.extra)  # fmt: skip
+                             a.miss_at if a.miss_at is not None else b.miss_at, a.extra | b.extra,
+                             a.startup + b.startup)  # fmt: skip
             self._outbox.appendleft(merged)
 
     def kernel_rejected(self, reason: str) -> None:
@@ -255,6 +270,7 @@ class Reporter:
             self.last_error = f"{type(exc).__name__}: {exc}"
             return False
         self.acknowledged += sum(r.missed_period for r in batch if not r.extra.get("kernelRejected"))
+        self.startup_acknowledged += sum(r.startup for r in batch)
         self.reports_acknowledged += len(batch)
         self.rejection_acknowledged |= any(r.extra.get("kernelRejected") for r in batch)
         if isinstance(answer, dict) and isinstance(answer.get("violations"), int):

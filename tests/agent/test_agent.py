@@ -72,21 +72,6 @@ def agent(*args: str, timeout: float = 300, **popen) -> tuple[int, dict | None, 
     return proc.returncode, json.loads(lines[-1]) if lines else None, proc.stderr
 
 
-@pytest.fixture
-def server(live_server, fleet_token, api, rt_cluster):
-    """The live server, the fleet's token and a helper that creates a RealTime object through the API."""
-
-    def realtime(name, period, deadline, wcet, node="node0"):
-        body = {"cluster": rt_cluster.pk, "name": name, "criticality": "A", "period": period, "deadline": deadline,
-                "wcets": [{"node": node, "wcet": wcet}], "stateless": True}  # fmt: skip
-        response = api.post("/api/v1/realtimes/", body, format="json")
-        assert response.status_code == 201, response.data
-        return response.data
-
-    return {"url": live_server.url, "token": fleet_token.plaintext, "realtime": realtime, "api": api,
-            "cluster": rt_cluster}  # fmt: skip
-
-
 def reports(api, container):
     response = api.get(f"/api/v1/rt-reports/?container_name={container}&limit=1000&ordering=received_at")
     assert response.status_code == 200
