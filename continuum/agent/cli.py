@@ -17,6 +17,7 @@ import urllib.request
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
+from .admission import measure
 from .privileges import User, default_user, drop_for_agent, parse_user
 from .report import Reporter, Target, http_problem, urlopen
 from .sched import DeadlineParams, refusal
@@ -157,6 +158,16 @@ def parser() -> argparse.ArgumentParser:
                      help="who COMMAND runs as, with no capability (default: nobody if the agent is root)")  # fmt: skip
     run.add_argument("--json", action="store_true", help="print one JSON object on stdout at the end")
     run.add_argument("command", nargs=argparse.REMAINDER, help="-- COMMAND ARGS...")
+    adm = sub.add_parser("admission", help="this node's admissible deadline bandwidth, read from its kernel "
+                         "(printed; reported to Continuum with --server)")  # fmt: skip
+    adm.add_argument("--probe", action="store_true", help="measure it with deadline tasks even when it can be read")
+    adm.add_argument("--server", default=os.environ.get("CONTINUUM_SERVER"), help="base URL (env CONTINUUM_SERVER)")
+    adm.add_argument("--allow-http", action="store_true", help="allow a plain http:// --server")
+    adm.add_argument("--token", default=os.environ.get("CONTINUUM_TOKEN"), help="fleet token (env CONTINUUM_TOKEN)")
+    adm.add_argument("--node", default=os.environ.get("NODE_NAME") or socket.gethostname(),
+                     help="node name (env NODE_NAME, else the host name)")  # fmt: skip
+    adm.add_argument("--cluster", type=int, help="cluster id (default: the fleet's only one)")
+    adm.add_argument("--http-timeout", type=_positive, default=30.0, help="seconds for the request (30)")
     return ap
 
 
@@ -192,15 +203,7 @@ def resolve(args: argparse.Namespace) -> tuple[DeadlineParams, Target | None, di
     if not command:
         raise UsageError("no COMMAND given (run ... -- COMMAND ARGS...)")
     args.command = command
-    if args.server and not args.token:
-        raise UsageError("--server needs --token (or CONTINUUM_TOKEN)")
-    if args.server:
-        scheme = urllib.parse.urlsplit(args.server).scheme
-        if scheme not in ("http", "https"):
-            raise UsageError(f"--server {args.server!r} must be an http(s) URL")
-        if scheme == "http" and not args.allow_http:
-            raise UsageError(f"--server {args.server!r} is plain http: the token would cross in clear; use https "
-                             "or give --allow-http")  # fmt: skip
+    _check_server(args)
     info: dict[str, Any] = {}
     timing = {"runtime": args.runtime_ms, "deadline": args.deadline_ms, "period": args.period_ms}
     cluster = args.cluster
@@ -241,9 +244,56 @@ def resolve(args: argparse.Namespace) -> tuple[DeadlineParams, Target | None, di
     return params, target, info
 
 
+def _check_server(args: argparse.Namespace) -> None:
+    if args.server and not args.token:
+        raise UsageError("--server needs --token (or CONTINUUM_TOKEN)")
+    if args.server:
+        scheme = urllib.parse.urlsplit(args.server).scheme
+        if scheme not in ("http", "https"):
+            raise UsageError(f"--server {args.server!r} must be an http(s) URL")
+        if scheme == "http" and not args.allow_http:
+            raise UsageError(f"--server {args.server!r} is plain http: the token would cross in clear; use https "
+                             "or give --allow-http")  # fmt: skip
+
+
+def admission(args: argparse.Namespace) -> int:
+    """``admission``: measure, print one JSON object, and report it (exit 69 if the report failed)."""
+    try:
+        found = measure(use_probe=args.probe)
+    except OSError as exc:
+        print(f"{PROG}: cannot read the kernel's admission: {exc}", file=sys.stderr)
+        return EXIT_UNAVAILABLE
+    doc = found.as_dict() | {"node": args.node}
+    status = 0
+    if args.server:
+        body: dict[str, Any] = {"node": args.node, "capacity": found.capacity, "cpus": found.cpus,
+                                "source": found.source[:200], "kernel": found.kernel[:100]}  # fmt: skip
+        if args.cluster is not None:
+            body["cluster"] = args.cluster
+        request = urllib.request.Request(
+            args.server.rstrip("/") + "/api/v1/rt-admissions/", data=json.dumps(body).encode(), method="POST",
+            headers={"Content-Type": "application/json", "Authorization": f"Token {args.token}"},
+        )  # fmt: skip
+        try:
+            with urlopen(request, timeout=args.http_timeout) as response:
+                doc["reported"] = json.loads(response.read() or b"{}")
+        except urllib.error.HTTPError as exc:
+            doc["report_error"] = http_problem(exc)
+        except (OSError, ValueError) as exc:
+            doc["report_error"] = f"{type(exc).__name__}: {exc}"
+        if "report_error" in doc:
+            print(f"{PROG}: the admission was not reported: {doc['report_error']}", file=sys.stderr)
+            status = EXIT_UNAVAILABLE
+    print(json.dumps(doc), flush=True)
+    return status
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = parser().parse_args(argv)
+        if args.action == "admission":
+            _check_server(args)
+            return admission(args)
         params, target, info = resolve(args)
     except UsageError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
