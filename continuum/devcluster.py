@@ -687,6 +687,7 @@ class DevCluster:
             "startup_seconds": self.state.get("startup_seconds"),
             "components": components,
             "nodes": self.nodes() if alive.get("kube-apiserver") else {},
+            "real": self.state.get("real", []),
         }
 
     def stop_process(self, name: str, sig: int = signal.SIGTERM, wait: float = 15) -> None:
@@ -790,6 +791,9 @@ def _print_status(status: dict[str, Any]) -> None:
         print(f"  {name:32} pid {comp['pid']:>7}  {'up  ' if comp['running'] else 'DOWN'}  rss {rss}")
     for name, node in status["nodes"].items():
         print(f"  node {name:27} Ready={node['ready']:7} taints={','.join(node['taints']) or '-'}")
+    for plan in status.get("real", []):
+        print(f"  real node {plan['name']:22} CPUs {plan['cpus']}  memory {plan['memory_mib']} MiB  address "
+              f"{plan['ip']}  cgroup /{plan['cgroup']}")
 
 
 def main(argv: list[str] | None = None) -> int:

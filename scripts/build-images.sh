@@ -73,7 +73,8 @@ if [ "$what" = base ]; then
   build localhost/continuum/base:bookworm docker.io/continuum/base:bookworm "$archive" "$hash" <<'EOF'
 FROM scratch
 ADD rootfs.tar /
-CMD ["/bin/bash"]
+# A pod that gives no command runs a real, idle process (a Deployment pushed with this image stays Running).
+CMD ["sleep", "infinity"]
 EOF
 else
   key="$hash-$(sha256sum "$2" | cut -c1-12)"
