@@ -792,8 +792,10 @@ def _print_status(status: dict[str, Any]) -> None:
     for name, node in status["nodes"].items():
         print(f"  node {name:27} Ready={node['ready']:7} taints={','.join(node['taints']) or '-'}")
     for plan in status.get("real", []):
-        print(f"  real node {plan['name']:22} CPUs {plan['cpus']}  memory {plan['memory_mib']} MiB  address "
-              f"{plan['ip']}  cgroup /{plan['cgroup']}")
+        print(
+            f"  real node {plan['name']:22} CPUs {plan['cpus']}  memory {plan['memory_mib']} MiB  address "
+            f"{plan['ip']}  cgroup /{plan['cgroup']}"
+        )
 
 
 def main(argv: list[str] | None = None) -> int:

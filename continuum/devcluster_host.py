@@ -27,7 +27,12 @@ from pathlib import Path
 from typing import Any
 
 REGISTRY = Path(os.environ.get("CONTINUUM_HOST_REGISTRY", "/run/continuum-devcluster"))
-SYSCTLS = ("vm.overcommit_memory", "kernel.panic", "kernel.panic_on_oops", "net.ipv4.ip_forward")
+#: What kubelet v1.20's setupKernelTunables sets (the last two already have its values here), and the forwarding
+#: the CNI bridge plugin turns on.
+SYSCTLS = (
+    "vm.overcommit_memory", "vm.panic_on_oom", "kernel.panic", "kernel.panic_on_oops", "kernel.keys.root_maxkeys",
+    "kernel.keys.root_maxbytes", "net.ipv4.ip_forward",
+)  # fmt: skip
 CPUSET_ROOT = Path("/sys/fs/cgroup/cpuset")
 #: Chains (and rules jumping to them) that kubelets add; only these are ever removed from the firewall.
 KUBE_PREFIX = "KUBE-"

@@ -343,3 +343,20 @@ def test_down_leaves_the_host_as_it_found_it(cluster):
     # The kubelets changed these (overcommit 1, panic 10, panic_on_oops 1, forwarding on, no load balancing
     # across the real nodes' CPU sets, KUBE-* chains): all as before.
     assert host_now() == {k: v for k, v in BEFORE.items() if k != "others"}
+
+
+@pytest.mark.skipif(os.geteuid() != 0 or not host._firewall_tools(), reason="changes the firewall: root, iptables")
+def test_the_firewall_loses_the_kube_chains_a_cluster_added_and_nothing_else():
+    chain, other = f"KUBE-T{uuid.uuid4().hex[:8].upper()}", f"CONTINUUM-T{uuid.uuid4().hex[:8].upper()}"
+    baseline = host._save("iptables")
+    try:
+        for argv in (["-N", chain], ["-A", chain, "-j", "RETURN"], ["-I", "INPUT", "-j", chain], ["-N", other],
+                     ["-A", other, "-j", "RETURN"]):  # fmt: skip
+            subprocess.run(["iptables", "-w", "-t", "filter", *argv], check=True)
+        host._restore_firewall("iptables", baseline)
+        after = host._save("iptables")
+        assert chain not in after  # the chain and the rule that jumped to it
+        assert f":{other}" in after and f"-A {other} -j RETURN" in after  # someone else's stays
+    finally:
+        for argv in (["-D", "INPUT", "-j", chain], ["-F", chain], ["-X", chain], ["-F", other], ["-X", other]):
+            subprocess.run(["iptables", "-w", "-t", "filter", *argv], capture_output=True, check=False)
