@@ -569,15 +569,36 @@ class DevCluster:
             real.add_addresses(cid, plans)
             for p in plans:
                 real.make_cgroups(p)
-                began = time.monotonic()
                 real.start_containerd(self, p, cid, deadline)
-                real.import_images(self, p.name, [images["pause"], images["base"]])
-                progress(f"real node {p.name}: CPUs {real.format_cpus(p.cpus)}, {p.memory_mib} MiB, address {p.ip}; "
-                         f"containerd up and images imported in {time.monotonic() - began:.1f} s")  # fmt: skip
+                progress(f"real node {p.name}: CPUs {real.format_cpus(p.cpus)}, {p.memory_mib} MiB, address {p.ip}")
+            began = time.monotonic()
+            self.import_image(images["pause"], images["base"])
+            progress(f"pause and base images imported into {len(plans)} real nodes in {time.monotonic() - began:.1f} s")
             for node in reals:
                 self._start_kubelet(bin_dir, node)
         except real.RealNodeError as exc:
             raise DevClusterError(str(exc)) from exc
+
+    def import_image(self, *archives: str | os.PathLike, nodes: Iterable[str] | None = None) -> None:
+        """Import image tarballs (docker-archive or OCI, e.g. from ``buildah push IMG docker-archive:FILE:NAME``) into
+        the containerd of every real node (or of ``nodes``), the nodes in parallel: a pod that names the image with
+        ``imagePullPolicy: Never`` (or a tag other than latest) then runs it there without a pull."""
+        from concurrent.futures import ThreadPoolExecutor
+
+        names = [p.name for p in self.real_plans()]
+        chosen = names if nodes is None else list(nodes)
+        unknown = [n for n in chosen if n not in names]
+        if unknown:
+            known = ", ".join(names) or "-"
+            raise DevClusterError(f"no real node {unknown[0]!r} in this cluster (real nodes: {known})")
+        paths = [str(a) for a in archives]
+        with ThreadPoolExecutor(max_workers=max(1, len(chosen))) as pool:
+            futures = [pool.submit(real.import_images, self, name, paths) for name in chosen]
+            try:
+                for future in futures:
+                    future.result()
+            except real.RealNodeError as exc:
+                raise DevClusterError(str(exc)) from exc
 
     def _start_kubelet(self, bin_dir: Path, node: HollowNode) -> None:
         p = next(p for p in self.real_plans() if p.name == node.name)
@@ -809,6 +830,9 @@ def main(argv: list[str] | None = None) -> int:
     st = sub.add_parser("status", help="what runs, with RSS per component, and the nodes' state")
     st.add_argument("--json", action="store_true")
     sub.add_parser("down", help="stop the cluster and remove its state")
+    imp = sub.add_parser("import-image", help="import image tarballs into the real nodes' containerd")
+    imp.add_argument("archives", nargs="+", type=Path, help="docker-archive or OCI tarballs")
+    imp.add_argument("--node", action="append", help="only this real node (repeatable; default: every real node)")
     args = parser.parse_args(argv)
     cluster = DevCluster(args.state_dir or default_state_dir())
 
@@ -830,6 +854,20 @@ def main(argv: list[str] | None = None) -> int:
             return 1
         _stderr(f"limits of hollow nodes: {LIMITS}")
         print(path)
+        return 0
+    if args.command == "import-image":
+        missing = [a for a in args.archives if not a.is_file()]
+        if missing:
+            print(f"scripts/cluster: {missing[0]} is not a file", file=sys.stderr)
+            return 2
+        if not cluster.is_up():
+            print(f"scripts/cluster: no running cluster in {cluster.dir}", file=sys.stderr)
+            return 2
+        try:
+            cluster.import_image(*args.archives, nodes=args.node)
+        except DevClusterError as exc:
+            print(f"scripts/cluster: {exc}".splitlines()[0], file=sys.stderr)
+            return 2
         return 0
     if args.command == "status":
         status = cluster.status()
