@@ -427,7 +427,8 @@ class DevCluster:
             _openssl(["req", "-x509", "-new", "-nodes", *_EC_KEY, "-keyout", f"{ca}.key", "-out", f"{ca}.crt",
                       "-days", "3650", "-subj", f"/CN=continuum-local-ca-{secrets.token_hex(4)}"])  # fmt: skip
             issued = (
-                ("etcd-server", "etcd", "serverAuth"),
+                # etcd dials its own client port (its gRPC gateway) with its serving certificate.
+                ("etcd-server", "etcd", "serverAuth,clientAuth"),
                 ("etcd-peer", "etcd-peer", "serverAuth,clientAuth"),
                 ("apiserver-etcd-client", "kube-apiserver", "clientAuth"),
                 ("apiserver-kubelet-client", "kube-apiserver-kubelet-client", "clientAuth"),
