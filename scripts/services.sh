@@ -92,3 +92,8 @@ ensure_kube_binaries() {  # builds (or takes from the cache) kube-apiserver, -co
   KUBE_BIN_DIR=$(bash "$ROOT/scripts/build-kube.sh" | tail -n1)
   export KUBE_BIN_DIR
 }
+
+ensure_real_node_packages() {  # real nodes ("runtime": "real"): containerd, runc, CNI plugins; images: debootstrap, buildah
+  [ "$(id -u)" = 0 ] || return 0  # real nodes need root (the tests that use them say why they skip)
+  apt_install containerd runc containernetworking-plugins debootstrap buildah
+}
