@@ -484,7 +484,8 @@ def teardown(cluster: Cluster, cid: str, plans: list[RealNodePlan]) -> None:
     for p in plans:
         cluster.stop_process(f"node/{p.name}")
     for p in plans:
-        netns = remove_containers(cluster, p.name)
+        # /var/run is a link to /run: mountinfo names the real path.
+        netns = [os.path.realpath(ns) for ns in remove_containers(cluster, p.name)]
         sock = str(socket_path(cluster, p.name))
         cluster.stop_process(f"containerd/{p.name}")
         kill_shims(sock)
