@@ -93,6 +93,24 @@ def test_what_a_real_node_cannot_be_is_rejected_by_name(node, problem):
         hollow_nodes({"format": "continuum.cluster/v1", "nodes": [node]})
 
 
+@pytest.mark.skipif(not (real.CGROUPS / "cpuset" / "cpuset.cpus").exists(), reason="no cgroup v1 cpuset hierarchy")
+def test_cpu_sets_are_carved_apart_and_refused_beyond_the_machine():
+    free = [c for c in real.machine_cpus() if c not in real._exclusive_taken("continuum-test-")]
+    nodes = [{"name": f"r{i}"} for i in range(len(free))]
+    plans = real.plan("test00", nodes)
+    assert sorted(c for p in plans for c in p.cpus) == sorted(free)  # one each, none shared
+    assert len({p.ip for p in plans}) == len({p.bridge for p in plans}) == len(plans)
+    assert all(p.memory_mib == real.DEFAULT_MEMORY_MIB and p.cgroup == f"continuum-test00-{p.name}" for p in plans)
+    with pytest.raises(real.RealNodeError, match="needs 1 CPU"):
+        real.plan("test00", [*nodes, {"name": "one-too-many"}])
+    with pytest.raises(real.RealNodeError, match="not a free CPU"):
+        real.plan("test00", [{"name": "r", "cpuset": str(max(real.machine_cpus()) + 1)}])
+    if len(free) < 2:
+        return
+    explicit = real.plan("test00", [{"name": "a", "cpuset": str(free[0])}, {"name": "b", "cpu": 1, "memory_mib": 512}])
+    assert explicit[0].cpus == (free[0],) and free[0] not in explicit[1].cpus and explicit[1].memory_mib == 512
+
+
 # -- the running cluster -----------------------------------------------------------------------------------------
 
 
