@@ -47,6 +47,8 @@ PACKAGES = ("containerd", "runc", "containernetworking-plugins")
 CGROUPS = Path("/sys/fs/cgroup")
 CNI_BIN = Path("/usr/lib/cni")
 DEFAULT_MEMORY_MIB = 2048
+#: Below this a kubelet's pods (and the eviction threshold) do not fit.
+MIN_MEMORY_MIB = 128
 #: Unix socket paths are limited to 108 bytes (containerd adds ".ttrpc").
 MAX_SOCKET = 100
 _CPU_LIST = re.compile(r"^\d+(-\d+)?(,\d+(-\d+)?)*$")
@@ -190,6 +192,12 @@ def plan(cid: str, nodes: list[dict[str, Any]]) -> list[RealNodePlan]:
                                 f"{format_cpus(taken | used) or '-'})")  # fmt: skip
         used.update(free[:need])
         chosen[node["name"]] = tuple(sorted(free[:need]))
+    total = _mem_total_mib()
+    for node in nodes:
+        memory = node.get("memory_mib") or DEFAULT_MEMORY_MIB
+        if not MIN_MEMORY_MIB <= memory <= total:
+            raise RealNodeError(f"real node {node['name']!r}: memory_mib must be between {MIN_MEMORY_MIB} and this "
+                                f"machine's {total}, not {memory:g}")  # fmt: skip
     out = []
     for index, node in enumerate(nodes, start=1):
         out.append(RealNodePlan(
