@@ -38,13 +38,21 @@ class BuildError(RuntimeError):
     """A buildah or apt step failed (the message ends with its stderr's last lines)."""
 
 
+#: runc failing to start a container's init (seen once in a loaded test run, "did not get container create message
+#: from subprocess: EOF"): the same command is tried once more.
+TRANSIENT = "did not get container create message"
+
+
 def _run(args: list[str], timeout: float = 1800) -> str:
-    try:
-        proc = subprocess.run(args, capture_output=True, text=True, timeout=timeout)
-    except FileNotFoundError as exc:
-        raise BuildError(f"{args[0]} is not installed (Debian: apt-get install buildah)") from exc
-    except subprocess.TimeoutExpired as exc:
-        raise BuildError(f"{' '.join(args[:3])} did not finish in {timeout:.0f} s") from exc
+    for attempt in range(2):
+        try:
+            proc = subprocess.run(args, capture_output=True, text=True, timeout=timeout)
+        except FileNotFoundError as exc:
+            raise BuildError(f"{args[0]} is not installed (Debian: apt-get install buildah)") from exc
+        except subprocess.TimeoutExpired as exc:
+            raise BuildError(f"{' '.join(args[:3])} did not finish in {timeout:.0f} s") from exc
+        if proc.returncode == 0 or TRANSIENT not in proc.stderr or attempt:
+            break
     if proc.returncode != 0:
         tail = " | ".join(proc.stderr.strip().splitlines()[-3:])
         raise BuildError(f"{' '.join(args[:3])} failed ({proc.returncode}): {tail}")

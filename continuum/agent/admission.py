@@ -26,6 +26,7 @@ import os
 import platform
 import re
 import signal
+import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -141,6 +142,9 @@ def probe(step: float = PROBE_STEP, limit: int = 1024) -> float:
     finally:
         for pid in held:
             _release(pid)
+        # A killed deadline task's bandwidth comes back at its 0-lag time (within its period), not at its death:
+        # what was measured is free again only then.
+        time.sleep(2 * PROBE_PERIOD_NS / 1e9)
 
 
 def measure(use_probe: bool = False, cpus: list[int] | None = None) -> Admission:
