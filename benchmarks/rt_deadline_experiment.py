@@ -35,6 +35,7 @@ import argparse
 import json
 import os
 import random
+import shutil
 import signal
 import subprocess
 import sys
@@ -207,7 +208,12 @@ def _deadline_child(agent: subprocess.Popen) -> bool:
 def run_real(docs, where, seconds, seed, worker, parts, high=1.0) -> dict[str, dict]:
     """Start the containers in creation order (each admitted or refused before the next starts); once all are
     there, let their jobs begin together (a go file) and wait for them."""
-    go = Path(tempfile.mkdtemp(prefix="rt-deadline-")) / "go"
+    # The agent runs each job as nobody (it drops root): the worker and the go file must be within its reach.
+    scratch = Path(tempfile.mkdtemp(prefix="rt-deadline-"))
+    scratch.chmod(0o755)
+    go = scratch / "go"
+    shutil.copy2(worker, scratch / "worker")
+    worker = scratch / "worker"
     procs: dict[str, subprocess.Popen] = {}
     out: dict[str, dict] = {}
     for i, d in enumerate(docs):

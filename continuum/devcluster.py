@@ -11,8 +11,13 @@ it ``node.kubernetes.io/unreachable`` (NoSchedule, then NoExecute, which evicts 
 (see ``LIMITS``): its capacity is fixed (1 CPU, 3840 Mi memory, 110 pods) whatever the file says, and nothing
 really runs.
 
+A node that says ``"runtime": "real"`` is a real kubelet over its own containerd instead, whose pods are real
+processes in the node's own CPU set and memory limit (:mod:`continuum.devcluster_real`); real and hollow nodes mix
+in one cluster. etcd only answers clients with a certificate of the cluster's CA (the API server's).
+
 State (pids, ports, credentials, logs, the kubeconfig) lives in one private directory, so ``status`` and
-``down`` work from another process than ``up``.
+``down`` work from another process than ``up``. What a cluster changes on the host (sysctls, the firewall) is put
+back when the machine's last cluster stops (:mod:`continuum.devcluster_host`).
 """
 
 from __future__ import annotations
@@ -39,6 +44,8 @@ from typing import Any
 
 import yaml
 
+from continuum import devcluster_host as host
+from continuum import devcluster_real as real
 from continuum.engine.core.cluster import Cluster
 from continuum.engine.core.errors import InputError
 from continuum.engine.rtkube.rt_model import cluster_from_dict as rt_cluster_from_dict
@@ -59,6 +66,7 @@ CRITICALITY_LABEL = "rt.scheduling/criticality"
 THRESHOLD_LABEL = "rt.scheduling/threshold"
 #: What a hollow node reports whatever the cluster file says (kubemark's fake cAdvisor and maxPods).
 HOLLOW_CAPACITY = {"cpu": "1", "memory": "3840Mi", "pods": "110"}
+RUNTIMES = ("hollow", "real")
 LIMITS = (
     "hollow nodes report a fixed capacity of 1 CPU, 3840Mi memory and 110 pods (the file's cpu/memory/storage "
     "are not applied); containers do not run (pods reach Running with no process); there is no kube-proxy, "
@@ -89,12 +97,35 @@ def _stderr(message: str) -> None:
 # ---- the cluster file --------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class HollowNode:
+    """A node of the local cluster: hollow (kubemark) unless ``runtime`` is ``"real"``, whose ``cpuset`` (a CPU
+    list, else ``cpu`` CPUs carved automatically) and ``memory_mib`` are its own on this machine."""
+
     name: str
     labels: dict[str, str] = field(default_factory=dict)
     taints: tuple[str, ...] = ()
+    runtime: str = "hollow"
+    cpuset: str | None = None
+    cpu: float | None = None
+    memory_mib: float | None = None
+
+    @property
+    def real(self) -> bool:
+        return self.runtime == "real"
 
     def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "labels": self.labels, "taints": list(self.taints)}
+        doc: dict[str, Any] = {"name": self.name, "labels": self.labels, "taints": list(self.taints)}
+        if self.real:
+            doc.update(runtime=self.runtime, cpuset=self.cpuset, cpu=self.cpu, memory_mib=self.memory_mib)
+        return doc
+
+    @classmethod
+    def from_dict(cls, doc: Mapping[str, Any]) -> HollowNode:
+        return cls(doc["name"], dict(doc["labels"]), tuple(doc["taints"]), doc.get("runtime", "hollow"),
+                   doc.get("cpuset"), doc.get("cpu"), doc.get("memory_mib"))  # fmt: skip
+
+
+#: A node of the local cluster, hollow or real (the older name stays for the hollow-only callers).
+NodeSpec = HollowNode
 
 
 def _check_qualified(key: str, where: str) -> None:
@@ -137,7 +168,23 @@ def hollow_nodes(doc: Any) -> list[HollowNode]:
             _check_qualified(taint.key, where)
             _check_value(taint.value, where)
             taints.append(str(taint) if taint.value else f"{taint.key}=:{taint.effect}")
-        out.append(HollowNode(node.name, labels, tuple(taints)))
+        runtime = node.extra.get("runtime", "hollow")
+        if runtime not in RUNTIMES:
+            raise InputError(f"{where}: runtime must be one of {', '.join(RUNTIMES)}, not {runtime!r}", "nodes")
+        cpuset = node.extra.get("cpuset")
+        if cpuset is not None:
+            if runtime != "real":
+                raise InputError(f"{where}: cpuset applies to a node whose runtime is real", "nodes")
+            if not isinstance(cpuset, (str, int)) or isinstance(cpuset, bool):
+                raise InputError(f'{where}: cpuset must be a CPU list such as "1" or "0-2,5"', "nodes")
+            try:
+                cpuset = real.format_cpus(real.parse_cpus(str(cpuset)))
+            except ValueError as exc:
+                raise InputError(f"{where}: cpuset: {exc}", "nodes") from exc
+        if runtime == "real" and node.arch != real.host_arch():
+            raise InputError(f"{where}: a real node runs on this machine, whose architecture is "
+                             f"{real.host_arch()}, not {node.arch}", "nodes")  # fmt: skip
+        out.append(HollowNode(node.name, labels, tuple(taints), runtime, cpuset, node.cpu, node.memory_mib))
     return out
 
 
@@ -295,9 +342,21 @@ class DevCluster:
         for binary in ("kube-apiserver", "kube-controller-manager", "kube-scheduler", "kubemark"):
             if not os.access(bin_dir / binary, os.X_OK):
                 raise DevClusterError(f"{bin_dir / binary} is missing (run scripts/build-kube.sh)")
+        reals = [n for n in nodes if n.real]
+        if reals:
+            missing = real.requirements(bin_dir)
+            if missing:
+                raise DevClusterError(f"real nodes need {'; '.join(missing)}")
         self.state = {"bin_dir": str(bin_dir), "token": secrets.token_hex(24), "pids": {},
-                      "nodes": [n.to_dict() for n in nodes]}  # fmt: skip
+                      "nodes": [n.to_dict() for n in nodes], "cluster_id": host.cluster_id(self.dir)}  # fmt: skip
+        self._save()
+        host.enter(self.dir)
         try:
+            images: dict[str, str] = {}
+            if reals:
+                progress("real nodes: the pause and continuum/base:bookworm images (built once, then cached)")
+                images = real.build_images(bin_dir)
+                self._plan_real(reals)
             self._credentials()
             self._start_etcd(deadline, progress)
             self._start_apiserver(bin_dir, deadline, progress)
@@ -308,10 +367,14 @@ class DevCluster:
             # starts while all nodes are NotReady enters "master disruption mode" and (v1.20) was seen never to
             # taint a dead node NoExecute afterwards, so its pods were never evicted.
             for node in nodes:
-                self._start_node(bin_dir, node)
+                if not node.real:
+                    self._start_node(bin_dir, node)
+            if reals:
+                self._start_real_nodes(bin_dir, reals, images, deadline, progress)
             self._save()
             names = [n.name for n in nodes]
-            progress(f"{len(nodes)} hollow nodes started, waiting until their kubelets report Ready")
+            progress(f"{len(nodes) - len(reals)} hollow and {len(reals)} real nodes started, waiting until their "
+                     "kubelets report Ready")  # fmt: skip
             self.wait_nodes_ready(names, deadline, progress, untainted=False)
             self._start_controllers(bin_dir, deadline, progress)
             self.wait_nodes_ready(names, deadline, progress)
@@ -354,10 +417,26 @@ class DevCluster:
             )
             done = subprocess.run(["openssl", "genrsa", "-out", str(self.dir / "sa.key"), "2048"],
                                   capture_output=True, check=False)  # fmt: skip
+            if done.returncode != 0:
+                raise DevClusterError(f"openssl genrsa failed: {done.stderr.decode()[-500:]}")
+            # The cluster's CA: etcd's serving and peer certificates, and the client certificates of the API server
+            # (to etcd, and to real kubelets, which trust only this CA's clients).
+            certs = self.dir / "certs"
+            certs.mkdir(exist_ok=True)
+            ca = certs / "ca"
+            _openssl(["req", "-x509", "-new", "-nodes", *_EC_KEY, "-keyout", f"{ca}.key", "-out", f"{ca}.crt",
+                      "-days", "3650", "-subj", f"/CN=continuum-local-ca-{secrets.token_hex(4)}"])  # fmt: skip
+            issued = (
+                # etcd dials its own client port (its gRPC gateway) with its serving certificate.
+                ("etcd-server", "etcd", "serverAuth,clientAuth"),
+                ("etcd-peer", "etcd-peer", "serverAuth,clientAuth"),
+                ("apiserver-etcd-client", "kube-apiserver", "clientAuth"),
+                ("apiserver-kubelet-client", "kube-apiserver-kubelet-client", "clientAuth"),
+            )
+            for name, cn, usage in issued:
+                _issue(certs, name, cn, usage)
         finally:
             os.umask(old)
-        if done.returncode != 0:
-            raise DevClusterError(f"openssl genrsa failed: {done.stderr.decode()[-500:]}")
 
     def _spawn(self, name: str, argv: list[str], env: Mapping[str, str] | None = None) -> int:
         logs = self.dir / "logs"
@@ -392,11 +471,17 @@ class DevCluster:
     def _start_etcd(self, deadline: float, progress: Progress) -> None:
         client, peer = free_port(), free_port()
         self.state["etcd_port"] = client
+        c = self.dir / "certs"
+        # TLS both ways on both ports: a client (or peer) without a certificate of the cluster's CA is refused.
         self._spawn("etcd", [
             self.etcd, f"--data-dir={self.dir / 'etcd'}", "--name=default",
-            f"--listen-client-urls=http://127.0.0.1:{client}", f"--advertise-client-urls=http://127.0.0.1:{client}",
-            f"--listen-peer-urls=http://127.0.0.1:{peer}", f"--initial-advertise-peer-urls=http://127.0.0.1:{peer}",
-            f"--initial-cluster=default=http://127.0.0.1:{peer}",
+            f"--listen-client-urls=https://127.0.0.1:{client}", f"--advertise-client-urls=https://127.0.0.1:{client}",
+            f"--listen-peer-urls=https://127.0.0.1:{peer}", f"--initial-advertise-peer-urls=https://127.0.0.1:{peer}",
+            f"--initial-cluster=default=https://127.0.0.1:{peer}",
+            f"--cert-file={c / 'etcd-server.crt'}", f"--key-file={c / 'etcd-server.key'}", "--client-cert-auth",
+            f"--trusted-ca-file={c / 'ca.crt'}", f"--peer-cert-file={c / 'etcd-peer.crt'}",
+            f"--peer-key-file={c / 'etcd-peer.key'}", "--peer-client-cert-auth",
+            f"--peer-trusted-ca-file={c / 'ca.crt'}",
         ])  # fmt: skip
         self._wait("etcd", lambda: _port_open(client), deadline, ["etcd"])
         progress(f"etcd listening on 127.0.0.1:{client}")
@@ -405,7 +490,14 @@ class DevCluster:
         self.state["api_port"] = port = free_port()
         d = self.dir
         self._spawn("kube-apiserver", [
-            str(bin_dir / "kube-apiserver"), f"--etcd-servers=http://127.0.0.1:{self.state['etcd_port']}",
+            str(bin_dir / "kube-apiserver"), f"--etcd-servers=https://127.0.0.1:{self.state['etcd_port']}",
+            f"--etcd-cafile={d / 'certs' / 'ca.crt'}", f"--etcd-certfile={d / 'certs' / 'apiserver-etcd-client.crt'}",
+            f"--etcd-keyfile={d / 'certs' / 'apiserver-etcd-client.key'}",
+            # Real kubelets authenticate the API server by this certificate (logs, exec) and are reached at their
+            # node address (no host name lookups).
+            f"--kubelet-client-certificate={d / 'certs' / 'apiserver-kubelet-client.crt'}",
+            f"--kubelet-client-key={d / 'certs' / 'apiserver-kubelet-client.key'}",
+            "--kubelet-preferred-address-types=InternalIP",
             "--bind-address=127.0.0.1", "--advertise-address=127.0.0.1", f"--secure-port={port}",
             f"--cert-dir={d / 'certs'}", f"--token-auth-file={d / 'tokens.csv'}", "--authorization-mode=AlwaysAllow",
             "--service-account-issuer=https://kubernetes.default.svc", f"--service-account-key-file={d / 'sa.key'}",
@@ -448,7 +540,77 @@ class DevCluster:
         ]  # fmt: skip
         if node.taints:
             argv.append(f"--register-with-taints={','.join(node.taints)}")
+        if os.geteuid() == 0 and shutil.which("unshare"):
+            # kubemark's hollow kubelet serves /logs/ (the host's /var/log) to anyone who reaches its port
+            # (anonymous, AlwaysAllow; kubemark has no flag for it): in a mount namespace of its own, its /var/log is
+            # an empty tmpfs (where it also makes its pods' log directories, instead of on the host).
+            script = 'mount -t tmpfs -o size=16m,mode=0755 continuum-hollow-log /var/log && exec "$@"'
+            argv = ["unshare", "--mount", "--propagation", "private", "--", "sh", "-c", script, "sh", *argv]
         self._spawn(f"node/{node.name}", argv, {"TMPDIR": str(tmp)})
+
+    # -- real nodes -----------------------------------------------------------------------------------------------
+    def _plan_real(self, reals: list[HollowNode]) -> None:
+        try:
+            plans = real.plan(self.state["cluster_id"], [n.to_dict() for n in reals])
+        except real.RealNodeError as exc:
+            raise DevClusterError(str(exc)) from exc
+        self.state["real"] = [p.to_dict() for p in plans]
+        self.state["real_ports"] = {p.name: {"kubelet": free_port(), "healthz": free_port()} for p in plans}
+        self._save()
+
+    def real_plans(self) -> list[real.RealNodePlan]:
+        """Where each real node lives on this machine (CPUs, memory, address, cgroup, bridge)."""
+        return [real.RealNodePlan.from_dict(doc) for doc in self.state.get("real", [])]
+
+    def _start_real_nodes(self, bin_dir: Path, reals: list[HollowNode], images: dict[str, str], deadline: float,
+                          progress: Progress) -> None:  # fmt: skip
+        cid = self.state["cluster_id"]
+        plans = self.real_plans()
+        try:
+            real.add_addresses(cid, plans)
+            for p in plans:
+                real.make_cgroups(p)
+                real.start_containerd(self, p, cid, deadline)
+                progress(f"real node {p.name}: CPUs {real.format_cpus(p.cpus)}, {p.memory_mib} MiB, address {p.ip}")
+            began = time.monotonic()
+            self.import_image(images["pause"], images["base"])
+            progress(f"pause and base images imported into {len(plans)} real nodes in {time.monotonic() - began:.1f} s")
+            for node in reals:
+                self._start_kubelet(bin_dir, node)
+        except real.RealNodeError as exc:
+            raise DevClusterError(str(exc)) from exc
+
+    def import_image(self, *archives: str | os.PathLike, nodes: Iterable[str] | None = None) -> None:
+        """Import image tarballs (docker-archive or OCI, e.g. from ``buildah push IMG docker-archive:FILE:NAME``) into
+        the containerd of every real node (or of ``nodes``), the nodes in parallel: a pod that names the image with
+        ``imagePullPolicy: Never`` (or a tag other than latest) then runs it there without a pull."""
+        from concurrent.futures import ThreadPoolExecutor
+
+        names = [p.name for p in self.real_plans()]
+        chosen = names if nodes is None else list(nodes)
+        unknown = [n for n in chosen if n not in names]
+        if unknown:
+            known = ", ".join(names) or "-"
+            raise DevClusterError(f"no real node {unknown[0]!r} in this cluster (real nodes: {known})")
+        paths = [str(a) for a in archives]
+        with ThreadPoolExecutor(max_workers=max(1, len(chosen))) as pool:
+            futures = [pool.submit(real.import_images, self, name, paths) for name in chosen]
+            try:
+                for future in futures:
+                    future.result()
+            except real.RealNodeError as exc:
+                raise DevClusterError(str(exc)) from exc
+
+    def _start_kubelet(self, bin_dir: Path, node: HollowNode) -> None:
+        p = next(p for p in self.real_plans() if p.name == node.name)
+        self._spawn(f"node/{node.name}", real.kubelet_argv(self, bin_dir, p, node.labels, node.taints))
+
+    def stop_node(self, name: str, sig: int = signal.SIGTERM) -> None:
+        """Stop node ``name``'s kubelet (hollow or real; a real node's containerd and pods keep running, as on a
+        machine whose kubelet died): the node lifecycle controller then marks it NotReady and evicts its pods."""
+        if f"node/{name}" not in self.processes():
+            raise DevClusterError(f"no node {name!r} in this cluster")
+        self.stop_process(f"node/{name}", sig)
 
     def restart_node(self, name: str, *, timeout: float = 300, progress: Progress = _stderr) -> None:
         """Start hollow node ``name`` again (after it was stopped, e.g. to fail it) with the same name, labels and
@@ -457,11 +619,14 @@ class DevCluster:
         evicted meanwhile."""
         spec = next((n for n in self.state.get("nodes", []) if n["name"] == name), None)
         if spec is None:
-            raise DevClusterError(f"no hollow node {name!r} in this cluster")
+            raise DevClusterError(f"no node {name!r} in this cluster")
         if self._alive(f"node/{name}"):
-            raise DevClusterError(f"hollow node {name!r} still runs")
-        node = HollowNode(spec["name"], dict(spec["labels"]), tuple(spec["taints"]))
-        self._start_node(Path(self.state["bin_dir"]), node)
+            raise DevClusterError(f"node {name!r} still runs")
+        node = HollowNode.from_dict(spec)
+        if node.real:
+            self._start_kubelet(Path(self.state["bin_dir"]), node)
+        else:
+            self._start_node(Path(self.state["bin_dir"]), node)
         deadline = time.monotonic() + timeout
 
         def schedulable() -> bool:
@@ -469,10 +634,10 @@ class DevCluster:
             stale = {"node.kubernetes.io/not-ready", "node.kubernetes.io/unreachable"}
             return seen.get("ready") == "True" and not stale & set(seen.get("taints", []))
 
-        self._wait(f"hollow node {name} Ready again", schedulable, deadline, [f"node/{name}", "kube-apiserver"])
+        self._wait(f"node {name} Ready again", schedulable, deadline, [f"node/{name}", "kube-apiserver"])
         self.state["kubelet_dirs"] = self._kubelet_dirs()
         self._save()
-        progress(f"hollow node {name} restarted and Ready")
+        progress(f"{node.runtime} node {name} restarted and Ready")
 
     # -- the API ----------------------------------------------------------------------------------------------
     def _get(self, path: str, timeout: float = 10) -> Any:
@@ -544,6 +709,7 @@ class DevCluster:
             "startup_seconds": self.state.get("startup_seconds"),
             "components": components,
             "nodes": self.nodes() if alive.get("kube-apiserver") else {},
+            "real": self.state.get("real", []),
         }
 
     def stop_process(self, name: str, sig: int = signal.SIGTERM, wait: float = 15) -> None:
@@ -570,20 +736,47 @@ class DevCluster:
         """Stop every component (hollow nodes and controllers first, etcd last) and remove the state; whether
         anything was running."""
         pids = self.processes()
+        was = any(self.running().values())
+        # Real nodes first: their kubelets, then their pods (the kubelet can no longer stop them), containerd and
+        # what they made on the host (cgroups, mounts, devices).
+        real.teardown(self, self.state.get("cluster_id", host.cluster_id(self.dir)), self.real_plans())
         order = [n for n in pids if n.startswith("node/")] + [
             n for n in ("kube-scheduler", "kube-controller-manager", "kube-apiserver", "etcd") if n in pids
         ]
-        was = any(self.running().values())
         for name in order:
             self.stop_process(name)
         for path in set(self.state.get("kubelet_dirs", [])) | set(self._kubelet_dirs()):
             if _KUBELET_DIR_PATH.match(path):
                 shutil.rmtree(path, ignore_errors=True)
+        host.leave(self.dir)
         if self.dir.exists() and self._ours():
+            real.unmount_under([self.dir])
             shutil.rmtree(self.dir, ignore_errors=True)
         self.state = {}
         self._procs = {}
         return was
+
+
+_EC_KEY = ("-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1")
+
+
+def _openssl(args: list[str]) -> None:
+    done = subprocess.run(["openssl", *args], capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        raise DevClusterError(f"openssl {args[0]} failed: {done.stderr[-500:]}")
+
+
+def _issue(certs: Path, name: str, cn: str, usage: str) -> None:
+    """A key and a certificate of the cluster's CA for ``cn`` (valid for 127.0.0.1 when it serves)."""
+    ext = certs / f"{name}.ext"
+    ext.write_text("basicConstraints=CA:FALSE\nkeyUsage=critical,digitalSignature,keyEncipherment\n"
+                   f"extendedKeyUsage={usage}\nsubjectAltName=IP:127.0.0.1,DNS:localhost\n")  # fmt: skip
+    key, csr, crt = (certs / f"{name}.{x}" for x in ("key", "csr", "crt"))
+    _openssl(["req", "-new", "-nodes", *_EC_KEY, "-keyout", str(key), "-out", str(csr), "-subj", f"/CN={cn}"])
+    _openssl(["x509", "-req", "-in", str(csr), "-CA", str(certs / "ca.crt"), "-CAkey", str(certs / "ca.key"),
+              "-CAcreateserial", "-out", str(crt), "-days", "3650", "-extfile", str(ext)])  # fmt: skip
+    csr.unlink()
+    ext.unlink()
 
 
 def _port_open(port: int) -> bool:
@@ -620,6 +813,11 @@ def _print_status(status: dict[str, Any]) -> None:
         print(f"  {name:32} pid {comp['pid']:>7}  {'up  ' if comp['running'] else 'DOWN'}  rss {rss}")
     for name, node in status["nodes"].items():
         print(f"  node {name:27} Ready={node['ready']:7} taints={','.join(node['taints']) or '-'}")
+    for plan in status.get("real", []):
+        print(
+            f"  real node {plan['name']:22} CPUs {plan['cpus']}  memory {plan['memory_mib']} MiB  address "
+            f"{plan['ip']}  cgroup /{plan['cgroup']}"
+        )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -633,6 +831,9 @@ def main(argv: list[str] | None = None) -> int:
     st = sub.add_parser("status", help="what runs, with RSS per component, and the nodes' state")
     st.add_argument("--json", action="store_true")
     sub.add_parser("down", help="stop the cluster and remove its state")
+    imp = sub.add_parser("import-image", help="import image tarballs into the real nodes' containerd")
+    imp.add_argument("archives", nargs="+", type=Path, help="docker-archive or OCI tarballs")
+    imp.add_argument("--node", action="append", help="only this real node (repeatable; default: every real node)")
     args = parser.parse_args(argv)
     cluster = DevCluster(args.state_dir or default_state_dir())
 
@@ -654,6 +855,20 @@ def main(argv: list[str] | None = None) -> int:
             return 1
         _stderr(f"limits of hollow nodes: {LIMITS}")
         print(path)
+        return 0
+    if args.command == "import-image":
+        missing = [a for a in args.archives if not a.is_file()]
+        if missing:
+            print(f"scripts/cluster: {missing[0]} is not a file", file=sys.stderr)
+            return 2
+        if not cluster.is_up():
+            print(f"scripts/cluster: no running cluster in {cluster.dir}", file=sys.stderr)
+            return 2
+        try:
+            cluster.import_image(*args.archives, nodes=args.node)
+        except DevClusterError as exc:
+            print(f"scripts/cluster: {exc}".splitlines()[0], file=sys.stderr)
+            return 2
         return 0
     if args.command == "status":
         status = cluster.status()

@@ -21,7 +21,7 @@ apt_install() {
   [ ${#missing[@]} -eq 0 ] && return 0
   say "installing ${missing[*]} from Debian"
   if [ -z "${APT_UPDATED:-}" ]; then as_root apt-get update -qq >&2; APT_UPDATED=1; fi
-  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq "${missing[@]}" >&2
+  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq -o DPkg::Lock::Timeout=600 "${missing[@]}" >&2
 }
 
 ensure_venv() {  # ensure_venv requirements-file
@@ -95,4 +95,9 @@ ensure_kube_binaries() {  # builds (or takes from the cache) kube-apiserver, -co
   say "Kubernetes binaries (the first build takes about 22 minutes on 2 busy cores; cached in ~/.cache/continuum)"
   KUBE_BIN_DIR=$(bash "$ROOT/scripts/build-kube.sh" | tail -n1)
   export KUBE_BIN_DIR
+}
+
+ensure_real_node_packages() {  # real nodes ("runtime": "real"): containerd, runc, CNI plugins; images: debootstrap, buildah
+  [ "$(id -u)" = 0 ] || return 0  # real nodes need root (the tests that use them say why they skip)
+  apt_install containerd runc containernetworking-plugins debootstrap buildah
 }

@@ -58,7 +58,7 @@ class Cluster(FleetOwned):
             raise InputError(f"cluster {self.name!r} has no nodes", "cluster")
         doc = {
             "name": self.name,
-            "nodes": [n.to_document() for n in nodes],
+            "nodes": [n.to_document() | _kernel_threshold(n) for n in nodes],
             "links": [
                 {
                     "src": lk.src.name,
@@ -128,6 +128,11 @@ class ComputeNode(models.Model):
     rt = models.BooleanField(default=False, help_text="real-time capable")
     criticality = models.CharField(max_length=1, choices=Criticality.choices, blank=True)
     rt_threshold = models.FloatField(null=True, blank=True, help_text="admissible RT utilization (M x 0.95)")
+    #: What the node's kernel admits (``python -m continuum.agent admission``, ``POST /api/v1/rt-admissions/``):
+    #: the RT filter's threshold when the cluster file gives no ``rt_threshold`` (which still wins).
+    kernel_rt_capacity = models.FloatField(null=True, blank=True, help_text="deadline bandwidth its kernel admits")
+    kernel_rt_source = models.CharField(max_length=300, blank=True, help_text="how the node read it")
+    kernel_reported_at = models.DateTimeField(null=True, blank=True)
     labels = models.JSONField(default=dict, blank=True)
     taints = models.JSONField(default=list, blank=True, help_text='[{"key", "value", "effect"}]')
     status = models.CharField(max_length=16, choices=Status.choices, default=Status.READY)
@@ -141,8 +146,28 @@ class ComputeNode(models.Model):
 
     @property
     def rt_capacity(self) -> float:
-        """The admissible RT utilization: ``rt_threshold``, else ``M x 0.95`` (the engine's default_rt_threshold)."""
-        return self.rt_threshold if self.rt_threshold is not None else default_rt_threshold(self.cpu)
+        """The admissible RT utilization: ``rt_threshold`` (the cluster file's), else what the node's kernel
+        reported, else ``M x 0.95`` (the thesis' default, the engine's default_rt_threshold)."""
+        if self.rt_threshold is not None:
+            return self.rt_threshold
+        if self.kernel_rt_capacity is not None:
+            return self.kernel_rt_capacity
+        return default_rt_threshold(self.cpu)
+
+    def rt_capacity_or(self, default: float) -> float:
+        """:attr:`rt_capacity` with ``default`` instead of the thesis' M x 0.95 of this row's CPUs."""
+        if self.rt_threshold is not None:
+            return self.rt_threshold
+        return self.kernel_rt_capacity if self.kernel_rt_capacity is not None else default
+
+    @property
+    def rt_capacity_source(self) -> str:
+        """Where :attr:`rt_capacity` comes from, in words."""
+        if self.rt_threshold is not None:
+            return "the cluster file's rt_threshold"
+        if self.kernel_rt_capacity is not None:
+            return f"the node's kernel ({self.kernel_rt_source or 'reported'})"
+        return "the thesis' default M x 0.95: the node reported nothing"
 
     def to_document(self) -> dict:
         """This node as a ``continuum.cluster/v1`` node; one that is not Ready carries its status taint
@@ -170,6 +195,14 @@ class ComputeNode(models.Model):
         if self.accelerators:
             doc["accelerators"] = self.accelerators
         return doc
+
+
+def _kernel_threshold(node: ComputeNode) -> dict:
+    """The engine's ``rt_threshold`` from the node's kernel when the cluster file gave none (not exported with the
+    cluster file: :meth:`ComputeNode.to_document` stays what the operator wrote)."""
+    if node.rt_threshold is None and node.kernel_rt_capacity is not None:
+        return {"rt_threshold": node.kernel_rt_capacity}
+    return {}
 
 
 class Link(models.Model):

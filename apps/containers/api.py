@@ -4,9 +4,9 @@
 from django.http import HttpResponse
 from drf_spectacular.types import OpenApiTypes
 from drf_spectacular.utils import OpenApiParameter, extend_schema
-from rest_framework import mixins, status, viewsets
+from rest_framework import mixins, serializers, status, viewsets
 from rest_framework.decorators import action
-from rest_framework.exceptions import NotFound
+from rest_framework.exceptions import NotFound, ValidationError
 from rest_framework.response import Response
 
 from apps.containers.kinds import ContainersJob
@@ -74,6 +74,12 @@ class RosGraphViewSet(
         )
 
 
+class BuildImagesRequestSerializer(serializers.Serializer):
+    export = serializers.BooleanField(
+        required=False, default=False, help_text="also write docker-archives for scripts/cluster import-image"
+    )
+
+
 class ClusteringViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
     """Results of clustering jobs: containers with their ROS nodes, bandwidth, image plan and disk figures."""
 
@@ -115,6 +121,20 @@ class ClusteringViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Rea
         serializer = PlaceRequestSerializer(data=data, context=self.get_serializer_context())
         serializer.is_valid(raise_exception=True)
         job = start_job(ContainersJob.PLACE, clustering.fleet, serializer.job_arguments(), request.user)
+        return job_response(self, job)
+
+    @extend_schema(request=BuildImagesRequestSerializer, responses={202: JobSerializer})
+    @action(detail=True, methods=["post"], url_path="build-images")
+    def build_images(self, request, pk=None):
+        """Start a job that builds this clustering's images by inheritance with buildah (Debian packages, on the
+        worker's machine) and measures their layers next to the planner's prediction (Table 4.16 from images)."""
+        clustering = self.get_object()
+        serializer = BuildImagesRequestSerializer(data=request.data)
+        serializer.is_valid(raise_exception=True)
+        if not clustering.images:
+            raise ValidationError({"clustering": ["its ROS nodes list no packages: no image plan to build"]})
+        arguments = {"clustering": clustering.pk, "export": serializer.validated_data.get("export", False)}
+        job = start_job(ContainersJob.BUILD_IMAGES, clustering.fleet, arguments, request.user)
         return job_response(self, job)
 
 

@@ -14,7 +14,7 @@ from rest_framework.exceptions import ValidationError
 from rest_framework.generics import get_object_or_404
 from rest_framework.response import Response
 
-from apps.clusters.models import Cluster
+from apps.clusters.models import Cluster, ComputeNode
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
 from apps.realtime.kinds import RealtimeJob
@@ -40,9 +40,11 @@ from .models import (
     RTPolicy,
 )
 from .serializers import (
+    AdmissionReportSerializer,
     ClusterRefSerializer,
     MonitoringReportSerializer,
     MonitoringSerializer,
+    NodeAdmissionSerializer,
     NodeTaintSerializer,
     RealTimeImportSerializer,
     RealTimeSerializer,
@@ -270,6 +272,37 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
         return clusters[0]
 
 
+class NodeAdmissionViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.ReadOnlyModelViewSet):
+    """Each node's admissible RT bandwidth and where it comes from. POST (a node agent, with a robot token):
+    ``{"cluster": id, "node": name, "capacity": CPUs, "cpus": [...], "source": "...", "kernel": "..."}``, what
+    ``python -m continuum.agent admission`` read from the node's kernel. RT-Kube's filter then admits up to it,
+    unless the cluster file gives the node an ``rt_threshold`` (which wins); a node that reported nothing keeps
+    the thesis' M x 0.95 (``rt_capacity_source`` says which)."""
+
+    queryset = ComputeNode.objects.select_related("cluster")
+    serializer_class = NodeAdmissionSerializer
+    robot_actions = {"create"}
+    filterset_fields = ["cluster", "name", "rt"]
+
+    @extend_schema(request=AdmissionReportSerializer, responses={200: NodeAdmissionSerializer})
+    def create(self, request, *args, **kwargs):
+        data = AdmissionReportSerializer(data=request.data)
+        data.is_valid(raise_exception=True)
+        cluster = MonitoringReportViewSet._cluster(request, request.data)
+        node = cluster.nodes.filter(name=data.validated_data["node"]).first()
+        if node is None:
+            raise ValidationError({"node": [f"cluster {cluster.name!r} has no node {data.validated_data['node']!r}"]})
+        source = data.validated_data.get("source") or "reported by the node"
+        cpus = data.validated_data.get("cpus")
+        node.kernel_rt_capacity = data.validated_data["capacity"]
+        node.kernel_rt_source = (f"{source}; CPUs {cpus}" if cpus else source)[:300]
+        if data.validated_data.get("kernel"):
+            node.kernel_rt_source = f"{node.kernel_rt_source[:250]}; Linux {data.validated_data['kernel']}"[:300]
+        node.kernel_reported_at = timezone.now()
+        node.save(update_fields=["kernel_rt_capacity", "kernel_rt_source", "kernel_reported_at"])
+        return Response(NodeAdmissionSerializer(node, context=self.get_serializer_context()).data)
+
+
 class RTEventViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
     """What the reconcile phase did: evictions (with Eq. 3.19's timestamps) and alerts."""
 
@@ -357,6 +390,7 @@ def register_routes(router) -> None:
     router.register("rt-monitorings", MonitoringViewSet)
     router.register("rt-reports", MonitoringReportViewSet)
     router.register("rt-events", RTEventViewSet)
+    router.register("rt-admissions", NodeAdmissionViewSet, basename="rt-admission")
     router.register("rt-taints", NodeTaintViewSet)
     router.register("rt-pods", RTPodViewSet)
     router.register("rt-decisions", RTDecisionViewSet)

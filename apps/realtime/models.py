@@ -23,7 +23,7 @@ import re
 from collections.abc import Iterable, Sequence
 
 from django.core.exceptions import ValidationError
-from django.core.validators import MinValueValidator, RegexValidator
+from django.core.validators import MaxValueValidator, MinValueValidator, RegexValidator
 from django.db import models
 
 from apps.clusters.models import Cluster, ComputeNode
@@ -184,6 +184,10 @@ class RealTime(models.Model):
     stateless = models.BooleanField(default=False, help_text="may be evicted and re-created elsewhere")
     cpu = models.FloatField(default=0.0, validators=[MinValueValidator(0.0)], help_text="CPU request, cores")
     memory_mib = models.FloatField(default=0.0, validators=[MinValueValidator(0.0)], help_text="memory request, MiB")
+    warmup_ms = models.FloatField(
+        null=True, blank=True, validators=[MinValueValidator(0.0), MaxValueValidator(3_600_000.0)],
+        help_text="ms after exec whose overruns are start-up, not misses (null: the agent's default, 20 periods)",
+    )  # fmt: skip
     # Kubernetes mirror: the custom object's identity and version as last written or read.
     uid = models.CharField(max_length=64, blank=True)
     resource_version = models.CharField(max_length=64, blank=True)
@@ -416,6 +420,8 @@ class MonitoringReport(models.Model):
     #: ``continuum.rt_reconcile`` task); the reconcile claims it by setting this, in the transaction that records
     #: its eviction, so it is acted on exactly once. Null on a violation: not reconciled yet.
     reconciled_at = models.DateTimeField(null=True, blank=True)
+    #: Overruns before the command was ready (the agent's warm-up): not missed deadlines, never a violation.
+    startup_overruns = models.PositiveIntegerField(default=0)
 
     class Meta:
         ordering = ["-received_at", "-pk"]

@@ -74,6 +74,9 @@ class Report:
     miss_at: datetime | None = None
     #: Idempotency key, unique per cluster (see :class:`~apps.realtime.models.MonitoringReport`).
     report_id: str = ""
+    #: ``startupOverruns``: overruns before the command was ready (its warm-up), counted apart from the missed
+    #: deadlines: stored and shown, never compared with a threshold (a healthy pod is not evicted as it starts).
+    startup_overruns: int = 0
 
 
 # ---- parsing -------------------------------------------------------------------------------------------------
@@ -121,6 +124,10 @@ def _check_fields(spec: Mapping[str, Any], path: str) -> None:
         v = spec.get(key)
         if isinstance(v, int) and not isinstance(v, bool) and v > COUNT_MAX:
             raise InputError(f"{path}.{key}: {v} is larger than {COUNT_MAX}", "reports")
+    startup = spec.get("startupOverruns")
+    if startup is not None and (not isinstance(startup, int) or isinstance(startup, bool)
+                                or not 0 <= startup <= COUNT_MAX):  # fmt: skip
+        raise InputError(f"{path}.startupOverruns: must be an integer from 0 to {COUNT_MAX}", "reports")
     for key in ("node", "containerName", "pod"):
         v = spec.get(key)
         if isinstance(v, str) and (len(v) > TEXT_MAX or not v.isprintable()):
@@ -179,7 +186,7 @@ def parse_report(raw: Any, index: int) -> Report:
     sent = _stamp(spec.get("sentAt"), f"{path}.sentAt")
     miss = _stamp(spec.get("missAt"), f"{path}.missAt")
     out = Report(name.lower(), report.node, report.container, pod, report.missed_period, report.missed_total,
-                 sent, miss)  # fmt: skip
+                 sent, miss, startup_overruns=spec.get("startupOverruns") or 0)  # fmt: skip
     out.report_id = _report_id(raw, spec, where) or _content_key(out, meta)
     return out
 
@@ -201,7 +208,7 @@ def parse_batch(payload: Any) -> list[Report]:
 
 # ---- storing -------------------------------------------------------------------------------------------------
 REPORT_COLUMNS = ("cluster_id", "name", "node", "container_name", "pod", "missed_period", "missed_total", "violation",
-                  "sent_at", "miss_at", "received_at", "source", "report_id")  # fmt: skip
+                  "sent_at", "miss_at", "received_at", "source", "report_id", "startup_overruns")  # fmt: skip
 LATEST_COLUMNS = ("cluster_id", "name", "node_id", "container_name", "pod", "missed_period", "missed_total",
                   "received_at", "kube_synced", "resource_version")  # fmt: skip
 #: The unique index that makes a replayed report a no-op (``MonitoringReport.Meta.constraints``).
@@ -342,7 +349,8 @@ def _classify(
         if trigger:
             violations.append((r, trigger))
         rows[rid] = (cluster.pk, r.name, r.node, r.container, r.pod, r.missed_period, r.missed_total,
-                     trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source, rid)  # fmt: skip
+                     trigger or "", stamp(r.sent_at), stamp(r.miss_at), at, source, rid,
+                     r.startup_overruns)  # fmt: skip
     return violations, rows
 
 

@@ -125,7 +125,8 @@ def rt_nodes(cluster: Cluster, api_nodes: list[dict], rows: dict[str, ComputeNod
         row = rows.get(name)
         rt = bool(row and row.rt)
         cpu = cpu or (row.cpu if row else 1.0) or 1.0
-        threshold = row.rt_threshold if row and row.rt_threshold is not None else default_rt_threshold(cpu)
+        # The cluster file's threshold, else what the node's kernel admits, else M x 0.95 of the API's CPUs.
+        threshold = default_rt_threshold(cpu) if row is None else row.rt_capacity_or(default_rt_threshold(cpu))
         out.append(
             RTNode(
                 name,

@@ -1,7 +1,9 @@
+import math
+
 from django.db import transaction
 from rest_framework import serializers
 
-from apps.clusters.models import Cluster
+from apps.clusters.models import Cluster, ComputeNode
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import ScopedModelSerializer, ScopedSerializer
 from continuum.engine.core.errors import InputError
@@ -56,6 +58,7 @@ class RealTimeSerializer(ScopedModelSerializer):
             "stateless",
             "cpu",
             "memory_mib",
+            "warmup_ms",
             "utilization",
             "sync_state",
             "sync_error",
@@ -75,6 +78,11 @@ class RealTimeSerializer(ScopedModelSerializer):
         data = super().to_representation(instance)
         data["wcets"] = [{"node": w.node.name, "wcet": w.wcet} for w in instance.wcets.all()]
         return data
+
+    def validate_warmup_ms(self, value):
+        if value is not None and not math.isfinite(value):
+            raise serializers.ValidationError("must be a finite number of milliseconds")
+        return value
 
     def validate(self, attrs):
         inst = self.instance
@@ -224,7 +232,8 @@ class MonitoringReportSerializer(ScopedModelSerializer):
     class Meta:
         model = MonitoringReport
         fields = ["id", "cluster", "name", "node", "container_name", "pod", "missed_period", "missed_total",
-                  "violation", "miss_at", "sent_at", "received_at", "source", "report_id"]  # fmt: skip
+                  "violation", "miss_at", "sent_at", "received_at", "source", "report_id",
+                  "startup_overruns"]  # fmt: skip
         read_only_fields = fields
 
 
@@ -310,3 +319,33 @@ class WhyNotSerializer(ScopedSerializer):
     as_of = serializers.DateTimeField()
     nodes = serializers.IntegerField(help_text="nodes in the cluster")
     verdicts = NodeVerdictSerializer(many=True)
+
+
+class NodeAdmissionSerializer(ScopedModelSerializer):
+    """A node's admissible RT bandwidth: the cluster file's, its kernel's, and which one RT-Kube's filter uses."""
+
+    rt_capacity = serializers.FloatField(read_only=True, help_text="what RT-Kube's filter admits up to")
+    rt_capacity_source = serializers.CharField(read_only=True)
+
+    class Meta:
+        model = ComputeNode
+        fields = ["id", "cluster", "name", "cpu", "rt", "rt_threshold", "kernel_rt_capacity", "kernel_rt_source",
+                  "kernel_reported_at", "rt_capacity", "rt_capacity_source"]  # fmt: skip
+        read_only_fields = fields
+
+
+class AdmissionReportSerializer(serializers.Serializer):
+    """What ``python -m continuum.agent admission`` posts."""
+
+    cluster = serializers.IntegerField(required=False, help_text="default: the fleet's only cluster")
+    node = serializers.CharField(max_length=253)
+    capacity = serializers.FloatField(min_value=0.0, max_value=4096.0, help_text="deadline bandwidth, in CPUs")
+    cpus = serializers.ListField(child=serializers.IntegerField(min_value=0, max_value=65535), max_length=4096,
+                                 required=False)  # fmt: skip
+    source = serializers.CharField(max_length=200, required=False, allow_blank=True)
+    kernel = serializers.CharField(max_length=100, required=False, allow_blank=True)
+
+    def validate_capacity(self, value):
+        if not math.isfinite(value):
+            raise serializers.ValidationError("must be a finite number of CPUs")
+        return value

@@ -17,7 +17,9 @@ import urllib.request
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-from .report import Reporter, Target
+from .admission import measure
+from .privileges import User, default_user, drop_for_agent, parse_user
+from .report import Reporter, Target, http_problem, urlopen
 from .sched import DeadlineParams, refusal
 from .trace import run_traced
 
@@ -29,6 +31,9 @@ EXIT_KERNEL_REJECTED = 75
 EXIT_NOT_PERMITTED = 77
 EXIT_NOT_EXECUTABLE = 126
 EXIT_NOT_FOUND = 127
+#: Start-up overruns are expected for this many periods after exec unless told otherwise: measured here, a Python
+#: command that sleeps under a 5 ms / 50 ms reservation overran 6 and 12 times while its interpreter started.
+DEFAULT_WARMUP_PERIODS = 20
 FORWARDED = (signal.SIGTERM, signal.SIGINT, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2)
 
 
@@ -97,6 +102,23 @@ def _positive(text: str) -> float:
     return value
 
 
+def _non_negative(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError(f"{text!r} must be a number >= 0")
+    return value
+
+
+def _user(text: str) -> User:
+    try:
+        return parse_user(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def parser() -> argparse.ArgumentParser:
     ap = _Parser(prog=f"python -m {PROG}", description="Continuum's node agent (RT-Kube, thesis 3.4).")
     sub = ap.add_subparsers(dest="action", required=True)
@@ -105,12 +127,20 @@ def parser() -> argparse.ArgumentParser:
     timing.add_argument("--runtime-ms", type=_positive, help="runtime (WCET on this node)")
     timing.add_argument("--deadline-ms", type=_positive, help="relative deadline")
     timing.add_argument("--period-ms", type=_positive, help="period")
+    warm = timing.add_mutually_exclusive_group()
+    warm.add_argument("--warmup-ms", type=_non_negative,
+                      help="start-up after exec whose overruns are counted apart, never as misses (default: the "
+                           f"RealTime's warmup_ms, else {DEFAULT_WARMUP_PERIODS} periods); the command may end it "
+                           "early by writing to the descriptor in CONTINUUM_READY_FD")  # fmt: skip
+    warm.add_argument("--warmup-periods", type=_non_negative, help="the same, in periods")
     api = run.add_argument_group("reporting to Continuum")
     api.add_argument("--realtime", metavar="NAME", help="the RealTime object: timing fetched, named in reports")
     api.add_argument("--namespace", help="the RealTime object's namespace (when the name is ambiguous)")
     api.add_argument("--cluster", type=int, help="cluster id (default: the RealTime object's, or the fleet's only)")
     api.add_argument("--server", default=os.environ.get("CONTINUUM_SERVER"),
                      help="base URL, e.g. http://continuum:8000 (env CONTINUUM_SERVER)")  # fmt: skip
+    api.add_argument("--allow-http", action="store_true",
+                     help="allow a plain http:// --server (the token then crosses the network in clear)")  # fmt: skip
     api.add_argument("--token", default=os.environ.get("CONTINUUM_TOKEN"),
                      help="fleet API token (env CONTINUUM_TOKEN; better: arguments show in ps)")  # fmt: skip
     api.add_argument("--node", default=os.environ.get("NODE_NAME") or socket.gethostname(),
@@ -124,15 +154,27 @@ def parser() -> argparse.ArgumentParser:
     api.add_argument("--http-timeout", type=_positive, default=5.0, help="seconds per request (5)")
     run.add_argument("--tracer-priority", type=int, default=1, choices=range(0, 100), metavar="0-99",
                      help="SCHED_FIFO priority of the agent's tracing thread (1; 0: leave it SCHED_OTHER)")  # fmt: skip
+    run.add_argument("--user", type=_user, default=None, metavar="USER[:GID]",
+                     help="who COMMAND runs as, with no capability (default: nobody if the agent is root)")  # fmt: skip
     run.add_argument("--json", action="store_true", help="print one JSON object on stdout at the end")
     run.add_argument("command", nargs=argparse.REMAINDER, help="-- COMMAND ARGS...")
+    adm = sub.add_parser("admission", help="this node's admissible deadline bandwidth, read from its kernel "
+                         "(printed; reported to Continuum with --server)")  # fmt: skip
+    adm.add_argument("--probe", action="store_true", help="measure it with deadline tasks even when it can be read")
+    adm.add_argument("--server", default=os.environ.get("CONTINUUM_SERVER"), help="base URL (env CONTINUUM_SERVER)")
+    adm.add_argument("--allow-http", action="store_true", help="allow a plain http:// --server")
+    adm.add_argument("--token", default=os.environ.get("CONTINUUM_TOKEN"), help="fleet token (env CONTINUUM_TOKEN)")
+    adm.add_argument("--node", default=os.environ.get("NODE_NAME") or socket.gethostname(),
+                     help="node name (env NODE_NAME, else the host name)")  # fmt: skip
+    adm.add_argument("--cluster", type=int, help="cluster id (default: the fleet's only one)")
+    adm.add_argument("--http-timeout", type=_positive, default=30.0, help="seconds for the request (30)")
     return ap
 
 
 def _get_json(server: str, token: str, path: str, params: dict[str, Any], timeout: float) -> Any:
     url = server.rstrip("/") + path + "?" + urllib.parse.urlencode({k: v for k, v in params.items() if v is not None})
     request = urllib.request.Request(url, headers={"Authorization": f"Token {token}", "Accept": "application/json"})
-    with urllib.request.urlopen(request, timeout=timeout) as response:
+    with urlopen(request, timeout=timeout) as response:
         return json.loads(response.read())
 
 
@@ -142,7 +184,7 @@ def fetch_realtime(args: argparse.Namespace) -> dict[str, Any]:
     try:
         page = _get_json(args.server, args.token, "/api/v1/realtimes/", params, args.http_timeout)
     except urllib.error.HTTPError as exc:
-        raise UsageError(f"cannot read RealTime {args.realtime!r}: HTTP {exc.code} from {args.server}") from exc
+        raise UsageError(f"cannot read RealTime {args.realtime!r} from {args.server}: {http_problem(exc)}") from exc
     except (OSError, ValueError) as exc:
         raise ConnectionError(f"cannot reach {args.server} to read RealTime {args.realtime!r}: {exc}") from exc
     rows = page.get("results", page) if isinstance(page, dict) else page
@@ -161,10 +203,7 @@ def resolve(args: argparse.Namespace) -> tuple[DeadlineParams, Target | None, di
     if not command:
         raise UsageError("no COMMAND given (run ... -- COMMAND ARGS...)")
     args.command = command
-    if args.server and not args.token:
-        raise UsageError("--server needs --token (or CONTINUUM_TOKEN)")
-    if args.server and urllib.parse.urlsplit(args.server).scheme not in ("http", "https"):
-        raise UsageError(f"--server {args.server!r} must be an http(s) URL")
+    _check_server(args)
     info: dict[str, Any] = {}
     timing = {"runtime": args.runtime_ms, "deadline": args.deadline_ms, "period": args.period_ms}
     cluster = args.cluster
@@ -181,6 +220,10 @@ def resolve(args: argparse.Namespace) -> tuple[DeadlineParams, Target | None, di
         cluster = cluster if cluster is not None else row.get("cluster")
         info["realtime"] = {"id": row.get("id"), "name": row.get("name"), "namespace": row.get("namespace"),
                             "cluster": row.get("cluster"), "criticality": row.get("criticality")}  # fmt: skip
+    if args.warmup_ms is None and args.warmup_periods is None and args.realtime:
+        warm = row.get("warmup_ms")
+        if isinstance(warm, int | float) and not isinstance(warm, bool) and 0 <= warm < float("inf"):
+            args.warmup_ms = float(warm)
     missing = [f"--{k}-ms" for k, v in timing.items() if v is None]
     if missing:
         raise UsageError(f"missing {', '.join(missing)} (or --realtime with --server to read them)")
@@ -194,13 +237,63 @@ def resolve(args: argparse.Namespace) -> tuple[DeadlineParams, Target | None, di
         if not args.node:
             raise UsageError("no node name: give --node (or NODE_NAME)")
         target = Target(args.server, args.token, args.node, container, args.pod, cluster, args.http_timeout)
+    if args.warmup_ms is None:
+        periods = DEFAULT_WARMUP_PERIODS if args.warmup_periods is None else args.warmup_periods
+        args.warmup_ms = periods * params.period_ns / 1e6
     info.update(node=args.node, container=container)
     return params, target, info
+
+
+def _check_server(args: argparse.Namespace) -> None:
+    if args.server and not args.token:
+        raise UsageError("--server needs --token (or CONTINUUM_TOKEN)")
+    if args.server:
+        scheme = urllib.parse.urlsplit(args.server).scheme
+        if scheme not in ("http", "https"):
+            raise UsageError(f"--server {args.server!r} must be an http(s) URL")
+        if scheme == "http" and not args.allow_http:
+            raise UsageError(f"--server {args.server!r} is plain http: the token would cross in clear; use https "
+                             "or give --allow-http")  # fmt: skip
+
+
+def admission(args: argparse.Namespace) -> int:
+    """``admission``: measure, print one JSON object, and report it (exit 69 if the report failed)."""
+    try:
+        found = measure(use_probe=args.probe)
+    except OSError as exc:
+        print(f"{PROG}: cannot read the kernel's admission: {exc}", file=sys.stderr)
+        return EXIT_UNAVAILABLE
+    doc = found.as_dict() | {"node": args.node}
+    status = 0
+    if args.server:
+        body: dict[str, Any] = {"node": args.node, "capacity": found.capacity, "cpus": found.cpus,
+                                "source": found.source[:200], "kernel": found.kernel[:100]}  # fmt: skip
+        if args.cluster is not None:
+            body["cluster"] = args.cluster
+        request = urllib.request.Request(
+            args.server.rstrip("/") + "/api/v1/rt-admissions/", data=json.dumps(body).encode(), method="POST",
+            headers={"Content-Type": "application/json", "Authorization": f"Token {args.token}"},
+        )  # fmt: skip
+        try:
+            with urlopen(request, timeout=args.http_timeout) as response:
+                doc["reported"] = json.loads(response.read() or b"{}")
+        except urllib.error.HTTPError as exc:
+            doc["report_error"] = http_problem(exc)
+        except (OSError, ValueError) as exc:
+            doc["report_error"] = f"{type(exc).__name__}: {exc}"
+        if "report_error" in doc:
+            print(f"{PROG}: the admission was not reported: {doc['report_error']}", file=sys.stderr)
+            status = EXIT_UNAVAILABLE
+    print(json.dumps(doc), flush=True)
+    return status
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = parser().parse_args(argv)
+        if args.action == "admission":
+            _check_server(args)
+            return admission(args)
         params, target, info = resolve(args)
     except UsageError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
@@ -222,10 +315,32 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
 
     previous = {sig: signal.signal(sig, forward) for sig in FORWARDED}
 
-    tracer = {"policy": "other"}
+    tracer: dict[str, Any] = {"policy": "other", "caps": None}
+    user = args.user or default_user()
+    # The command may say it is ready (ends its warm-up) by writing to this pipe.
+    ready_r, ready_w = os.pipe()
+    os.set_inheritable(ready_w, True)
+    os.set_blocking(ready_r, False)
+    # The command never sees the fleet token (it could send it anywhere).
+    env = {k: v for k, v in os.environ.items() if k != "CONTINUUM_TOKEN"}
+    env["CONTINUUM_READY_FD"] = str(ready_w)
+    warm: dict[str, Any] = {"until": float("inf"), "ready": False, "agent_w_closed": False}
+
+    def overrun(at: float) -> None:
+        if not warm["ready"]:
+            with contextlib.suppress(BlockingIOError):
+                warm["ready"] = bool(os.read(ready_r, 64))
+        if not warm["ready"] and time.monotonic() < warm["until"]:
+            reporter.startup_overrun(at)
+        else:
+            reporter.overrun(at)
 
     def started(pid: int) -> None:
+        warm["until"] = time.monotonic() + args.warmup_ms / 1000  # from the exec: the command's first instruction
+        os.close(ready_w)  # the command has its copy
+        warm["agent_w_closed"] = True
         child["pid"] = pid
+        tracer["caps"] = drop_for_agent()  # before any other thread: they inherit what this one keeps
         reporter.start()  # after the fork: the child never shares the reporter's thread
         # A command stopped at its SIGXCPU waits for this thread: it must get the CPU at once, also when SCHED_OTHER
         # work (a stress, other pods) fills what the deadline tasks leave. Only this thread (not the reporter).
@@ -238,19 +353,27 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
 
     began = time.monotonic()
     try:
-        outcome = run_traced(args.command, params, reporter.overrun, started)
+        outcome = run_traced(args.command, params, overrun, started, user=user, env=env)
     except OSError as exc:
         print(f"{PROG}: cannot trace the command: {exc}", file=sys.stderr)
         return EXIT_UNAVAILABLE
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
+        os.close(ready_r)
+        if not warm["agent_w_closed"]:
+            os.close(ready_w)
     reason = None
     if outcome.refused is not None:
         status, text = refusal(outcome.refused)
         reason = f"{text} ({errno.errorcode.get(outcome.refused, outcome.refused)})"
         if outcome.refused == errno.EBUSY:
             reporter.kernel_rejected(reason)
+        reporter.start()
+        print(f"{PROG}: {reason}", file=sys.stderr)
+    elif outcome.drop_errno is not None:
+        status = EXIT_NOT_PERMITTED
+        reason = f"cannot drop privileges to uid {user.uid} gid {user.gid}: {os.strerror(outcome.drop_errno)}"
         reporter.start()
         print(f"{PROG}: {reason}", file=sys.stderr)
     elif outcome.exec_errno is not None:
@@ -263,11 +386,16 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
     else:
         status = outcome.exit_code or 0
     duration = time.monotonic() - began
+    ran = outcome.refused is None and outcome.exec_errno is None and outcome.drop_errno is None
     reporter.close(args.flush_timeout)
     result = {
         "overruns": reporter.overruns,
+        "startup_overruns": reporter.startup_overruns,
+        "startup_reported": reporter.startup_acknowledged,
+        "warmup_ms": args.warmup_ms,
+        "ready_signalled": warm["ready"],
         "kernel_rejected": outcome.refused == errno.EBUSY,
-        "exit_code": outcome.exit_code if outcome.refused is None and outcome.exec_errno is None else None,
+        "exit_code": outcome.exit_code if ran else None,
         "signal": outcome.signal if outcome.refused is None else None,
         "reported": reporter.acknowledged,
         "pending": reporter.pending if target is not None else 0,
@@ -285,6 +413,9 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         "bandwidth": params.bandwidth,
         "duration_s": round(duration, 3),
         "tracer_policy": tracer["policy"],
+        "command_uid": user.uid,
+        "command_gid": user.gid,
+        "agent_capabilities": tracer["caps"],
         **info,
     }
     if target is not None and reporter.pending:

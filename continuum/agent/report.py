@@ -14,6 +14,11 @@ to ``max_backoff``). Past ``max_outbox`` waiting reports the two oldest are merg
 the later total, the earlier missAt), so memory stays bounded and every count still arrives. A 4xx answer
 other than 408/429 (a malformed report, a node the cluster does not have, a bad token) is not retried: the
 counting goes on, and the error is reported by :meth:`Reporter.summary`.
+
+A redirect is never followed (:func:`urlopen`): following it sent the fleet token to whatever host the
+``Location`` named, and urllib turned the POST into a GET whose 200 counted the report as delivered. A 3xx
+answer is a failure that is not retried, like a 4xx: the reports stay pending and the error says where the server
+tried to send them.
 """
 
 from __future__ import annotations
@@ -31,6 +36,28 @@ from datetime import UTC, datetime
 from typing import Any
 
 ENDPOINT = "/api/v1/rt-reports/"
+
+
+class _NoRedirect(urllib.request.HTTPRedirectHandler):
+    def redirect_request(self, req, fp, code, msg, headers, newurl):  # type: ignore[no-untyped-def,unused-ignore]
+        return None  # urllib then raises HTTPError with the 3xx status: nothing is sent to the new location
+
+
+_OPENER = urllib.request.build_opener(_NoRedirect)
+
+
+def urlopen(request: urllib.request.Request, timeout: float) -> Any:
+    """``urllib.request.urlopen`` that never follows a redirect (a 3xx raises ``HTTPError``)."""
+    return _OPENER.open(request, timeout=timeout)
+
+
+def http_problem(exc: urllib.error.HTTPError) -> str:
+    """An HTTP error in words (a redirect names where it pointed, and that it was not followed)."""
+    if 300 <= exc.code < 400:
+        where = exc.headers.get("Location", "?") if exc.headers else "?"
+        return (f"HTTP {exc.code}: the server redirected to {where[:200]!r}; redirects are refused (the token goes "
+                "only to --server)")  # fmt: skip
+    return f"HTTP {exc.code}: {exc.read()[:500].decode(errors='replace')}"
 
 
 def rfc3339(t: float) -> str:
@@ -61,6 +88,7 @@ class _Report:
     missed_total: int
     miss_at: float | None
     extra: dict[str, Any] = field(default_factory=dict)
+    startup: int = 0  # overruns during the command's warm-up in this report's period (not missed deadlines)
 
     def spec(self, target: Target, sent_at: float) -> dict[str, Any]:
         doc: dict[str, Any] = {
@@ -75,6 +103,8 @@ class _Report:
             doc["pod"] = target.pod
         if self.miss_at is not None:
             doc["missAt"] = rfc3339(self.miss_at)
+        if self.startup:
+            doc["startupOverruns"] = self.startup
         return doc | self.extra
 
 
@@ -98,6 +128,8 @@ class Reporter:
         self._wake = threading.Condition(self._lock)
         self.overruns = 0  # SIGXCPU counted
         self.total = 0  # missedDeadlinesTotal: the overruns, plus the job a kernel refusal could not run
+        self.startup_overruns = 0  # overruns before the command was ready: counted apart, never missed deadlines
+        self._startup_period = 0
         self._period = 0
         self._first_miss: float | None = None
         self._outbox: deque[_Report] = deque()
@@ -105,6 +137,7 @@ class Reporter:
         self._thread: threading.Thread | None = None
         # what reached the server
         self.acknowledged = 0  # overruns (missedDeadlinesPeriod) in acknowledged reports
+        self.startup_acknowledged = 0
         self.reports_acknowledged = 0
         self.rejection_acknowledged = False
         self.server_violations = 0
@@ -124,17 +157,26 @@ class Reporter:
             if self._first_miss is None:
                 self._first_miss = at
 
+    def startup_overrun(self, at: float) -> None:
+        """An overrun during the command's warm-up (interpreter start, loading): reported as ``startupOverruns``,
+        not in ``missedDeadlines*``, so it never counts towards an eviction."""
+        with self._lock:
+            self.startup_overruns += 1
+            self._startup_period += 1
+
     # -- the reports --
     def _snapshot(self, extra: dict[str, Any] | None = None, force: bool = False) -> None:
         """Turn the counters into a report (lock held)."""
-        if not self._period and not force:
+        if not self._period and not self._startup_period and not force:
             return
-        self._outbox.append(_Report(str(uuid.uuid4()), self._period, self.total, self._first_miss, extra or {}))
-        self._period, self._first_miss = 0, None
+        self._outbox.append(_Report(str(uuid.uuid4()), self._period, self.total, self._first_miss, extra or {},
+                                    self._startup_period))  # fmt: skip
+        self._period, self._first_miss, self._startup_period = 0, None, 0
         while len(self._outbox) > self.max_outbox:
             a, b = self._outbox.popleft(), self._outbox.popleft()
             merged = _Report(b.id, a.missed_period + b.missed_period, b.missed_total,
-                             a.miss_at if a.miss_at is not None else b.miss_at, a.extra | b.extra)  # fmt: skip
+                             a.miss_at if a.miss_at is not None else b.miss_at, a.extra | b.extra,
+                             a.startup + b.startup)  # fmt: skip
             self._outbox.appendleft(merged)
 
     def kernel_rejected(self, reason: str) -> None:
@@ -215,13 +257,12 @@ class Reporter:
             headers={"Content-Type": "application/json", "Authorization": f"Token {self.target.token}"},
         )
         try:
-            with urllib.request.urlopen(request, timeout=self.target.timeout) as response:
+            with urlopen(request, timeout=self.target.timeout) as response:
                 answer = json.loads(response.read() or b"{}")
         except urllib.error.HTTPError as exc:
-            detail = exc.read()[:500].decode(errors="replace")
             self.failures += 1
-            self.last_error = f"HTTP {exc.code}: {detail}"
-            if 400 <= exc.code < 500 and exc.code not in (408, 429):
+            self.last_error = http_problem(exc)
+            if 300 <= exc.code < 500 and exc.code not in (408, 429):
                 self.fatal = self.last_error
             return False
         except (OSError, ValueError) as exc:  # refused, reset, timed out, DNS, a non-JSON answer
@@ -229,6 +270,7 @@ class Reporter:
             self.last_error = f"{type(exc).__name__}: {exc}"
             return False
         self.acknowledged += sum(r.missed_period for r in batch if not r.extra.get("kernelRejected"))
+        self.startup_acknowledged += sum(r.startup for r in batch)
         self.reports_acknowledged += len(batch)
         self.rejection_acknowledged |= any(r.extra.get("kernelRejected") for r in batch)
         if isinstance(answer, dict) and isinstance(answer.get("violations"), int):

@@ -32,6 +32,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from .privileges import User, drop_for_command
 from .sched import DeadlineParams, set_deadline
 
 PTRACE_CONT = 7
@@ -65,20 +66,30 @@ class Outcome:
     pid: int
     refused: int | None = None
     exec_errno: int | None = None
+    drop_errno: int | None = None
     exit_code: int | None = None
     signal: int | None = None
 
 
-def _child(go: int, report: int, argv: Sequence[str]) -> None:
-    """In the forked child: wait to be traced, exec. Never returns."""
+def _child(go: int, report: int, argv: Sequence[str], user: User | None, env: dict[str, str] | None) -> None:
+    """In the forked child: wait to be traced, drop privileges, exec. Never returns."""
     try:
         os.read(go, 1)
         os.close(go)
         # Python ignores SIGPIPE and SIGXFSZ; an ignored signal stays ignored across exec.
         for sig in (signal.SIGPIPE, signal.SIGXFSZ, signal.SIGINT, signal.SIGTERM, signal.SIGXCPU):
             signal.signal(sig, signal.SIG_DFL)
+        if user is not None:
+            try:
+                drop_for_command(user)
+            except OSError as exc:
+                os.write(report, struct.pack("=ci", b"p", exc.errno or 1))
+                os._exit(126)
         try:
-            os.execvp(argv[0], list(argv))
+            if env is None:
+                os.execvp(argv[0], list(argv))
+            else:
+                os.execvpe(argv[0], list(argv), env)
         except OSError as exc:
             os.write(report, struct.pack("=ci", b"e", exc.errno or 0))
     finally:
@@ -90,8 +101,11 @@ def run_traced(
     params: DeadlineParams | None,
     on_overrun: Callable[[float], None],
     on_started: Callable[[int], None] | None = None,
+    user: User | None = None,
+    env: dict[str, str] | None = None,
 ) -> Outcome:
-    """Run ``argv`` (as a deadline task with ``params``; None: unchanged policy) until it exits.
+    """Run ``argv`` (as a deadline task with ``params``; None: unchanged policy) until it exits, as ``user`` with
+    no capability (None: as the agent, privileges unchanged), with ``env`` (None: the agent's environment).
 
     ``on_overrun(time.time())`` is called for each SIGXCPU, from this thread (the tracer: ptrace requests must
     come from the thread that seized the child). ``on_started(pid)`` once the command runs.
@@ -102,7 +116,7 @@ def run_traced(
     if pid == 0:
         os.close(go_w)
         os.close(rep_r)
-        _child(go_r, rep_w, argv)
+        _child(go_r, rep_w, argv, user, env)
     os.close(go_r)
     os.close(rep_w)
     try:
@@ -125,7 +139,11 @@ def run_traced(
     os.close(rep_r)
     outcome = Outcome(pid)
     if len(failure) == 5:
-        outcome.exec_errno = struct.unpack("=ci", failure)[1]
+        kind, code = struct.unpack("=ci", failure)
+        if kind == b"p":
+            outcome.drop_errno = code
+        else:
+            outcome.exec_errno = code
 
     def exec_stop() -> None:
         """The command is loaded and stopped before its first instruction: make it the deadline task."""

@@ -28,7 +28,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 HOG = "import time\nt = time.monotonic()\nwhile time.monotonic() - t < {s}: pass\n"
 #: For agents that report to the live server: it may answer slowly when the machine is loaded.
-PATIENT = ("--flush-timeout", "120", "--http-timeout", "30")
+PATIENT = ("--flush-timeout", "120", "--http-timeout", "30", "--allow-http")
+#: The commands run as nobody (the agent drops root): the test's interpreter may sit under /root, out of its reach.
+PYTHON = "/usr/bin/python3"
 
 
 def wait_until(condition, timeout: float = 120, what: str = "the condition") -> None:
@@ -70,21 +72,6 @@ def agent(*args: str, timeout: float = 300, **popen) -> tuple[int, dict | None, 
     return proc.returncode, json.loads(lines[-1]) if lines else None, proc.stderr
 
 
-@pytest.fixture
-def server(live_server, fleet_token, api, rt_cluster):
-    """The live server, the fleet's token and a helper that creates a RealTime object through the API."""
-
-    def realtime(name, period, deadline, wcet, node="node0"):
-        body = {"cluster": rt_cluster.pk, "name": name, "criticality": "A", "period": period, "deadline": deadline,
-                "wcets": [{"node": node, "wcet": wcet}], "stateless": True}  # fmt: skip
-        response = api.post("/api/v1/realtimes/", body, format="json")
-        assert response.status_code == 201, response.data
-        return response.data
-
-    return {"url": live_server.url, "token": fleet_token.plaintext, "realtime": realtime, "api": api,
-            "cluster": rt_cluster}  # fmt: skip
-
-
 def reports(api, container):
     response = api.get(f"/api/v1/rt-reports/?container_name={container}&limit=1000&ordering=received_at")
     assert response.status_code == 200
@@ -94,7 +81,7 @@ def reports(api, container):
 def test_hog_overruns_are_counted_and_reported(server):
     server["realtime"]("hog", period=10, deadline=10, wcet=2)
     status, out, err = agent("--realtime", "hog", "--server", server["url"], "--token", server["token"], "--node",
-                             "node0", *PATIENT, "--json", "--", sys.executable, "-c", HOG.format(s=1.5))  # fmt: skip
+                             "node0", *PATIENT, "--json", "--", PYTHON, "-c", HOG.format(s=1.5))  # fmt: skip
     assert status == 0, err
     assert out["exit_code"] == 0 and not out["kernel_rejected"]
     assert (out["runtime_ms"], out["deadline_ms"], out["period_ms"]) == (2.0, 10.0, 10.0)  # read from the RealTime
@@ -125,7 +112,7 @@ def test_hog_over_the_threshold_is_evicted_by_the_reconcile(server):
     make_pod(cluster, "slam-0", "node0", "B", True, cpu=0.2, realtime=row, utilization=0.2, container="slam")
     make_pod(cluster, "logger", "node0", "A", True, cpu=1.0, utilization=0.1)
     status, out, err = agent("--realtime", "slam", "--pod", "slam-0", "--server", server["url"], "--token",
-                             server["token"], "--node", "node0", *PATIENT, "--json", "--", sys.executable, "-c",
+                             server["token"], "--node", "node0", *PATIENT, "--json", "--", PYTHON, "-c",
                              HOG.format(s=1.5))  # fmt: skip
     assert status == 0, err
     assert out["overruns"] > 10 and out["reported"] == out["overruns"]
@@ -269,7 +256,7 @@ def test_server_unreachable_then_back_loses_no_count(server, live_server):
     cmd = [sys.executable, "-m", "continuum.agent", "run", "--runtime-ms", "2", "--deadline-ms", "10", "--period-ms",
            "10", "--server", f"http://127.0.0.1:{proxy.port}", "--token", server["token"], "--node", "node0",
            "--container", "intermittent", "--interval", "0.2", "--max-backoff", "1", *PATIENT, "--json", "--",
-           sys.executable, "-c", HOG.format(s=4)]  # fmt: skip
+           PYTHON, "-c", HOG.format(s=4)]  # fmt: skip
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         # The server comes back only once the agent failed to deliver counted overruns (not after a fixed time).
@@ -384,10 +371,10 @@ def test_bad_command_line_exits_2_with_one_line(args, message):
 def test_realtime_without_a_wcet_for_this_node_is_refused(server):
     server["realtime"]("elsewhere", period=10, deadline=10, wcet=2, node="node1")
     status, _, err = agent("--realtime", "elsewhere", "--server", server["url"], "--token", server["token"],
-                           "--node", "node0", "--", "true")  # fmt: skip
+                           "--node", "node0", "--allow-http", "--", "true")  # fmt: skip
     assert status == 2 and "no WCET for node 'node0'" in err and "node1" in err
     status, _, err = agent("--realtime", "nowhere", "--server", server["url"], "--token", server["token"],
-                           "--node", "node0", "--", "true")  # fmt: skip
+                           "--node", "node0", "--allow-http", "--", "true")  # fmt: skip
     assert status == 2 and "no RealTime 'nowhere'" in err
 
 
