@@ -174,12 +174,20 @@ def restore(doc: dict[str, Any]) -> None:
         if value is not None and _read(_sysctl_path(name)) != value:
             _write(_sysctl_path(name), value)
     balance = doc.get("sched_load_balance")
+    if balance == "0" and not _exclusive_children():
+        # Another tool's leftover (e.g. an experiment that saved "0" while our partitions existed): with no partition
+        # left, a root cpuset that does not balance leaves the whole machine unbalanced.
+        balance = "1"
     if balance is not None and _read(CPUSET_ROOT / "cpuset.sched_load_balance") != balance:
         _write(CPUSET_ROOT / "cpuset.sched_load_balance", balance)
     for tool in _firewall_tools():
         _restore_firewall(tool, doc.get("firewall", {}).get(tool, ""))
     if doc.get("netns_mount") is False and _is_mount(NETNS) and not any(NETNS.iterdir()):
         subprocess.run(["umount", str(NETNS)], capture_output=True, check=False)
+
+
+def _exclusive_children() -> list[Path]:
+    return [d for d in CPUSET_ROOT.iterdir() if d.is_dir() and _read(d / "cpuset.cpu_exclusive") == "1"]
 
 
 def _is_mount(path: Path) -> bool:
