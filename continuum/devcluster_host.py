@@ -187,6 +187,8 @@ def restore(doc: dict[str, Any]) -> None:
 
 
 def _exclusive_children() -> list[Path]:
+    if not CPUSET_ROOT.is_dir():
+        return []
     return [d for d in CPUSET_ROOT.iterdir() if d.is_dir() and _read(d / "cpuset.cpu_exclusive") == "1"]
 
 

@@ -279,6 +279,25 @@ def test_a_pod_on_a_real_node_is_a_real_process_in_its_cpu_set(cluster, core, na
     wait_for("the process gone with the pod", lambda: not [c for c in processes_in(plan).values() if marker in c])
 
 
+def test_sched_deadline_is_admitted_inside_a_pod_with_only_cap_sys_nice(cluster, core, namespace):
+    """The node's exclusive CPU set is a root domain of its own, which the kernel requires of a SCHED_DEADLINE task's
+    affinity (a narrower cpuset is refused): a 5 ms / 50 ms reservation inside the container is admitted."""
+    plan = cluster.real_plans()[0]
+    marker = f"{uuid.uuid4().int % 10**6 + 10**6}"
+    chrt = ["chrt", "-d", "--sched-runtime", "5000000", "--sched-deadline", "50000000", "--sched-period", "50000000"]
+    core.create_namespaced_pod(namespace, {
+        "metadata": {"name": "deadline"},
+        "spec": {"nodeName": plan.name, "restartPolicy": "Never", "containers": [{
+            "name": "c", "image": IMAGE, "imagePullPolicy": "Never", "command": [*chrt, "0", "sleep", marker],
+            "securityContext": {"capabilities": {"add": ["SYS_NICE"]}},
+        }]},
+    })  # fmt: skip
+    wait_for("the pod Running", lambda: running(core, namespace) == {"deadline": plan.name})
+    pid = wait_for("its process", lambda: [p for p, c in processes_in(plan).items() if c == f"sleep {marker}"])[0]
+    policy = subprocess.run(["chrt", "-p", str(pid)], capture_output=True, text=True, check=True).stdout
+    assert "SCHED_DEADLINE" in policy and "5000000/50000000/50000000" in policy
+
+
 @pytest.mark.django_db
 def test_a_deployment_pushed_by_continuum_runs_real_replicas(cluster, core, api, kube_admin, settings):
     from apps.containers.models import ContainerDeployment
