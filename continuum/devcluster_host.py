@@ -34,6 +34,7 @@ SYSCTLS = (
     "kernel.keys.root_maxbytes", "net.ipv4.ip_forward",
 )  # fmt: skip
 CPUSET_ROOT = Path("/sys/fs/cgroup/cpuset")
+NETNS = Path("/run/netns")
 #: Chains (and rules jumping to them) that kubelets add; only these are ever removed from the firewall.
 KUBE_PREFIX = "KUBE-"
 
@@ -139,6 +140,8 @@ def enter(state_dir: Path) -> None:
                 "sysctl": {name: _read(_sysctl_path(name)) for name in SYSCTLS},
                 "sched_load_balance": _read(CPUSET_ROOT / "cpuset.sched_load_balance"),
                 "firewall": {tool: _save(tool) for tool in _firewall_tools()},
+                # containerd's CRI makes /run/netns a (shared) mount point of its own for pods' network namespaces.
+                "netns_mount": _is_mount(NETNS),
             }
             baseline.write_text(json.dumps(doc))
         for stale in set(_members()) - set(members):
@@ -171,7 +174,24 @@ def restore(doc: dict[str, Any]) -> None:
         if value is not None and _read(_sysctl_path(name)) != value:
             _write(_sysctl_path(name), value)
     balance = doc.get("sched_load_balance")
+    if balance == "0" and not _exclusive_children():
+        # Another tool's leftover (e.g. an experiment that saved "0" while our partitions existed): with no partition
+        # left, a root cpuset that does not balance leaves the whole machine unbalanced.
+        balance = "1"
     if balance is not None and _read(CPUSET_ROOT / "cpuset.sched_load_balance") != balance:
         _write(CPUSET_ROOT / "cpuset.sched_load_balance", balance)
     for tool in _firewall_tools():
         _restore_firewall(tool, doc.get("firewall", {}).get(tool, ""))
+    if doc.get("netns_mount") is False and _is_mount(NETNS) and not any(NETNS.iterdir()):
+        subprocess.run(["umount", str(NETNS)], capture_output=True, check=False)
+
+
+def _exclusive_children() -> list[Path]:
+    if not CPUSET_ROOT.is_dir():
+        return []
+    return [d for d in CPUSET_ROOT.iterdir() if d.is_dir() and _read(d / "cpuset.cpu_exclusive") == "1"]
+
+
+def _is_mount(path: Path) -> bool:
+    lines = _read(Path("/proc/self/mountinfo")) or ""
+    return any(line.split()[4] == str(path) for line in lines.splitlines())

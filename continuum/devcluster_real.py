@@ -157,18 +157,25 @@ def _used_slots() -> set[int]:
     return {int(m) for m in re.findall(r"inet 10\.250\.(\d+)\.\d+/", out)}
 
 
-def plan(cid: str, nodes: list[dict[str, Any]]) -> list[RealNodePlan]:
+def plan(cid: str, nodes: list[dict[str, Any]], taken: set[int] | None = None) -> list[RealNodePlan]:
     """Addresses, CPU sets and memory for the real nodes ``nodes`` (their ``name``, optional ``cpuset`` CPU list,
     ``cpu`` count (default 1) and ``memory_mib``). Explicit CPU sets are checked; the others are carved from the
-    highest-numbered free CPUs down. Raises :class:`RealNodeError` when the machine has not enough CPUs."""
+    highest-numbered free CPUs down (``taken``: CPUs held elsewhere, by default the exclusive cpusets of others).
+    Raises :class:`RealNodeError` when the machine has not enough CPUs."""
     if not nodes:
         return []
+    total = _mem_total_mib()
+    for node in nodes:
+        memory = node.get("memory_mib") or DEFAULT_MEMORY_MIB
+        if not MIN_MEMORY_MIB <= memory <= total:
+            raise RealNodeError(f"real node {node['name']!r}: memory_mib must be between {MIN_MEMORY_MIB} and this "
+                                f"machine's {total}, not {memory:g}")  # fmt: skip
     slots = [s for s in range(64) if s not in _used_slots()]
     if not slots:
         raise RealNodeError("no free 10.250.S.0/24 slot for node addresses (64 clusters run?)")
     slot = slots[0]
     available = machine_cpus()
-    taken = _exclusive_taken(f"continuum-{cid}-")
+    taken = _exclusive_taken(f"continuum-{cid}-") if taken is None else taken
     used: set[int] = set()
     chosen: dict[str, tuple[int, ...]] = {}
     for node in nodes:
@@ -192,12 +199,6 @@ def plan(cid: str, nodes: list[dict[str, Any]]) -> list[RealNodePlan]:
                                 f"{format_cpus(taken | used) or '-'})")  # fmt: skip
         used.update(free[:need])
         chosen[node["name"]] = tuple(sorted(free[:need]))
-    total = _mem_total_mib()
-    for node in nodes:
-        memory = node.get("memory_mib") or DEFAULT_MEMORY_MIB
-        if not MIN_MEMORY_MIB <= memory <= total:
-            raise RealNodeError(f"real node {node['name']!r}: memory_mib must be between {MIN_MEMORY_MIB} and this "
-                                f"machine's {total}, not {memory:g}")  # fmt: skip
     out = []
     for index, node in enumerate(nodes, start=1):
         out.append(RealNodePlan(

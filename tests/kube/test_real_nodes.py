@@ -95,21 +95,24 @@ def test_what_a_real_node_cannot_be_is_rejected_by_name(node, problem):
 
 @pytest.mark.skipif(not (real.CGROUPS / "cpuset" / "cpuset.cpus").exists(), reason="no cgroup v1 cpuset hierarchy")
 def test_cpu_sets_are_carved_apart_and_refused_beyond_the_machine():
-    free = [c for c in real.machine_cpus() if c not in real._exclusive_taken("continuum-test-")]
+    with pytest.raises(real.RealNodeError, match="memory_mib must be between"):
+        real.plan("test00", [{"name": "r", "memory_mib": 64}], taken=set())
+    # As on an idle machine (this module's cluster may hold every CPU meanwhile): the carving alone.
+    free = real.machine_cpus()
     nodes = [{"name": f"r{i}"} for i in range(len(free))]
-    plans = real.plan("test00", nodes)
+    plans = real.plan("test00", nodes, taken=set())
     assert sorted(c for p in plans for c in p.cpus) == sorted(free)  # one each, none shared
     assert len({p.ip for p in plans}) == len({p.bridge for p in plans}) == len(plans)
     assert all(p.memory_mib == real.DEFAULT_MEMORY_MIB and p.cgroup == f"continuum-test00-{p.name}" for p in plans)
     with pytest.raises(real.RealNodeError, match="needs 1 CPU"):
-        real.plan("test00", [*nodes, {"name": "one-too-many"}])
+        real.plan("test00", [*nodes, {"name": "one-too-many"}], taken=set())
     with pytest.raises(real.RealNodeError, match="not a free CPU"):
-        real.plan("test00", [{"name": "r", "cpuset": str(max(real.machine_cpus()) + 1)}])
-    with pytest.raises(real.RealNodeError, match="memory_mib must be between"):
-        real.plan("test00", [{"name": "r", "memory_mib": 64}])
+        real.plan("test00", [{"name": "r", "cpuset": str(max(free) + 1)}], taken=set())
     if len(free) < 2:
         return
-    explicit = real.plan("test00", [{"name": "a", "cpuset": str(free[0])}, {"name": "b", "cpu": 1, "memory_mib": 512}])
+    explicit = real.plan(
+        "test00", [{"name": "a", "cpuset": str(free[0])}, {"name": "b", "cpu": 1, "memory_mib": 512}], taken=set()
+    )
     assert explicit[0].cpus == (free[0],) and free[0] not in explicit[1].cpus and explicit[1].memory_mib == 512
 
 
@@ -209,7 +212,7 @@ def test_real_and_hollow_nodes_are_ready_in_one_cluster(cluster, core):
         cpuset = real.CGROUPS / "cpuset" / plans[name].cgroup
         assert (cpuset / "cpuset.cpu_exclusive").read_text().strip() == "1"
         assert real.parse_cpus((cpuset / "cpuset.cpus").read_text()) == list(plans[name].cpus)
-    assert nodes["hollow-x"].status.node_info.container_runtime_version.startswith("remote://")
+    assert not nodes["hollow-x"].status.node_info.container_runtime_version.startswith("containerd://")
 
 
 def test_etcd_answers_only_clients_with_the_clusters_certificate(cluster):
@@ -242,8 +245,8 @@ def _get(url: str) -> tuple[int, bytes]:
 def test_kubelets_do_not_serve_the_hosts_logs_to_anyone(cluster):
     assert Path("/var/log").is_dir() and any(Path("/var/log").iterdir())
     host_logs = {p.name for p in Path("/var/log").iterdir()}
-    # A hollow kubelet (anonymous by kubemark's design) sees an empty /var/log of its own.
-    status, body = _get(f"https://127.0.0.1:{_kubelet_port(cluster, 'hollow-x')}/logs/")
+    # A hollow kubelet (kubemark: plain HTTP, anonymous, no flag for either) sees an empty /var/log of its own.
+    status, body = _get(f"http://127.0.0.1:{_kubelet_port(cluster, 'hollow-x')}/logs/")
     assert status == 200 and not [n for n in host_logs if f'href="{n}' in body.decode()]
     # A real kubelet refuses anonymous callers on every path, and has no read-only port.
     plan = cluster.real_plans()[0]
@@ -274,6 +277,25 @@ def test_a_pod_on_a_real_node_is_a_real_process_in_its_cpu_set(cluster, core, na
     assert core.read_namespaced_pod_log("real", namespace) == ""
     core.delete_namespaced_pod("real", namespace, grace_period_seconds=0)
     wait_for("the process gone with the pod", lambda: not [c for c in processes_in(plan).values() if marker in c])
+
+
+def test_sched_deadline_is_admitted_inside_a_pod_with_only_cap_sys_nice(cluster, core, namespace):
+    """The node's exclusive CPU set is a root domain of its own, which the kernel requires of a SCHED_DEADLINE task's
+    affinity (a narrower cpuset is refused): a 5 ms / 50 ms reservation inside the container is admitted."""
+    plan = cluster.real_plans()[0]
+    marker = f"{uuid.uuid4().int % 10**6 + 10**6}"
+    chrt = ["chrt", "-d", "--sched-runtime", "5000000", "--sched-deadline", "50000000", "--sched-period", "50000000"]
+    core.create_namespaced_pod(namespace, {
+        "metadata": {"name": "deadline"},
+        "spec": {"nodeName": plan.name, "restartPolicy": "Never", "containers": [{
+            "name": "c", "image": IMAGE, "imagePullPolicy": "Never", "command": [*chrt, "0", "sleep", marker],
+            "securityContext": {"capabilities": {"add": ["SYS_NICE"]}},
+        }]},
+    })  # fmt: skip
+    wait_for("the pod Running", lambda: running(core, namespace) == {"deadline": plan.name})
+    pid = wait_for("its process", lambda: [p for p, c in processes_in(plan).items() if c == f"sleep {marker}"])[0]
+    policy = subprocess.run(["chrt", "-p", str(pid)], capture_output=True, text=True, check=True).stdout
+    assert "SCHED_DEADLINE" in policy and "5000000/50000000/50000000" in policy
 
 
 @pytest.mark.django_db
