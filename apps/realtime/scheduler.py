@@ -65,7 +65,7 @@ from continuum.engine.rtkube.rt_model import (
     Toleration,
 )
 
-from . import monitoring, sync
+from . import metrics, monitoring, sync
 from .cycle_state import CycleState
 from .informer import Informer
 from .kube import (
@@ -393,6 +393,7 @@ class RTScheduler:
                 except Exception as exc:  # a failing cycle must never end the process
                     failures += 1
                     self.errors += 1
+                    metrics.cycle_failed()
                     self.last_error = problem(exc)
                     wait = min(MAX_BACKOFF, self.period * 2**failures)
                     log.warning("RT scheduler cycle failed (%s); retrying in %.1f s", self.last_error, wait)
@@ -578,6 +579,7 @@ class RTScheduler:
         names = [n.name for n in nodes]
         views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
+        metrics.waiting(len(pending))
         if not pending:
             self.ledger.write(CycleWrite(cluster, views, {}, None, []))
             return result
@@ -601,6 +603,7 @@ class RTScheduler:
         decided = time.monotonic()
         by_key = {v.key: v for v in pending}
         placed = [(by_key[d.item], d) for d in plan.decisions if d.node is not None]
+        metrics.attempted(decided - began, len(placed), len(pending) - len(placed))
         cycle = _Decided(cluster, kube, plan, by_key, pending, views, len(nodes))
         if self._pipelined():
             # The Bindings go out and the loop goes on (kube-scheduler's assume, then bind asynchronously): the
@@ -754,10 +757,12 @@ class RTScheduler:
         try:
             ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
         except API_ERRORS as exc:
+            metrics.bound(time.monotonic() - sent, False)
             with lock:
                 if not reason:
                     reason.append(problem(exc))
             return None, reason[0]
+        metrics.bound(time.monotonic() - sent, ok)
         if ok:
             self.pods.assume(v.key, meta.get("uid", ""), node)
             answered = time.monotonic()

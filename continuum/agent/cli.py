@@ -17,6 +17,8 @@ import urllib.request
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
+from .metrics import AgentCollector
+from .metrics import serve as serve_metrics
 from .report import Reporter, Target
 from .sched import DeadlineParams, refusal
 from .trace import run_traced
@@ -97,6 +99,17 @@ def _positive(text: str) -> float:
     return value
 
 
+def _port(text: str) -> int:
+    if not text.isdigit() or int(text) > 65535:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a port number (0-65535)")
+    return int(text)
+
+
+def _port_env(name: str) -> int | None:
+    text = os.environ.get(name, "").strip()
+    return int(text) if text.isdigit() and int(text) <= 65535 else None
+
+
 def parser() -> argparse.ArgumentParser:
     ap = _Parser(prog=f"python -m {PROG}", description="Continuum's node agent (RT-Kube, thesis 3.4).")
     sub = ap.add_subparsers(dest="action", required=True)
@@ -124,6 +137,13 @@ def parser() -> argparse.ArgumentParser:
     api.add_argument("--http-timeout", type=_positive, default=5.0, help="seconds per request (5)")
     run.add_argument("--tracer-priority", type=int, default=1, choices=range(0, 100), metavar="0-99",
                      help="SCHED_FIFO priority of the agent's tracing thread (1; 0: leave it SCHED_OTHER)")  # fmt: skip
+    obs = run.add_argument_group("metrics")
+    obs.add_argument("--metrics-port", type=_port, default=_port_env("CONTINUUM_AGENT_METRICS_PORT"),
+                     help="serve /metrics on this port (env CONTINUUM_AGENT_METRICS_PORT; 0: any)")  # fmt: skip
+    obs.add_argument("--metrics-addr", default=os.environ.get("CONTINUUM_AGENT_METRICS_ADDR", "127.0.0.1"),
+                     help="address to serve /metrics on (127.0.0.1; 0.0.0.0 in a pod)")  # fmt: skip
+    obs.add_argument("--metrics-linger", type=float, default=0.0,
+                     help="seconds to keep serving /metrics after COMMAND ended (0)")  # fmt: skip
     run.add_argument("--json", action="store_true", help="print one JSON object on stdout at the end")
     run.add_argument("command", nargs=argparse.REMAINDER, help="-- COMMAND ARGS...")
     return ap
@@ -214,6 +234,21 @@ def main(argv: Sequence[str] | None = None) -> int:
 def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None, info: dict[str, Any]) -> int:
     reporter = Reporter(target, interval=args.interval, max_backoff=args.max_backoff)
     child = {"pid": 0}
+    collector = AgentCollector(reporter, info.get("node") or "", info.get("container") or "")
+    exposed: list[Any] = []
+
+    def expose() -> None:
+        """The metrics server, once (after the fork: the command never shares its thread)."""
+        if args.metrics_port is None or exposed:
+            return
+        try:
+            server, port = serve_metrics(collector, args.metrics_port, args.metrics_addr)
+        except OSError as exc:
+            print(f"{PROG}: cannot serve metrics on {args.metrics_addr}:{args.metrics_port}: {exc}", file=sys.stderr)
+            exposed.append(None)
+            return
+        exposed.append(server)
+        print(f"{PROG}: metrics on http://{args.metrics_addr}:{port}/metrics", file=sys.stderr, flush=True)
 
     def forward(sig: int, _frame: object) -> None:
         if child["pid"]:
@@ -226,6 +261,7 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
 
     def started(pid: int) -> None:
         child["pid"] = pid
+        expose()
         reporter.start()  # after the fork: the child never shares the reporter's thread
         # A command stopped at its SIGXCPU waits for this thread: it must get the CPU at once, also when SCHED_OTHER
         # work (a stress, other pods) fills what the deadline tasks leave. Only this thread (not the reporter).
@@ -250,6 +286,7 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         status, text = refusal(outcome.refused)
         reason = f"{text} ({errno.errorcode.get(outcome.refused, outcome.refused)})"
         if outcome.refused == errno.EBUSY:
+            collector.rejected = True
             reporter.kernel_rejected(reason)
         reporter.start()
         print(f"{PROG}: {reason}", file=sys.stderr)
@@ -264,6 +301,9 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         status = outcome.exit_code or 0
     duration = time.monotonic() - began
     reporter.close(args.flush_timeout)
+    expose()  # the command may have been refused before it ran: the totals are still served
+    if exposed and exposed[0] is not None and args.metrics_linger > 0:
+        time.sleep(args.metrics_linger)
     result = {
         "overruns": reporter.overruns,
         "kernel_rejected": outcome.refused == errno.EBUSY,

@@ -15,6 +15,7 @@ from django.core.management.base import BaseCommand, CommandError
 
 from apps.clusters.models import Cluster
 from apps.realtime.scheduler import RTScheduler
+from continuum.metrics import port_from_env, serve
 
 
 class Command(BaseCommand):
@@ -28,6 +29,9 @@ class Command(BaseCommand):
         parser.add_argument("--no-watch", action="store_true", help="poll only (no watch connections)")
         parser.add_argument("--once", action="store_true", help="run one cycle and exit")
         parser.add_argument("--max-seconds", type=float, help="stop after this many seconds")
+        parser.add_argument(
+            "--metrics-port", type=int, help="serve /metrics on this port (env CONTINUUM_METRICS_PORT; 0: any free)"
+        )
 
     def handle(self, *args, **options) -> None:
         cluster = Cluster.objects.filter(pk=options["cluster"]).first()
@@ -36,6 +40,7 @@ class Command(BaseCommand):
         if not cluster.kubeconfig.strip():
             raise CommandError(f"cluster {cluster.name!r} has no kubeconfig: it is a model-only cluster")
         logging.getLogger("continuum.rt_scheduler").setLevel(logging.INFO)
+        self.serve_metrics(options.get("metrics_port"))
         stop = threading.Event()
         for sig in (signal.SIGTERM, signal.SIGINT):
             signal.signal(sig, lambda *_: stop.set())
@@ -65,3 +70,16 @@ class Command(BaseCommand):
         self.stdout.flush()
         cycles = scheduler.run(stop, max_cycles=1 if options["once"] else None)
         self.stdout.write(f"RT scheduler stopped after {cycles} cycles ({scheduler.errors} failed)")
+
+    def serve_metrics(self, port: int | None) -> None:
+        try:
+            port = port if port is not None else port_from_env()
+        except ValueError as exc:
+            raise CommandError(str(exc)) from exc
+        if port is None:
+            return
+        if not 0 <= port <= 65535:
+            raise CommandError(f"--metrics-port must be a port number (0-65535), not {port}")
+        _server, bound = serve(port)
+        self.stdout.write(f"metrics on port {bound}")
+        self.stdout.flush()
