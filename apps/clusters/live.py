@@ -25,6 +25,7 @@ from django.utils import timezone
 
 from apps.kube import gateway
 from apps.kube.gateway import PodEvent, PodState
+from apps.kube.informer import Informer
 
 from . import metrics
 from .kube import api_client_for
@@ -94,6 +95,8 @@ class LiveState:
     sent: dict[tuple[str, str], tuple] = field(default_factory=dict)
     node_handlers: dict[str, NodeHandler] = field(default_factory=dict)
     node_changes: list[NodeChange] = field(default_factory=list)
+    #: The cluster's Node objects as the watch last saw them (handlers may read them).
+    nodes: Informer = field(default_factory=Informer)
     foreign: int = 0
     pod_events: int = 0
     node_events: int = 0
@@ -149,6 +152,7 @@ class LiveState:
         if event.get("type") not in ("ADDED", "MODIFIED", "DELETED") or not isinstance(obj, dict):
             return 0
         self.node_events += 1
+        self.nodes.apply(event)
         status = status_of(None if event["type"] == "DELETED" else obj)
         change = record_node_status(self.cluster, gateway.name_of(obj), status)
         if change is None:
@@ -160,6 +164,7 @@ class LiveState:
 
     def on_node_list(self, items: list[dict]) -> int:
         """A full list of the nodes (at start, after a lost watch): every row reconciled, the handlers told."""
+        self.nodes.replace(items)
         changes = reconcile_nodes(self.cluster, items)
         self.nodes_updated += len(changes)
         self.node_changes.extend(changes)

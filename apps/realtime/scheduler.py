@@ -5,7 +5,7 @@ wakes on relevant watch events (a pod waiting for ``schedulerName: RT-scheduler`
 elsewhere, a node changed, RealTime and Monitoring objects) or every ``period`` seconds, and in each cycle
 
 1. lifts the monitor's node taints whose time is up;
-2. reads the pods and nodes (the informer caches the watches keep, :mod:`apps.realtime.informer`; listed
+2. reads the pods and nodes (the informer caches the watches keep, :mod:`apps.kube.informer`; listed
    when the watch is off or reconnecting), the monitor's active node taints added from the database;
 3. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
    with the bound pods' reservations in the ledger, and binds each placed pod (Binding API);
@@ -49,6 +49,7 @@ from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube import gateway
 from apps.kube.gateway import API_ERRORS, KubeError, allocatable, node_fields
+from apps.kube.informer import Informer
 from apps.kube.parallel import concurrency, gather, run_bounded
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
@@ -67,7 +68,6 @@ from continuum.engine.rtkube.rt_model import (
 
 from . import metrics, monitoring, sync
 from .cycle_state import CycleState
-from .informer import Informer
 from .kube import (
     KUBE_ERRORS,
     MONITORING_GROUP,
@@ -279,7 +279,7 @@ class RTScheduler:
     While :meth:`run` loops with the watch on, the path from a pod's watch event to its Binding is kept free
     of anything else, as kube-scheduler's is:
 
-    - nodes and pods are read from informer caches filled by the watches (:mod:`apps.realtime.informer`),
+    - nodes and pods are read from informer caches filled by the watches (:mod:`apps.kube.informer`),
       not listed per cycle; a cycle starts as soon as a relevant event arrives (no period to wait for), and
       takes every pod pending by then (a burst is decided together);
     - the Bindings go out on a persistent pool of ``kube.binders()`` threads sharing one
@@ -727,7 +727,7 @@ class RTScheduler:
         """The bind phase of every placed pod, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` Bindings in flight
         (the decisions are all made: binds are independent round trips). {pod key: (ok, message)} with
         ``ok=None`` for the binds not attempted after the API failed (the reason is returned). A pod bound is
-        assumed bound in the pod cache at once (see :mod:`apps.realtime.informer`)."""
+        assumed bound in the pod cache at once (see :mod:`apps.kube.informer`)."""
         decided = decided if decided is not None else time.monotonic()
         reason: list[str] = []
         lock = threading.Lock()

@@ -415,6 +415,7 @@ def test_node_status_has_one_rule_and_unknown_is_not_ready(cluster):
     assert cluster.nodes.filter(NOT_READY_Q).count() == 2
     assert seen and seen[-1][1] is True and {c.node for c in seen[-1][0]} == set(names[:2])
     assert reconcile_nodes(cluster, listed) == []  # level-triggered: the same list changes nothing
+    assert len(live.nodes) == len(listed)  # the agent's node informer
     live.on_node(w("MODIFIED", node(names[0], "True")))
     assert ComputeNode.objects.get(cluster=cluster, name=names[0]).status == "Ready"
     assert [(c.node, c.was, c.status) for c in seen[-1][0]] == [(names[0], "Unknown", "Ready")]
