@@ -407,7 +407,7 @@ class DevCluster:
         self._spawn("kube-apiserver", [
             str(bin_dir / "kube-apiserver"), f"--etcd-servers=http://127.0.0.1:{self.state['etcd_port']}",
             "--bind-address=127.0.0.1", "--advertise-address=127.0.0.1", f"--secure-port={port}",
-            f"--cert-dir={d / 'certs'}", f"--token-auth-file={d / 'tokens.csv'}", "--authorization-mode=AlwaysAllow",
+            f"--cert-dir={d / 'certs'}", f"--token-auth-file={d / 'tokens.csv'}", "--authorization-mode=Node,RBAC",
             "--service-account-issuer=https://kubernetes.default.svc", f"--service-account-key-file={d / 'sa.key'}",
             f"--service-account-signing-key-file={d / 'sa.key'}", "--disable-admission-plugins=ServiceAccount",
             "--endpoint-reconciler-type=none", "--enable-priority-and-fairness=false",
