@@ -95,6 +95,7 @@ def test_the_agent_keeps_node_status_and_live_pod_state_with_its_own_account(
         for name in names:
             core.delete_node(name)
         core.delete_namespace("elsewhere")
+        core.delete_collection_namespaced_pod(NS)
         admin.close()
     text = log.read_text()
     assert "Forbidden" not in text and "403" not in text, text[-3000:]

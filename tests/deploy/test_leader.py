@@ -93,6 +93,7 @@ def rt_cluster_live(fleet, api, django_user_model, cluster_doc, rbac_api, admin_
             "wcets": [{"node": "node0", "wcet": 1}, {"node": "node1", "wcet": 1}]}  # fmt: skip
     assert api.post("/api/v1/realtimes/", body, format="json").status_code == 201
     yield cluster
+    core.delete_collection_namespaced_pod(NS)
     for name in RT_NODES:
         core.delete_node(name)
 
