@@ -84,6 +84,7 @@ INSTALLED_APPS = [
 
 MIDDLEWARE = [
     "apps.tenancy.audit.RequestIdMiddleware",
+    "continuum.web_metrics.RequestMetricsMiddleware",  # /metrics: requests by route (README "Metrics")
     "django.middleware.security.SecurityMiddleware",
     "whitenoise.middleware.WhiteNoiseMiddleware",
     # ---- Response compression (issue 13: a 1000 x 10 schedule page was 5.5 MB of HTML) -------------------
@@ -317,6 +318,13 @@ CONTINUUM_POD_IMAGE = os.environ.get("CONTINUUM_POD_IMAGE", "registry.k8s.io/pau
 CONTINUUM_POD_COMMAND = shlex.split(os.environ.get("CONTINUUM_POD_COMMAND", "/pause"))
 CONTINUUM_NICE_BINARY = os.environ.get("CONTINUUM_NICE_BINARY", "nice")
 # HEFT4K remapping (Algorithm 2): total remap when the lost HEFT-rank share exceeds this fraction.
+# Prometheus: /metrics on the web app only with this token, only to `Authorization: Bearer <token>` (README
+# "Metrics"); CONTINUUM_METRICS_PORT serves the other processes' (continuum/metrics.py).
+CONTINUUM_METRICS_TOKEN = os.environ.get("CONTINUUM_METRICS_TOKEN", "").strip()
+if CONTINUUM_METRICS_TOKEN and len(CONTINUUM_METRICS_TOKEN) < 16:
+    from django.core.exceptions import ImproperlyConfigured
+
+    raise ImproperlyConfigured("CONTINUUM_METRICS_TOKEN must have at least 16 characters (a guessable one is none)")
 CONTINUUM_REMAP_THRESHOLD = float(os.environ.get("CONTINUUM_REMAP_THRESHOLD", "0.2"))
 # Placement of ROS containers (thesis Table 4.26, continuum/engine/containers/robot_pinning.py): containers holding
 # driver-level ROS nodes stay on the nodes labelled CONTINUUM_ROBOT_LABEL unless the operator unpins them

@@ -24,6 +24,7 @@ from apps.verification.api import (
     ViolationViewSet,
 )
 from apps.workloads.api import ApplicationViewSet
+from continuum.web_metrics import metrics_view
 
 router = DefaultRouter()
 router.register("fleets", FleetViewSet)
@@ -54,6 +55,7 @@ urlpatterns = [
     path("api/schema/", SpectacularAPIView.as_view(), name="schema"),
     path("api/docs/", SpectacularSwaggerView.as_view(url_name="schema"), name="api-docs"),
     path("api/redoc/", SpectacularRedocView.as_view(url_name="schema"), name="api-redoc"),
+    path("metrics", metrics_view, name="metrics"),
     path("admin/", admin.site.urls),
     path("login/", ThrottledLoginView.as_view(), name="login"),
     path("logout/", auth_views.LogoutView.as_view(), name="logout"),

@@ -76,8 +76,9 @@ def kubeconfig_text(server: str, token: str, ca_pem: bytes, context: str = "cont
 class KubeAPIServer:
     """etcd + kube-apiserver in a temporary directory, on free loopback ports."""
 
-    def __init__(self, binary: Path, etcd: str | None = None) -> None:
+    def __init__(self, binary: Path, etcd: str | None = None, extra_args: list[str] | None = None) -> None:
         self.binary = binary
+        self.extra_args = list(extra_args or [])
         self.etcd = etcd or shutil.which("etcd") or "/usr/bin/etcd"
         self.token = secrets.token_hex(24)
         self.dir = Path(tempfile.mkdtemp(prefix="continuum-kube-"))
@@ -152,7 +153,9 @@ class KubeAPIServer:
                 f"--secure-port={self.port}",
                 f"--cert-dir={self.dir / 'certs'}",
                 f"--token-auth-file={self.dir / 'tokens.csv'}",
-                "--authorization-mode=AlwaysAllow",
+                # RBAC as a real cluster has it (issue 28): the tests' admin token is in system:masters, and each
+                # component's ServiceAccount gets only deploy/rbac.yaml's verbs.
+                "--authorization-mode=Node,RBAC",
                 "--service-account-issuer=https://kubernetes.default.svc",
                 f"--service-account-key-file={self.dir / 'sa.key'}",
                 f"--service-account-signing-key-file={self.dir / 'sa.key'}",
@@ -160,6 +163,7 @@ class KubeAPIServer:
                 "--endpoint-reconciler-type=none",
                 "--enable-priority-and-fairness=false",
                 "--service-cluster-ip-range=10.96.0.0/16",
+                *self.extra_args,
             ],
         )
         self._wait_ready(api)

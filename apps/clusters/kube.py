@@ -14,6 +14,7 @@ from apps.kube import gateway
 from apps.kube.gateway import KubeError, Progress
 
 from .models import Cluster, ComputeNode
+from .nodes import record_node_status, status_of
 
 
 def api_client_for(cluster: Cluster, pool: int | None = None):
@@ -84,11 +85,9 @@ def sync_nodes(cluster: Cluster, progress: Progress | None = None) -> dict:
                 counts["updated"] += 1
             else:
                 counts["unchanged"] += 1
-        for name, row in existing.items():
-            if name not in seen and row.status != ComputeNode.Status.NOT_READY:
-                # Kept, not deleted: links, schedules and history still refer to it.
-                row.status = ComputeNode.Status.NOT_READY
-                row.save(update_fields=["status"])
+        for name in existing:
+            # Kept, not deleted: links, schedules and history still refer to it; NotReady by the one rule.
+            if name not in seen and record_node_status(cluster, name, status_of(None)) is not None:
                 counts["gone"] += 1
         cluster.last_synced = timezone.now()
         cluster.save(update_fields=["last_synced"])

@@ -25,9 +25,12 @@ from django.utils import timezone
 
 from apps.kube import gateway
 from apps.kube.gateway import PodEvent, PodState
+from apps.kube.informer import Informer
 
+from . import metrics
 from .kube import api_client_for
-from .models import Cluster, ComputeNode
+from .models import Cluster
+from .nodes import NodeChange, NodeHandler, reconcile_nodes, record_node_status, status_of
 
 log = logging.getLogger(__name__)
 
@@ -35,11 +38,22 @@ log = logging.getLogger(__name__)
 PodHandler = Callable[[Cluster, PodState], int]
 
 _HANDLERS: dict[str, PodHandler] = {}
+#: Handlers that may see pods outside the cluster's own namespace (they join by the API's uid, not by labels).
+_ANY_NAMESPACE: set[str] = set()
 
 
-def register_pod_handler(name: str, handler: PodHandler) -> None:
-    """Register (or replace, by name) how an app stores the live state of its pods."""
+def register_pod_handler(name: str, handler: PodHandler, *, any_namespace: bool = False) -> None:
+    """Register (or replace, by name) how an app stores the live state of its pods.
+
+    A handler sees only the pods of the cluster's own namespace (``Cluster.namespace``, the one Continuum
+    pushes to and owns, one fleet's per API: issue 25): labels are anyone's to write, so a pod elsewhere
+    carrying a schedule's labels must not become that schedule's state. ``any_namespace``: the handler joins
+    pods by namespace and uid to rows mirrored from the API itself (RT-Kube's pods), so it sees them all."""
     _HANDLERS[name] = handler
+    if any_namespace:
+        _ANY_NAMESPACE.add(name)
+    else:
+        _ANY_NAMESPACE.discard(name)
 
 
 def pod_handlers() -> dict[str, PodHandler]:
@@ -79,6 +93,11 @@ class LiveState:
     #: Newest events of pods not seen yet (an Event can come before its pod's watch reports it).
     pending: dict[tuple[str, str], tuple[str, PodEvent]] = field(default_factory=dict)
     sent: dict[tuple[str, str], tuple] = field(default_factory=dict)
+    node_handlers: dict[str, NodeHandler] = field(default_factory=dict)
+    node_changes: list[NodeChange] = field(default_factory=list)
+    #: The cluster's Node objects as the watch last saw them (handlers may read them).
+    nodes: Informer = field(default_factory=Informer)
+    foreign: int = 0
     pod_events: int = 0
     node_events: int = 0
     nodes_updated: int = 0
@@ -133,11 +152,32 @@ class LiveState:
         if event.get("type") not in ("ADDED", "MODIFIED", "DELETED") or not isinstance(obj, dict):
             return 0
         self.node_events += 1
-        status = ComputeNode.Status.NOT_READY if event["type"] == "DELETED" else gateway.node_status(obj)
-        rows = ComputeNode.objects.filter(cluster=self.cluster, name=gateway.name_of(obj)).exclude(status=status)
-        count = rows.update(status=status)
-        self.nodes_updated += count
-        return count
+        self.nodes.apply(event)
+        status = status_of(None if event["type"] == "DELETED" else obj)
+        change = record_node_status(self.cluster, gateway.name_of(obj), status)
+        if change is None:
+            return 0
+        self.nodes_updated += 1
+        self.node_changes.append(change)
+        self.on_nodes([change], listed=False)
+        return 1
+
+    def on_node_list(self, items: list[dict]) -> int:
+        """A full list of the nodes (at start, after a lost watch): every row reconciled, the handlers told."""
+        self.nodes.replace(items)
+        changes = reconcile_nodes(self.cluster, items)
+        self.nodes_updated += len(changes)
+        self.node_changes.extend(changes)
+        self.on_nodes(changes, listed=True)
+        return len(changes)
+
+    def on_nodes(self, changes: list[NodeChange], listed: bool) -> None:
+        for name, handler in self.node_handlers.items():
+            try:
+                handler(self.cluster, changes, listed)
+            except Exception:  # one app's bug must not stop the others
+                log.exception("node handler %s failed on cluster %s", name, getattr(self.cluster, "pk", None))
+                metrics.handler_failed(name)
 
     def dispatch(self, state: PodState) -> int:
         signature = state.signature()
@@ -149,11 +189,17 @@ class LiveState:
             self.sent[state.key] = signature
         self.dispatched += 1
         total = 0
+        own = self.cluster is None or state.namespace == self.cluster.namespace
+        if not own:
+            self.foreign += 1
         for name, handler in self.handlers.items():
+            if not own and name not in _ANY_NAMESPACE:
+                continue  # not Continuum's namespace: its labels prove nothing (see register_pod_handler)
             try:
                 count = handler(self.cluster, state)
             except Exception:  # one app's bug must not stop the others' live state
                 log.exception("pod handler %s failed on %s/%s", name, state.namespace, state.name)
+                metrics.handler_failed(name)
                 continue
             if count:
                 self.updated[name] = self.updated.get(name, 0) + count
@@ -182,13 +228,18 @@ def watch_cluster(
     retries: int | None = 5,
     handlers: dict[str, PodHandler] | None = None,
     on_change: Callable[[LiveState], Any] | None = None,
+    node_handlers: dict[str, NodeHandler] | None = None,
 ) -> dict:
     """Follow the Nodes, and the pods and pod Events of ``cluster`` (in ``namespaces``; default: all), until
     ``stop`` is set or ``timeout`` seconds passed, dispatching each change to the handlers; returns counts.
 
     The two watches (per namespace) run in threads that only queue what they receive; this thread, the
     caller's, does every database write (so a test's transaction sees them)."""
-    live = LiveState(cluster, handlers if handlers is not None else pod_handlers())
+    live = LiveState(
+        cluster,
+        handlers if handlers is not None else pod_handlers(),
+        node_handlers=node_handlers if node_handlers is not None else {},
+    )
     stop = stop or threading.Event()
     halt = threading.Event()  # ends the watch threads: set when ``stop`` is, at the deadline, or on a failure
     inbox: queue.Queue = queue.Queue()
@@ -205,6 +256,8 @@ def watch_cluster(
                 lambda: api_client_for(cluster),
                 pick,
                 lambda event: inbox.put((kind, event)),
+                # Nodes are listed first: rows of nodes gone while nobody watched become NotReady (level-triggered).
+                on_list=(lambda items: inbox.put(("nodes", items))) if kind == "node" else None,
                 stop=halt,
                 retries=retries,
                 what=what,
@@ -235,7 +288,10 @@ def watch_cluster(
     def handle(kind: str, payload: Any) -> None:
         if kind == "error":
             raise payload
-        changed = {"pod": live.on_pod, "event": live.on_event, "node": live.on_node}[kind](payload)
+        metrics.event(cluster.pk, kind)
+        changed = {"pod": live.on_pod, "event": live.on_event, "node": live.on_node, "nodes": live.on_node_list}[kind](
+            payload
+        )
         if changed and on_change is not None:
             on_change(live)
 
@@ -265,6 +321,8 @@ def watch_cluster(
     report.update(
         namespaces=[ns for ns in scopes if ns] or ["*"],
         lists=sum(s.lists for s in stats),
+        node_changes=[c.to_dict() for c in live.node_changes],
+        foreign_pods=live.foreign,
         reconnects=sum(s.reconnects for s in stats),
     )
     return report

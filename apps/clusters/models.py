@@ -74,10 +74,12 @@ class Cluster(FleetOwned):
         return EngineCluster.from_dict(doc)
 
     def to_platform(self, ready_only: bool = True) -> Platform:
-        """The cluster graph the DAG schedulers use: one multi-core processor per Ready node (every node with
-        ``ready_only=False``, e.g. to draw the cluster), times in ms and data in Mbit."""
+        """The cluster graph the DAG schedulers use: one multi-core processor per node their pods may be placed
+        on (Ready, no untolerated taint, not RT-only: the filter every placement method shares,
+        ``EngineCluster.schedulable``; the pods Continuum pushes for DAG tasks carry no toleration); every node
+        with ``ready_only=False``, e.g. to draw the cluster. Times in ms and data in Mbit."""
         engine = self.to_engine()
-        return (engine.ready() if ready_only else engine).to_platform(settings.CONTINUUM_CLUSTER_ROUTING)
+        return (engine.schedulable() if ready_only else engine).to_platform(settings.CONTINUUM_CLUSTER_ROUTING)
 
 
 class ComputeNode(models.Model):

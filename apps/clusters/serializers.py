@@ -69,6 +69,37 @@ def check_credentials(request, attrs: dict, instance: Cluster | None) -> None:
         raise serializers.ValidationError({field: [str(exc)]}) from exc
 
 
+def check_namespace_owner(attrs: dict, instance: Cluster | None, fleet_id: int | None) -> None:
+    """400 when another fleet's cluster already uses this namespace of the same Kubernetes API (issue 25): the
+    live pod state, the pushes and the RT scheduler of a cluster act on the pods of its namespace, so two fleets
+    that share one would see, and act on, each other's pods. The namespace is Continuum's per cluster, owned by
+    one fleet. Servers are compared as the kubeconfigs name them (never resolved)."""
+    from apps.kube.gateway import server_policy
+
+    text = attrs.get("kubeconfig", instance.kubeconfig if instance is not None else "")
+    namespace = attrs.get("namespace", instance.namespace if instance is not None else "")
+    if not text or not namespace or isinstance(text, Undecryptable) or fleet_id is None:
+        return
+    context = attrs.get("kube_context", instance.kube_context if instance is not None else "")
+    try:
+        server = validate(text, context, server_policy()).server
+    except KubeconfigError:
+        return  # check_credentials names the problem
+    others = Cluster.objects.filter(namespace=namespace).exclude(fleet_id=fleet_id)
+    if instance is not None:
+        others = others.exclude(pk=instance.pk)
+    for other in others.only("kubeconfig", "kube_context"):
+        stored = other.kubeconfig
+        if not stored or isinstance(stored, Undecryptable):
+            continue
+        try:
+            if validate(stored, other.kube_context, server_policy()).server == server:
+                taken = f"namespace {namespace!r} of this Kubernetes API belongs to another fleet's cluster"
+                raise serializers.ValidationError({"namespace": [f"{taken}: choose another namespace"]})
+        except KubeconfigError:
+            continue
+
+
 class ClusterSerializer(FleetOwnedSerializer):
     node_count = serializers.IntegerField(source="nodes.count", read_only=True)
     kubeconfig = serializers.CharField(
@@ -101,6 +132,8 @@ class ClusterSerializer(FleetOwnedSerializer):
     def validate(self, attrs):
         attrs = super().validate(attrs)
         check_credentials(self.context.get("request"), attrs, self.instance)
+        fleet = attrs.get("fleet") or getattr(self.instance, "fleet", None)
+        check_namespace_owner(attrs, self.instance, getattr(fleet, "pk", None))
         return attrs
 
 
@@ -257,6 +290,7 @@ class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
             seen[pair] = i
         self._read_as_the_engine_does(attrs)
         check_credentials(self.context.get("request"), attrs, None)
+        check_namespace_owner(attrs, None, attrs["fleet"].pk)
         if Cluster.objects.filter(fleet=attrs["fleet"], name=attrs["name"]).exists():
             raise serializers.ValidationError(
                 {"name": [f"fleet {attrs['fleet'].slug!r} already has cluster {attrs['name']!r}"]}

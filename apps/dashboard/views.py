@@ -48,7 +48,8 @@ def home(request: HttpRequest) -> HttpResponse:
     clusters = scoped(request, Cluster.objects).annotate(
         node_total=Count("nodes"),
         node_ready=Count("nodes", filter=Q(nodes__status=ComputeNode.Status.READY)),
-        node_not_ready=Count("nodes", filter=Q(nodes__status=ComputeNode.Status.NOT_READY)),
+        # NotReady and Unknown alike (apps.clusters.nodes: Ready is the only ready status).
+        node_not_ready=Count("nodes", filter=~Q(nodes__status=ComputeNode.Status.READY)),
     )
     applications = scoped(request, Application.objects)
     counts = {

@@ -23,6 +23,7 @@ from typing import Any
 
 from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
+from apps.clusters.nodes import NodeChange, record_node_status, status_of
 from apps.heft4k.kinds import Heft4kJob
 from apps.jobs.models import Job
 from apps.jobs.services import start_job
@@ -79,7 +80,7 @@ def watch_nodes(
 
     def listed(items: list[dict]) -> None:
         report.lists, report.reconnects = stats.lists, stats.reconnects
-        _reconcile(cluster, {gateway.name_of(n): gateway.node_status(n) for n in items}, report)
+        _reconcile(cluster, {gateway.name_of(n): status_of(n) for n in items}, report)
         _trigger(cluster, threshold, report)
         if on_listed is not None:
             on_listed(report)
@@ -87,7 +88,7 @@ def watch_nodes(
     def changed(event: dict) -> None:
         report.events = stats.events
         node = event["raw_object"]
-        status = ComputeNode.Status.NOT_READY if event["type"] == "DELETED" else gateway.node_status(node)
+        status = status_of(None if event["type"] == "DELETED" else node)
         if _mark(cluster, gateway.name_of(node), status, report):
             _trigger(cluster, threshold, report)
 
@@ -113,19 +114,28 @@ def watch_nodes(
 def _reconcile(cluster: Cluster, statuses: dict[str, str], report: WatchReport) -> None:
     """Bring every ComputeNode's status to what the API says; a node missing from the API is NotReady."""
     for name in cluster.nodes.values_list("name", flat=True):
-        _mark(cluster, name, statuses.get(name, ComputeNode.Status.NOT_READY), report)
+        _mark(cluster, name, statuses.get(name, status_of(None)), report)
 
 
 def _mark(cluster: Cluster, name: str, status: str, report: WatchReport) -> bool:
-    """Store a node's status; True when a known node went down (Ready -> not Ready)."""
-    row = cluster.nodes.filter(name=name).first()
-    if row is None or row.status == status:
+    """Store a node's status (the one writer, :func:`apps.clusters.nodes.record_node_status`); True when a known
+    node is now not Ready."""
+    change = record_node_status(cluster, name, status)
+    if change is None:
         return False  # a node Continuum does not know yet (kube_sync adds it), or nothing new
-    was, row.status = row.status, status
-    row.save(update_fields=["status"])
-    report.changes.append({"node": name, "status": status, "was": was})
-    log.info("node %s of cluster %s: %s -> %s", name, cluster.name, was, status)
+    report.changes.append(change.to_dict())
     return status != ComputeNode.Status.READY
+
+
+def remap_trigger(cluster: Cluster, changes: list[NodeChange], listed: bool) -> None:
+    """The cluster agent's node handler: after a list (level-triggered) or when a node left Ready, start the
+    remap jobs :func:`_trigger` finds due (at most one watcher remap per schedule)."""
+    if listed or any(c.status != ComputeNode.Status.READY for c in changes):
+        report = WatchReport(cluster.pk)
+        _trigger(cluster, None, report)
+        for remap in report.remaps:
+            log.warning("cluster %s: remap of schedule %s without %s: job %s %s", cluster.pk, remap["schedule"],
+                        ", ".join(remap["fail"]), remap["job"], remap["state"])  # fmt: skip
 
 
 def _trigger(cluster: Cluster, threshold: float | None, report: WatchReport) -> None:

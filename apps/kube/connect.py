@@ -127,6 +127,21 @@ def _private_file(data: bytes, suffix: str) -> str:
         return str(path)
 
 
+def component_token(server: str) -> str | None:
+    """The token of this component's own ServiceAccount, when it runs with one for ``server``:
+    ``CONTINUUM_KUBE_TOKEN_FILE`` (a projected token, read at each connection since the kubelet rotates it) is
+    used for the API ``CONTINUUM_KUBE_TOKEN_SERVER`` names (compared as written) instead of the credentials of
+    the cluster's stored kubeconfig, so each component (deploy/rbac.yaml) has only its own verbs there. Set by
+    the operator, never by a kubeconfig (those may not name files)."""
+    path, own = os.environ.get("CONTINUUM_KUBE_TOKEN_FILE"), os.environ.get("CONTINUUM_KUBE_TOKEN_SERVER", "")
+    if not path or not own or own.rstrip("/") != server.rstrip("/"):
+        return None
+    try:
+        return Path(path).read_text().strip() or None
+    except OSError as exc:
+        raise KubeError(f"CONTINUUM_KUBE_TOKEN_FILE {path!r} cannot be read: {exc.strerror}") from exc
+
+
 def configuration_for(target: KubeTarget) -> client.Configuration:
     """The client configuration of a validated target, set field by field: no kubeconfig loader, so no exec
     plugin, auth provider or file path can ever come into play. TLS is always verified."""
@@ -135,9 +150,12 @@ def configuration_for(target: KubeTarget) -> client.Configuration:
     configuration.verify_ssl = True
     configuration.ca_cert_data = target.ca_pem  # None: the system's CAs
     configuration.tls_server_name = target.tls_server_name
-    if target.token:
+    own = component_token(target.server)
+    if own:  # this process's own ServiceAccount for this API: least privilege, not the stored kubeconfig's user
+        configuration.api_key = {"authorization": f"Bearer {own}"}
+    elif target.token:
         configuration.api_key = {"authorization": f"Bearer {target.token}"}
-    if target.client_cert_pem and target.client_key_pem:
+    if not own and target.client_cert_pem and target.client_key_pem:
         configuration.cert_file = _private_file(target.client_cert_pem, ".crt")
         configuration.key_file = _private_file(target.client_key_pem, ".key")
     # Retry refused/reset connections briefly; never re-send a request the server may have acted on. HTTP

@@ -12,4 +12,5 @@ class RealtimeConfig(AppConfig):
         from . import jobs  # noqa: F401 - registers the rt_whatif and rt_sync job kinds
         from .live import store_pod_state
 
-        register_pod_handler("realtime", store_pod_state)  # the live state of its pods (watch_cluster)
+        # Its rows are mirrored from the API (namespace, name, uid): every namespace the RT scheduler serves.
+        register_pod_handler("realtime", store_pod_state, any_namespace=True)  # live state (the cluster agent)

@@ -5,7 +5,7 @@ wakes on relevant watch events (a pod waiting for ``schedulerName: RT-scheduler`
 elsewhere, a node changed, RealTime and Monitoring objects) or every ``period`` seconds, and in each cycle
 
 1. lifts the monitor's node taints whose time is up;
-2. reads the pods and nodes (the informer caches the watches keep, :mod:`apps.realtime.informer`; listed
+2. reads the pods and nodes (the informer caches the watches keep, :mod:`apps.kube.informer`; listed
    when the watch is off or reconnecting), the monitor's active node taints added from the database;
 3. runs the engine's RT-Kube pass (``rt_kube.schedule``: sort, filter, score) over the pending pods,
    with the bound pods' reservations in the ledger, and binds each placed pod (Binding API);
@@ -49,6 +49,7 @@ from apps.clusters.kube import api_client_for
 from apps.clusters.models import Cluster, ComputeNode
 from apps.kube import gateway
 from apps.kube.gateway import API_ERRORS, KubeError, allocatable, node_fields
+from apps.kube.informer import Informer
 from apps.kube.parallel import concurrency, gather, run_bounded
 from continuum.engine.core.cluster import default_rt_threshold
 from continuum.engine.core.errors import InputError
@@ -65,9 +66,8 @@ from continuum.engine.rtkube.rt_model import (
     Toleration,
 )
 
-from . import monitoring, sync
+from . import metrics, monitoring, sync
 from .cycle_state import CycleState
-from .informer import Informer
 from .kube import (
     KUBE_ERRORS,
     MONITORING_GROUP,
@@ -280,7 +280,7 @@ class RTScheduler:
     While :meth:`run` loops with the watch on, the path from a pod's watch event to its Binding is kept free
     of anything else, as kube-scheduler's is:
 
-    - nodes and pods are read from informer caches filled by the watches (:mod:`apps.realtime.informer`),
+    - nodes and pods are read from informer caches filled by the watches (:mod:`apps.kube.informer`),
       not listed per cycle; a cycle starts as soon as a relevant event arrives (no period to wait for), and
       takes every pod pending by then (a burst is decided together);
     - the Bindings go out on a persistent pool of ``kube.binders()`` threads sharing one
@@ -394,6 +394,7 @@ class RTScheduler:
                 except Exception as exc:  # a failing cycle must never end the process
                     failures += 1
                     self.errors += 1
+                    metrics.cycle_failed()
                     self.last_error = problem(exc)
                     wait = min(MAX_BACKOFF, self.period * 2**failures)
                     log.warning("RT scheduler cycle failed (%s); retrying in %.1f s", self.last_error, wait)
@@ -579,6 +580,7 @@ class RTScheduler:
         names = [n.name for n in nodes]
         views = self._views(cluster, ns, pods, names)
         pending = [v for v in views if waits_for_us(v.pod)]
+        metrics.waiting(len(pending))
         if not pending:
             self.ledger.write(CycleWrite(cluster, views, {}, None, []))
             return result
@@ -602,6 +604,7 @@ class RTScheduler:
         decided = time.monotonic()
         by_key = {v.key: v for v in pending}
         placed = [(by_key[d.item], d) for d in plan.decisions if d.node is not None]
+        metrics.attempted(decided - began, len(placed), len(pending) - len(placed))
         cycle = _Decided(cluster, kube, plan, by_key, pending, views, len(nodes))
         if self._pipelined():
             # The Bindings go out and the loop goes on (kube-scheduler's assume, then bind asynchronously): the
@@ -725,7 +728,7 @@ class RTScheduler:
         """The bind phase of every placed pod, at most ``CONTINUUM_KUBE_PUSH_CONCURRENCY`` Bindings in flight
         (the decisions are all made: binds are independent round trips). {pod key: (ok, message)} with
         ``ok=None`` for the binds not attempted after the API failed (the reason is returned). A pod bound is
-        assumed bound in the pod cache at once (see :mod:`apps.realtime.informer`)."""
+        assumed bound in the pod cache at once (see :mod:`apps.kube.informer`)."""
         decided = decided if decided is not None else time.monotonic()
         reason: list[str] = []
         lock = threading.Lock()
@@ -755,10 +758,12 @@ class RTScheduler:
         try:
             ok, message = kube.bind(meta["namespace"], meta["name"], node, meta.get("uid"))
         except API_ERRORS as exc:
+            metrics.bound(time.monotonic() - sent, False)
             with lock:
                 if not reason:
                     reason.append(problem(exc))
             return None, reason[0]
+        metrics.bound(time.monotonic() - sent, ok)
         if ok:
             self.pods.assume(v.key, meta.get("uid", ""), node)
             answered = time.monotonic()

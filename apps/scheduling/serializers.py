@@ -102,7 +102,10 @@ class TargetSerializer(ScopedSerializer):
         if cluster is not None:
             if not cluster.nodes.filter(status="Ready").exists():
                 return {"cluster": f"cluster {cluster.name!r} has no Ready node"}
-            platform = cluster.to_platform()
+            try:
+                platform = cluster.to_platform()
+            except InputError as exc:  # Ready nodes, but all tainted or RT-only (the one taint filter)
+                return {"cluster": str(exc)}
         else:
             platform = Platform.from_dict(data["platform"])
         try:

@@ -18,6 +18,8 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from .admission import measure
+from .metrics import AgentCollector
+from .metrics import serve as serve_metrics
 from .privileges import User, default_user, drop_for_agent, parse_user
 from .report import Reporter, Target, http_problem, urlopen
 from .sched import DeadlineParams, refusal
@@ -119,6 +121,17 @@ def _user(text: str) -> User:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+def _port(text: str) -> int:
+    if not text.isdigit() or int(text) > 65535:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a port number (0-65535)")
+    return int(text)
+
+
+def _port_env(name: str) -> int | None:
+    text = os.environ.get(name, "").strip()
+    return int(text) if text.isdigit() and int(text) <= 65535 else None
+
+
 def parser() -> argparse.ArgumentParser:
     ap = _Parser(prog=f"python -m {PROG}", description="Continuum's node agent (RT-Kube, thesis 3.4).")
     sub = ap.add_subparsers(dest="action", required=True)
@@ -156,6 +169,13 @@ def parser() -> argparse.ArgumentParser:
                      help="SCHED_FIFO priority of the agent's tracing thread (1; 0: leave it SCHED_OTHER)")  # fmt: skip
     run.add_argument("--user", type=_user, default=None, metavar="USER[:GID]",
                      help="who COMMAND runs as, with no capability (default: nobody if the agent is root)")  # fmt: skip
+    obs = run.add_argument_group("metrics")
+    obs.add_argument("--metrics-port", type=_port, default=_port_env("CONTINUUM_AGENT_METRICS_PORT"),
+                     help="serve /metrics on this port (env CONTINUUM_AGENT_METRICS_PORT; 0: any)")  # fmt: skip
+    obs.add_argument("--metrics-addr", default=os.environ.get("CONTINUUM_AGENT_METRICS_ADDR", "127.0.0.1"),
+                     help="address to serve /metrics on (127.0.0.1; 0.0.0.0 in a pod)")  # fmt: skip
+    obs.add_argument("--metrics-linger", type=float, default=0.0,
+                     help="seconds to keep serving /metrics after COMMAND ended (0)")  # fmt: skip
     run.add_argument("--json", action="store_true", help="print one JSON object on stdout at the end")
     run.add_argument("command", nargs=argparse.REMAINDER, help="-- COMMAND ARGS...")
     adm = sub.add_parser("admission", help="this node's admissible deadline bandwidth, read from its kernel "
@@ -307,6 +327,21 @@ def main(argv: Sequence[str] | None = None) -> int:
 def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None, info: dict[str, Any]) -> int:
     reporter = Reporter(target, interval=args.interval, max_backoff=args.max_backoff)
     child = {"pid": 0}
+    collector = AgentCollector(reporter, info.get("node") or "", info.get("container") or "")
+    exposed: list[Any] = []
+
+    def expose() -> None:
+        """The metrics server, once (after the fork: the command never shares its thread)."""
+        if args.metrics_port is None or exposed:
+            return
+        try:
+            server, port = serve_metrics(collector, args.metrics_port, args.metrics_addr)
+        except OSError as exc:
+            print(f"{PROG}: cannot serve metrics on {args.metrics_addr}:{args.metrics_port}: {exc}", file=sys.stderr)
+            exposed.append(None)
+            return
+        exposed.append(server)
+        print(f"{PROG}: metrics on http://{args.metrics_addr}:{port}/metrics", file=sys.stderr, flush=True)
 
     def forward(sig: int, _frame: object) -> None:
         if child["pid"]:
@@ -341,6 +376,7 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         warm["agent_w_closed"] = True
         child["pid"] = pid
         tracer["caps"] = drop_for_agent()  # before any other thread: they inherit what this one keeps
+        expose()
         reporter.start()  # after the fork: the child never shares the reporter's thread
         # A command stopped at its SIGXCPU waits for this thread: it must get the CPU at once, also when SCHED_OTHER
         # work (a stress, other pods) fills what the deadline tasks leave. Only this thread (not the reporter).
@@ -368,6 +404,7 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         status, text = refusal(outcome.refused)
         reason = f"{text} ({errno.errorcode.get(outcome.refused, outcome.refused)})"
         if outcome.refused == errno.EBUSY:
+            collector.rejected = True
             reporter.kernel_rejected(reason)
         reporter.start()
         print(f"{PROG}: {reason}", file=sys.stderr)
@@ -388,6 +425,9 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
     duration = time.monotonic() - began
     ran = outcome.refused is None and outcome.exec_errno is None and outcome.drop_errno is None
     reporter.close(args.flush_timeout)
+    expose()  # the command may have been refused before it ran: the totals are still served
+    if exposed and exposed[0] is not None and args.metrics_linger > 0:
+        time.sleep(args.metrics_linger)
     result = {
         "overruns": reporter.overruns,
         "startup_overruns": reporter.startup_overruns,

@@ -101,7 +101,7 @@ def test_one_rule_for_nodes_that_are_not_ready(cluster):
     assert list(rt) == ["node0", "node1", "node2", "node3"]
     assert NOT_READY in rt["node1"].taints and UNREACHABLE in rt["node2"].taints
     cluster.nodes.update(status=ComputeNode.Status.NOT_READY)
-    with pytest.raises(InputError, match="has no Ready node"):
+    with pytest.raises(InputError, match="has no node its pods may be placed on"):
         cluster.to_platform()
 
 

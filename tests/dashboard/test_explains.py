@@ -289,3 +289,10 @@ def test_placement_push_is_shown_disabled_with_its_reason(member, fleet, cluster
     body = member.get(reverse("containers:placement", args=[placement.pk])).content.decode()
     assert "Push to Kubernetes</button>" in body and "its cluster has no Kubernetes API configured" in body
     assert f'href="{reverse("clusters:cluster", args=[cluster.pk])}#kubernetes"' in body
+
+
+def test_an_unknown_node_counts_as_not_ready_in_red(member, fleet, cluster):
+    # A node whose kubelet stopped posting is Unknown (the node lifecycle controller's word): not ready, the alarm.
+    cluster.nodes.filter(pk=cluster.nodes.order_by("pk").first().pk).update(status="Unknown")
+    body = member.get(reverse("dashboard:home")).content.decode()
+    assert '<span class="badge node-NotReady">1</span>' in body

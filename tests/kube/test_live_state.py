@@ -127,6 +127,8 @@ def owned(cluster, schedule):
 
     schedule.cluster = cluster
     schedule.save(update_fields=["cluster"])
+    cluster.namespace = "ns"  # the namespace Continuum owns on this cluster: where its pods are
+    cluster.save(update_fields=["namespace"])
     assignment = schedule.assignments.first()
     assignment.pod_name = "sched-pod"
     assignment.save(update_fields=["pod_name"])
@@ -368,3 +370,59 @@ def test_a_pushed_placements_deployments_show_their_pods_running_where_kube_sche
     # kube-scheduler's own event for the pods it bound where the node selectors say
     assert all(r["pod_event"].startswith("Scheduled: Successfully assigned") for r in rows), rows
     assert all(r["pod_name"].startswith(r["deployment"]) for r in rows)
+
+
+@pytest.mark.django_db
+def test_a_pod_outside_the_clusters_namespace_cannot_spoof_a_schedules_state(owned, cluster):
+    # Issue 25: anyone who may create pods somewhere can copy a schedule's labels and its pod's name; only the
+    # pods of the namespace Continuum owns on this cluster are its pods.
+    assignment, deployment, _rt = owned
+    live = LiveState(cluster)
+    spoof = pod(
+        "sched-pod", ns="elsewhere", uid="uid-spoof", phase="Failed", node="evil", labels=sched_labels(assignment)
+    )
+    live.on_pod(w("ADDED", spoof))
+    live.on_pod(
+        w("ADDED", pod("web-dep-9", ns="elsewhere", phase="Failed", labels={f"{PREFIX}/deployment": "web-dep"}))
+    )
+    assignment.refresh_from_db()
+    deployment.refresh_from_db()
+    assert (assignment.pod_phase, assignment.pod_node) == ("", "")
+    assert deployment.pod_name == "" and live.foreign == 2
+    live.on_pod(w("ADDED", pod("sched-pod", phase="Running", node="n1", labels=sched_labels(assignment))))
+    assignment.refresh_from_db()
+    assert (assignment.pod_phase, assignment.pod_node) == ("Running", "n1")
+
+
+@pytest.mark.django_db
+def test_node_status_has_one_rule_and_unknown_is_not_ready(cluster):
+    from apps.clusters.models import ComputeNode
+    from apps.clusters.nodes import NOT_READY_Q, reconcile_nodes, status_of
+
+    def node(name, status):
+        return {"metadata": {"name": name}, "status": {"conditions": [{"type": "Ready", "status": status}]}}
+
+    names = sorted(cluster.nodes.values_list("name", flat=True))
+    assert status_of(node("x", "True")) == "Ready" and status_of(node("x", "False")) == "NotReady"
+    assert status_of(node("x", "Unknown")) == "Unknown" and status_of({"metadata": {"name": "x"}}) == "Unknown"
+    assert status_of(None) == "NotReady"  # gone from the API
+    seen = []
+    live = LiveState(cluster, {}, node_handlers={"rec": lambda c, changes, listed: seen.append((changes, listed))})
+    listed = [node(names[0], "Unknown"), *(node(n, "True") for n in names[2:])]  # names[1] is gone
+    assert live.on_node_list(listed) == 2
+    rows = dict(cluster.nodes.values_list("name", "status"))
+    assert rows[names[0]] == "Unknown" and rows[names[1]] == "NotReady"
+    assert cluster.nodes.filter(NOT_READY_Q).count() == 2
+    assert seen and seen[-1][1] is True and {c.node for c in seen[-1][0]} == set(names[:2])
+    assert reconcile_nodes(cluster, listed) == []  # level-triggered: the same list changes nothing
+    assert len(live.nodes) == len(listed)  # the agent's node informer
+    live.on_node(w("MODIFIED", node(names[0], "True")))
+    assert ComputeNode.objects.get(cluster=cluster, name=names[0]).status == "Ready"
+    assert [(c.node, c.was, c.status) for c in seen[-1][0]] == [(names[0], "Unknown", "Ready")]
+
+
+def test_heft4k_and_the_apps_register_with_the_agent_not_their_own_watches():
+    from apps.clusters.nodes import node_handlers
+
+    assert "heft4k-remap" in node_handlers()
+    assert {"scheduling", "containers", "realtime"} <= set(pod_handlers())

@@ -1,7 +1,7 @@
-"""The RT scheduler's informer cache (apps/realtime/informer.py): a list, then watch events, and the pods this
+"""The RT scheduler's informer cache (apps/kube/informer.py): a list, then watch events, and the pods this
 process bound assumed bound until deleted, so a stale or replayed event never makes a bound pod pending again."""
 
-from apps.realtime.informer import Informer
+from apps.kube.informer import Informer
 from apps.realtime.scheduler import node_relevant, pod_relevant, waits_for_us
 
 

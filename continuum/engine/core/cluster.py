@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Link, Platform, Processor
-from continuum.engine.core.taints import STATUS_TAINTS, Taint
+from continuum.engine.core.taints import REALTIME, STATUS_TAINTS, Taint, Toleration, untolerated
 
 __all__ = [
     "ARCHS",
@@ -121,6 +121,17 @@ class ClusterNode:
     extra: Mapping[str, Any] = field(default_factory=dict)
     #: Whether the document gave a ``taints`` list (RT-Kube gives an RT node without one its RealTime taint).
     taints_given: bool = False
+
+    @property
+    def effective_taints(self) -> tuple[Taint, ...]:
+        """The taints every placer reads (one rule): the given ones; an RT node given none is RT-only, carrying
+        RT-Kube's ``RealTime=RT:NoSchedule``."""
+        return self.taints if self.taints_given else ((REALTIME,) if self.rt else ())
+
+    def admits(self, tolerations: Iterable[Toleration] = (), now: float | None = None) -> bool:
+        """Whether a pod with ``tolerations`` may be placed here: no NoSchedule/NoExecute taint left untolerated
+        (:func:`~continuum.engine.core.taints.untolerated`, the filter of every placement method)."""
+        return not untolerated(self.effective_taints, tolerations, now)
 
     @property
     def rt_capacity(self) -> float:
@@ -295,6 +306,21 @@ class Cluster:
         for lk in self.links:
             g.add_edge(lk.src, lk.dst, latency=lk.latency_ms)
         return nx.single_source_dijkstra_path(g, a, weight="latency")
+
+    def schedulable(self, tolerations: Iterable[Toleration] = (), now: float | None = None) -> Cluster:
+        """This cluster without the nodes a pod with ``tolerations`` may not be placed on (:meth:`ClusterNode.admits`:
+        not Ready, tainted, RT-only) and their links: what the DAG schedulers, which bind pods by name and so
+        bypass Kubernetes' own taint check, may use. Raises :class:`InputError` when no node is left."""
+        tolerations = tuple(tolerations)
+        barred = {n.name for n in self.nodes.values() if not n.admits(tolerations, now)}
+        if not barred:
+            return self
+        nodes = {name: n for name, n in self.nodes.items() if name not in barred}
+        if not nodes:
+            raise InputError(f"cluster {self.name!r} has no node its pods may be placed on (all tainted, RT-only "
+                             "or not Ready)", "cluster")  # fmt: skip
+        links = [lk for lk in self.links if lk.src not in barred and lk.dst not in barred]
+        return Cluster(nodes, links, self.name, self.default_bandwidth_mbps, self.default_latency_ms)
 
     def ready(self) -> Cluster:
         """This cluster without the nodes that are not Ready (those carrying a taint of

@@ -16,6 +16,7 @@ from continuum.engine.core.errors import InputError
 
 __all__ = [
     "NOT_READY",
+    "REALTIME",
     "STATUS_TAINTS",
     "TAINT_EFFECTS",
     "TOLERATION_OPERATORS",
@@ -118,6 +119,10 @@ def untolerated(taints: Iterable[Taint], tolerations: Iterable[Toleration], now:
         for t in taints
         if t.effect != "PreferNoSchedule" and t.active(now) and not any(tol.tolerates(t) for tol in tols)
     ]
+
+
+#: RT-Kube's taint of an RT-only node (thesis 3.4): an RT node whose document gives no ``taints`` carries it.
+REALTIME = Taint("RealTime", "RT", "NoSchedule")
 
 
 #: The taints Kubernetes puts on a node that is not Ready (the node lifecycle controller's NoSchedule taints),

@@ -41,7 +41,7 @@ from continuum.engine.core.cluster import (
 from continuum.engine.core.cluster import node_from_dict as parse_cluster_node
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.safeload import load_yaml_all
-from continuum.engine.core.taints import TAINT_EFFECTS, Taint, Toleration, untolerated
+from continuum.engine.core.taints import REALTIME, TAINT_EFFECTS, Taint, Toleration, untolerated
 
 __all__ = [
     "CRITICALITY_RANK",
@@ -90,7 +90,7 @@ CRITICALITY_RANK = {NONE: 0, "A": 1, "B": 2, "C": 3}
 RT_CLASSES = ("A", "B", "C")
 
 
-RT_TAINT = Taint("RealTime", "RT", "NoSchedule")
+RT_TAINT = REALTIME
 RT_TOLERATION = Toleration("RealTime", "Equal", "RT", "NoSchedule")
 
 
@@ -266,7 +266,7 @@ def rt_node(node: ClusterNode) -> RTNode:
     """
     where = f"node {node.name!r}"
     crit = None if node.criticality in (None, "") else parse_criticality(node.criticality, where, allow_none=False)
-    taints = node.taints if node.taints_given else ((RT_TAINT,) if node.rt else ())
+    taints = node.effective_taints
     return RTNode(
         node.name,
         node.rt,

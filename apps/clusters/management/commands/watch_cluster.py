@@ -1,5 +1,9 @@
 """``python manage.py watch_cluster CLUSTER [--namespace NS ...] [--max-seconds S] [--json]``: live pod state.
 
+An alias of ``cluster_agent --cluster ID`` for one cluster in the foreground (the same watches and handlers),
+kept for scripts; ``--namespace`` widens what it follows, but pods outside the cluster's own namespace only
+reach handlers that join by uid (see :func:`apps.clusters.live.register_pod_handler`).
+
 Follows the pods and pod Events of a cluster's Kubernetes API and stores each pod's phase, node and newest
 event on the rows of the apps that own it (assignments, container deployments, RT pods; see
 :mod:`apps.clusters.live`). Long-running: it stops on Ctrl-C, or after ``--max-seconds``.
@@ -13,6 +17,7 @@ from django.core.management.base import CommandError
 
 from apps.clusters.live import watch_cluster
 from apps.clusters.models import Cluster
+from apps.clusters.nodes import node_handlers
 from apps.kube import gateway
 from continuum.commands import EngineCommand
 from continuum.engine.core.errors import InputError
@@ -63,7 +68,13 @@ class Command(EngineCommand):
         namespaces = options["namespace"] or [cluster.namespace]
         scope = None if "*" in namespaces else namespaces
         try:
-            return watch_cluster(cluster, scope, timeout=options["max_seconds"], retries=options["retries"])
+            return watch_cluster(
+                cluster,
+                scope,
+                timeout=options["max_seconds"],
+                retries=options["retries"],
+                node_handlers=node_handlers(),
+            )
         except gateway.KubeError as exc:
             raise CommandError(str(exc), returncode=1) from exc
         except KeyboardInterrupt:

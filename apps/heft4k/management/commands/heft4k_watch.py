@@ -1,4 +1,9 @@
-"""``python manage.py heft4k_watch --cluster ID [--timeout S] [--threshold F] [--json]``: the node watcher."""
+"""``python manage.py heft4k_watch --cluster ID [--timeout S] [--threshold F] [--json]``: the node watcher.
+
+Superseded by ``cluster_agent``, which runs the same remap trigger as a node handler (``heft4k-remap``) next to
+the live pod state; kept for scripts and for ``--threshold``. Node status goes through the one writer
+(:func:`apps.clusters.nodes.record_node_status`) either way.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""The RT scheduler's view of the API between lists: an informer cache of pods and nodes (thesis 3.4, Fig. 3.34).
+"""An informer cache: the view of the API between lists (thesis 3.4, Fig. 3.34). The RT scheduler keeps its
+pods and nodes in it, the cluster agent its nodes (``apps.clusters.live.LiveState.nodes``).
 
 kube-scheduler does not list the cluster for each pod it places: its informers list once, then follow the
 watch, and each scheduling cycle reads the cache. :class:`Informer` is that cache for one collection: filled
