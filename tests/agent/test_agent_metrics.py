@@ -18,8 +18,8 @@ def test_a_hogs_overruns_and_reports_are_scraped_while_it_runs(server):
     server["realtime"]("hogm", period=10, deadline=10, wcet=2)
     port = free_port()
     cmd = [sys.executable, "-m", "continuum.agent", "run", "--realtime", "hogm", "--server", server["url"],
-           "--allow-http", "--token", server["token"], "--node", "node0", *PATIENT, "--metrics-port", str(port), "--metrics-linger", "1",
-           "--", PYTHON, "-c", HOG.format(s=600)]  # fmt: skip
+           "--allow-http", "--token", server["token"], "--node", "node0", *PATIENT,
+           "--metrics-port", str(port), "--metrics-linger", "1", "--", PYTHON, "-c", HOG.format(s=600)]  # fmt: skip
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         families = scrape_until(
