@@ -84,6 +84,9 @@ INSTALLED_APPS = [
 
 MIDDLEWARE = [
     "apps.tenancy.audit.RequestIdMiddleware",
+    # Bodies above their endpoint's limit are refused before anything reads them (its process_view runs
+    # before the CSRF middleware's, which reads form bodies).
+    "apps.tenancy.bounds.BodyLimitMiddleware",
     "django.middleware.security.SecurityMiddleware",
     "whitenoise.middleware.WhiteNoiseMiddleware",
     # ---- Response compression (issue 13: a 1000 x 10 schedule page was 5.5 MB of HTML) -------------------
@@ -100,7 +103,7 @@ MIDDLEWARE = [
     "apps.tenancy.bounds.RejectNulMiddleware",
     "django.middleware.csrf.CsrfViewMiddleware",
     "django.contrib.auth.middleware.AuthenticationMiddleware",
-    "auditlog.middleware.AuditlogMiddleware",
+    "apps.tenancy.audit.AuditMiddleware",  # django-auditlog's, with the client address of clientaddr.py
     "django.contrib.messages.middleware.MessageMiddleware",
     "django.middleware.clickjacking.XFrameOptionsMiddleware",
 ]
@@ -172,6 +175,11 @@ if env_bool("CONTINUUM_STATIC_MANIFEST", False):
     }
     WHITENOISE_USE_FINDERS = False  # the finders' copies would shadow the compressed collected ones
 
+# Reverse proxies in front of gunicorn that append the client's address to X-Forwarded-For (README, "Behind a
+# proxy"). 0, the default: the header is ignored, the client is the connection's address. The throttles, the
+# login limiter and the audit trail all read the client's address through apps/tenancy/clientaddr.py.
+CONTINUUM_NUM_PROXIES = int(os.environ.get("CONTINUUM_NUM_PROXIES", "0"))
+
 REST_FRAMEWORK = {
     "DEFAULT_AUTHENTICATION_CLASSES": [
         "apps.tenancy.authentication.FleetTokenAuthentication",
@@ -207,6 +215,8 @@ REST_FRAMEWORK = {
     "PAGE_SIZE": 50,
     "DEFAULT_SCHEMA_CLASS": "drf_spectacular.openapi.AutoSchema",
     "EXCEPTION_HANDLER": "apps.tenancy.api.exception_handler",
+    # How many proxies in front of the server append to X-Forwarded-For (apps/tenancy/clientaddr.py).
+    "NUM_PROXIES": CONTINUUM_NUM_PROXIES,
 }
 SPECTACULAR_SETTINGS = {
     "TITLE": "Continuum API",
@@ -391,6 +401,10 @@ AUDITLOG_INCLUDE_TRACKING_MODELS = tuple(
     {"model": model, "exclude_fields": list(excluded), **extra}
     for model, excluded, extra in [
         ("tenancy.Fleet", (), {"m2m_fields": {"members"}}),
+        # Who may do what: accounts (never their password hash), groups and permissions.
+        ("auth.User", ("password", "last_login"), {"m2m_fields": {"groups", "user_permissions"}}),
+        ("auth.Group", (), {"m2m_fields": {"permissions"}}),
+        ("auth.Permission", (), {}),
         ("tenancy.FleetToken", ("key_hash", "last_used"), {}),
         ("clusters.Cluster", ("kubeconfig",), {}),  # secret: the trail says the cluster changed, not how
         ("clusters.ComputeNode", (), {}),

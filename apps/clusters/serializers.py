@@ -18,6 +18,7 @@ from continuum.engine.core import limits
 from continuum.engine.core.cluster import FORMAT as CLUSTER_FORMAT
 from continuum.engine.core.cluster import Cluster as EngineCluster
 from continuum.engine.core.errors import InputError
+from continuum.engine.core.unique import duplicates
 
 from .models import Cluster, ComputeNode, Link
 
@@ -239,13 +240,14 @@ class ClusterImportSerializer(DefaultFleetMixin, ScopedSerializer):
     def validate(self, attrs):
         attrs = super().validate(attrs)
         names = [n["name"] for n in attrs["nodes"]]
-        dup = sorted({n for n in names if names.count(n) > 1})
+        dup = sorted(duplicates(names))
         if dup:
             raise serializers.ValidationError({"nodes": [f"duplicate node name {dup[0]!r}"]})
+        known = set(names)  # a set: links x nodes list lookups were quadratic (issue 25)
         seen: dict[tuple[str, str], int] = {}
         for i, link in enumerate(attrs["links"]):
             for end in ("src", "dst"):
-                if link[end] not in names:
+                if link[end] not in known:
                     raise serializers.ValidationError({"links": [f"links[{i}] refers to unknown node {link[end]!r}"]})
             if link["src"] == link["dst"]:
                 raise serializers.ValidationError({"links": [f"links[{i}] joins node {link['src']!r} to itself"]})

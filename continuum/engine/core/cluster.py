@@ -319,6 +319,8 @@ def _limit(where: str, raw: Mapping[str, Any], key: str) -> float | None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
         raise InputError(f"{where} has invalid {key} {value!r}", "nodes")
+    if value > limits.get().magnitude:  # every figure a placer sums: keep the sums finite
+        raise InputError(f"{where}: {key}: at most {limits.get().magnitude:g} (got {value!r})", "nodes")
     return float(value)
 
 
@@ -353,8 +355,9 @@ def node_from_dict(raw: Any, index: int = 0) -> ClusterNode:
     if cpu is not None and cpu > limits.get().cores:
         raise InputError(f"{where}: cpu: at most {limits.get().cores}", "nodes")
     speed = _limit(where, raw, "speed")
-    if speed is not None and speed <= 0:
-        raise InputError(f"{where} speed must be a positive number, not {speed!r}", "nodes")
+    if speed is not None and not limits.get().min_rate <= speed <= 1 / limits.get().min_rate:
+        lim = limits.get()
+        raise InputError(f"{where} speed must be from {lim.min_rate:g} to {1 / lim.min_rate:g}, not {speed!r}", "nodes")
     rt = raw.get("rt", False)
     if not isinstance(rt, bool):
         raise InputError(f"{where}: rt must be true or false (a JSON boolean), not {rt!r}", "nodes")
