@@ -211,14 +211,17 @@ if CONTINUUM_NUM_PROXIES > 0:
     SECURE_PROXY_SSL_HEADER = ("HTTP_X_FORWARDED_PROTO", "https")
 
 # Content-Security-Policy of every response (apps/tenancy/headers.py): scripts and style sheets from this
-# server only, no inline script, no eval. Style *attributes* stay allowed (style-src-attr): the pages' meters
-# and Plotly set widths and positions with them; an attribute cannot load or select anything. Plotly adds its
-# global CSS rules to the (empty) sheet base.html links as "plotly.js-style-global" instead of a <style>
+# server only, no inline script. 'unsafe-eval' is Plotly's need: its WebGL traces (regl: the large schedules'
+# and DAGs' charts) compile their draw calls with Function(); without it they draw nothing and never hover
+# (tests/scheduling/test_schedule_browser.py); plotly.js's "strict" bundle would drop that need. Injected
+# markup still cannot run a script. Style *attributes* stay allowed (style-src-attr): the pages' meters and
+# Plotly set widths and positions with them; an attribute cannot load or select anything. Plotly adds its
+# global CSS rules to the (empty) sheet base.html links as "plotly.js-style-global" instead of a style
 # element. CONTINUUM_CSP replaces the whole policy.
 CONTINUUM_CSP = os.environ.get("CONTINUUM_CSP") or "; ".join(
     [
         "default-src 'self'",
-        "script-src 'self'",
+        "script-src 'self' 'unsafe-eval'",
         "style-src 'self'",
         "style-src-attr 'unsafe-inline'",
         "img-src 'self' data: blob:",
