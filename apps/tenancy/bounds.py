@@ -114,17 +114,25 @@ class SafeMultiPartParser(MultiPartParser):
         return result
 
 
+#: Bytes a body that carries a file of ``limits.upload_bytes`` may have beyond it: the multipart framing and
+#: the form's other fields. The file itself is held to ``upload_bytes`` by its field (a 400 naming it).
+UPLOAD_FRAMING_BYTES = 64 * 1024
+
+
 def body_limit(view_func, method: str) -> int:
-    """The most bytes a request body may have at this view: ``limits.upload_bytes`` for the actions a DRF view
-    lists in ``document_actions`` (they take a document or a file) and for the dashboard's pages (their forms
-    upload files), ``limits.body_bytes`` for every other API action."""
+    """The most bytes a request body may have at this view: ``limits.upload_bytes`` (plus the framing of a
+    multipart body) for the actions a DRF view lists in ``document_actions`` (they take a document or a file)
+    and for the dashboard's pages (their forms upload files), ``limits.body_bytes`` for every other API
+    action."""
     lim = limits.get()
     cls = getattr(view_func, "cls", None)
     if cls is None:  # not DRF: a dashboard page or the admin
-        return lim.upload_bytes
+        return lim.upload_bytes + UPLOAD_FRAMING_BYTES
     actions = getattr(view_func, "actions", None) or {}
     action = actions.get(method.lower(), method.lower())
-    return lim.upload_bytes if action in getattr(cls, "document_actions", ()) else lim.body_bytes
+    if action in getattr(cls, "document_actions", ()):
+        return lim.upload_bytes + UPLOAD_FRAMING_BYTES
+    return lim.body_bytes
 
 
 class BodyLimitMiddleware:

@@ -18,6 +18,13 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 
 
+def clean_environment() -> dict[str, str]:
+    """This environment without what configures Continuum or Django (other test modules set some, e.g. the
+    browser tests' DJANGO_ALLOW_ASYNC_UNSAFE, which `check --deploy` rightly refuses)."""
+    prefixes = ("CONTINUUM_", "ALLOWED_HOSTS", "SECRET_KEY", "DJANGO_", "DEBUG")
+    return {k: v for k, v in os.environ.items() if not k.startswith(prefixes)}
+
+
 def settings_in_child(env: dict[str, str], *names: str, tmp_path: Path) -> dict:
     """Settings as a fresh process reads them from ``env`` (settings are read once, at start-up)."""
     code = (
@@ -25,7 +32,7 @@ def settings_in_child(env: dict[str, str], *names: str, tmp_path: Path) -> dict:
         "django.setup(); from django.conf import settings; "
         f"print(json.dumps({{n: getattr(settings, n, None) for n in {list(names)!r}}}, default=str))"
     )
-    base = {k: v for k, v in os.environ.items() if not k.startswith(("CONTINUUM_", "ALLOWED_HOSTS", "SECRET_KEY"))}
+    base = clean_environment()
     base |= {"CONTINUUM_VAR_DIR": str(tmp_path / "var"), "XDG_CONFIG_HOME": str(tmp_path / "config")}
     done = subprocess.run(
         [sys.executable, "-c", code], cwd=ROOT, env=base | env, capture_output=True, text=True, timeout=120
@@ -44,7 +51,7 @@ PRODUCTION = {
 
 
 def test_check_deploy_is_clean_in_the_production_settings(tmp_path):
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("CONTINUUM_", "ALLOWED_HOSTS", "SECRET_KEY"))}
+    env = clean_environment()
     env |= PRODUCTION | {"CONTINUUM_VAR_DIR": str(tmp_path / "var"), "XDG_CONFIG_HOME": str(tmp_path / "config")}
     done = subprocess.run(
         [sys.executable, "manage.py", "check", "--deploy", "--fail-level", "WARNING"],

@@ -313,14 +313,17 @@ class Cluster:
         return len(self.nodes)
 
 
-def _limit(where: str, raw: Mapping[str, Any], key: str) -> float | None:
+def _limit(where: str, raw: Mapping[str, Any], key: str, most: float | None = None) -> float | None:
+    """``raw[key]``: a finite number from 0 to ``most`` (default ``limits.magnitude``: every figure a placer
+    sums stays finite), ``None`` when absent."""
     value = raw.get(key)
     if value is None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
         raise InputError(f"{where} has invalid {key} {value!r}", "nodes")
-    if value > limits.get().magnitude:  # every figure a placer sums: keep the sums finite
-        raise InputError(f"{where}: {key}: at most {limits.get().magnitude:g} (got {value!r})", "nodes")
+    most = limits.get().magnitude if most is None else most
+    if value > most:
+        raise InputError(f"{where}: {key}: at most {limits._fmt(most)} (got {value!r})", "nodes")
     return float(value)
 
 
@@ -349,11 +352,9 @@ def node_from_dict(raw: Any, index: int = 0) -> ClusterNode:
     cls = raw.get("class", "cpu")
     if not isinstance(cls, str) or not cls:
         raise InputError(f"{where} has an invalid class {cls!r}", "nodes")
-    cpu = _limit(where, raw, "cpu")
+    cpu = _limit(where, raw, "cpu", limits.get().cores)
     if cpu == 0:
         raise InputError(f"{where} cpu must be a positive number, not 0", "nodes")
-    if cpu is not None and cpu > limits.get().cores:
-        raise InputError(f"{where}: cpu: at most {limits.get().cores}", "nodes")
     speed = _limit(where, raw, "speed")
     if speed is not None and not limits.get().min_rate <= speed <= 1 / limits.get().min_rate:
         lim = limits.get()
