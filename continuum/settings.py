@@ -401,7 +401,9 @@ from continuum.engine.core import limits as _limits  # noqa: E402
 CONTINUUM_LIMITS = _limits.get()
 # Largest request body (JSON documents) and largest uploaded file (the import endpoints check each file's
 # size against the same number, since Django's limit leaves file parts out).
-DATA_UPLOAD_MAX_MEMORY_SIZE = CONTINUUM_LIMITS.upload_bytes
+# The body of a document action may be 64 KiB above it (its multipart framing: apps/tenancy/bounds.py,
+# UPLOAD_FRAMING_BYTES); the per-endpoint limits (BodyLimitMiddleware) are checked before this one.
+DATA_UPLOAD_MAX_MEMORY_SIZE = CONTINUUM_LIMITS.upload_bytes + 64 * 1024
 # Files above this are spooled to a temporary file instead of memory while they are read.
 FILE_UPLOAD_MAX_MEMORY_SIZE = 2_621_440
 # Celery: a job past the soft limit fails with "time limit of N s exceeded"; the hard limit kills the
