@@ -26,19 +26,25 @@ def env_bool(name: str, default: bool) -> bool:
 DEBUG = env_bool("DEBUG", False)
 
 
-def _var_secret(name: str, make) -> str:
-    """A random secret kept in var/<name>, created owner-only (never readable by others, not even for a
-    moment) by the first process that needs it; the others read that one."""
-    path = VAR_DIR / name
+def _var_secret(name: str, make, directory: Path | None = None) -> str:
+    """A random secret kept in <directory, default var/>/<name>, created owner-only (never readable by others,
+    not even for a moment) by the first process that needs it; the others read that one."""
+    directory = directory or VAR_DIR
+    path = directory / name
     if not path.exists():
-        VAR_DIR.mkdir(mode=0o700, parents=True, exist_ok=True)
+        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+        # Written whole under a private name, then linked into place: a process starting at the same moment
+        # never reads a half-written (empty) secret, and of two writers the first link wins.
+        tmp = directory / f".{name}.{os.getpid()}.{os.urandom(4).hex()}"
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(fd, "w") as f:
+            f.write(make())
         try:
-            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            os.link(tmp, path)
         except FileExistsError:  # another process of the same server made it just now
             pass
-        else:
-            with os.fdopen(fd, "w") as f:
-                f.write(make())
+        finally:
+            tmp.unlink()
     return path.read_text().strip()
 
 
@@ -52,8 +58,27 @@ def _secret_key() -> str:
 
 
 SECRET_KEY = _secret_key()
-ALLOWED_HOSTS = os.environ.get("ALLOWED_HOSTS", "localhost,127.0.0.1,[::1],testserver").split(",")
+# Django's test runner adds "testserver" itself: it is no host a deployment answers to.
+ALLOWED_HOSTS = os.environ.get("ALLOWED_HOSTS", "localhost,127.0.0.1,[::1]").split(",")
 CSRF_TRUSTED_ORIGINS = [o for o in os.environ.get("CSRF_TRUSTED_ORIGINS", "").split(",") if o]
+
+# ---- Served over HTTPS (README, "Behind a proxy"): CONTINUUM_HTTPS=1 ----------------------------------------
+# Plain http is then redirected, browsers are told to use https only (HSTS) and the session and CSRF cookies
+# are never sent over plain http. Off by default: the quick start serves http://127.0.0.1.
+CONTINUUM_HTTPS = env_bool("CONTINUUM_HTTPS", False)
+SECURE_SSL_REDIRECT = CONTINUUM_HTTPS
+SESSION_COOKIE_SECURE = CSRF_COOKIE_SECURE = CONTINUUM_HTTPS
+SECURE_HSTS_SECONDS = int(os.environ.get("CONTINUUM_HSTS_SECONDS", "31536000")) if CONTINUUM_HTTPS else 0
+SECURE_HSTS_INCLUDE_SUBDOMAINS = env_bool("CONTINUUM_HSTS_INCLUDE_SUBDOMAINS", True)
+# Preloading is a promise about the whole domain that only its owner can make (and is slow to undo): off unless
+# asked for, and `check --deploy` is told that this is deliberate.
+SECURE_HSTS_PRELOAD = env_bool("CONTINUUM_HSTS_PRELOAD", False)
+SILENCED_SYSTEM_CHECKS = [] if SECURE_HSTS_PRELOAD else ["security.W021"]
+SESSION_COOKIE_HTTPONLY = True
+SESSION_COOKIE_SAMESITE = CSRF_COOKIE_SAMESITE = "Lax"
+SECURE_CONTENT_TYPE_NOSNIFF = True
+SECURE_REFERRER_POLICY = "same-origin"
+X_FRAME_OPTIONS = "DENY"
 
 INSTALLED_APPS = [
     "django.contrib.admin",
@@ -85,6 +110,10 @@ INSTALLED_APPS = [
 MIDDLEWARE = [
     "apps.tenancy.audit.RequestIdMiddleware",
     "continuum.web_metrics.RequestMetricsMiddleware",  # /metrics: requests by route (README "Metrics")
+    "apps.tenancy.headers.ContentSecurityPolicyMiddleware",
+    # Bodies above their endpoint's limit are refused before anything reads them (its process_view runs
+    # before the CSRF middleware's, which reads form bodies).
+    "apps.tenancy.bounds.BodyLimitMiddleware",
     "django.middleware.security.SecurityMiddleware",
     "whitenoise.middleware.WhiteNoiseMiddleware",
     # ---- Response compression (issue 13: a 1000 x 10 schedule page was 5.5 MB of HTML) -------------------
@@ -101,7 +130,7 @@ MIDDLEWARE = [
     "apps.tenancy.bounds.RejectNulMiddleware",
     "django.middleware.csrf.CsrfViewMiddleware",
     "django.contrib.auth.middleware.AuthenticationMiddleware",
-    "auditlog.middleware.AuditlogMiddleware",
+    "apps.tenancy.audit.AuditMiddleware",  # django-auditlog's, with the client address of clientaddr.py
     "django.contrib.messages.middleware.MessageMiddleware",
     "django.middleware.clickjacking.XFrameOptionsMiddleware",
 ]
@@ -173,6 +202,43 @@ if env_bool("CONTINUUM_STATIC_MANIFEST", False):
     }
     WHITENOISE_USE_FINDERS = False  # the finders' copies would shadow the compressed collected ones
 
+# Reverse proxies in front of gunicorn that append the client's address to X-Forwarded-For (README, "Behind a
+# proxy"). 0, the default: the header is ignored, the client is the connection's address. The throttles, the
+# login limiter and the audit trail all read the client's address through apps/tenancy/clientaddr.py.
+CONTINUUM_NUM_PROXIES = int(os.environ.get("CONTINUUM_NUM_PROXIES", "0"))
+
+# A proxy that terminates TLS says so in X-Forwarded-Proto; believed only when proxies are declared.
+if CONTINUUM_NUM_PROXIES > 0:
+    SECURE_PROXY_SSL_HEADER = ("HTTP_X_FORWARDED_PROTO", "https")
+
+# Content-Security-Policy of every response (apps/tenancy/headers.py): scripts and style sheets from this
+# server only, no inline script. 'unsafe-eval' is Plotly's need: its WebGL traces (regl: the large schedules'
+# and DAGs' charts) compile their draw calls with Function(); without it they draw nothing and never hover
+# (tests/scheduling/test_schedule_browser.py); plotly.js's "strict" bundle would drop that need. Injected
+# markup still cannot run a script. Style *attributes* stay allowed (style-src-attr): the pages' meters and
+# Plotly set widths and positions with them; an attribute cannot load or select anything. Plotly adds its
+# global CSS rules to the (empty) sheet base.html links as "plotly.js-style-global" instead of a style
+# element. CONTINUUM_CSP replaces the whole policy.
+CONTINUUM_CSP = os.environ.get("CONTINUUM_CSP") or "; ".join(
+    [
+        "default-src 'self'",
+        "script-src 'self' 'unsafe-eval'",
+        "style-src 'self'",
+        "style-src-attr 'unsafe-inline'",
+        "img-src 'self' data: blob:",
+        "font-src 'self' data:",
+        "connect-src 'self'",
+        "worker-src 'self' blob:",
+        "object-src 'none'",
+        "base-uri 'self'",
+        "form-action 'self'",
+        "frame-ancestors 'none'",
+    ]
+)
+# ReDoc (/api/redoc/) builds its styles as <style> elements at run time (styled-components): its page alone
+# may use inline style elements.
+CONTINUUM_CSP_INLINE_STYLE_PATHS = ("/api/redoc/",)
+
 REST_FRAMEWORK = {
     "DEFAULT_AUTHENTICATION_CLASSES": [
         "apps.tenancy.authentication.FleetTokenAuthentication",
@@ -208,6 +274,8 @@ REST_FRAMEWORK = {
     "PAGE_SIZE": 50,
     "DEFAULT_SCHEMA_CLASS": "drf_spectacular.openapi.AutoSchema",
     "EXCEPTION_HANDLER": "apps.tenancy.api.exception_handler",
+    # How many proxies in front of the server append to X-Forwarded-For (apps/tenancy/clientaddr.py).
+    "NUM_PROXIES": CONTINUUM_NUM_PROXIES,
 }
 SPECTACULAR_SETTINGS = {
     "TITLE": "Continuum API",
@@ -345,7 +413,9 @@ from continuum.engine.core import limits as _limits  # noqa: E402
 CONTINUUM_LIMITS = _limits.get()
 # Largest request body (JSON documents) and largest uploaded file (the import endpoints check each file's
 # size against the same number, since Django's limit leaves file parts out).
-DATA_UPLOAD_MAX_MEMORY_SIZE = CONTINUUM_LIMITS.upload_bytes
+# The body of a document action may be 64 KiB above it (its multipart framing: apps/tenancy/bounds.py,
+# UPLOAD_FRAMING_BYTES); the per-endpoint limits (BodyLimitMiddleware) are checked before this one.
+DATA_UPLOAD_MAX_MEMORY_SIZE = CONTINUUM_LIMITS.upload_bytes + 64 * 1024
 # Files above this are spooled to a temporary file instead of memory while they are read.
 FILE_UPLOAD_MAX_MEMORY_SIZE = 2_621_440
 # Celery: a job past the soft limit fails with "time limit of N s exceeded"; the hard limit kills the
@@ -403,6 +473,10 @@ AUDITLOG_INCLUDE_TRACKING_MODELS = tuple(
     {"model": model, "exclude_fields": list(excluded), **extra}
     for model, excluded, extra in [
         ("tenancy.Fleet", (), {"m2m_fields": {"members"}}),
+        # Who may do what: accounts (never their password hash), groups and permissions.
+        ("auth.User", ("password", "last_login"), {"m2m_fields": {"groups", "user_permissions"}}),
+        ("auth.Group", (), {"m2m_fields": {"permissions"}}),
+        ("auth.Permission", (), {}),
         ("tenancy.FleetToken", ("key_hash", "last_used"), {}),
         ("clusters.Cluster", ("kubeconfig",), {}),  # secret: the trail says the cluster changed, not how
         ("clusters.ComputeNode", (), {}),
@@ -422,15 +496,36 @@ AUDITLOG_INCLUDE_TRACKING_MODELS = tuple(
 
 
 # ---- Kubernetes credentials (issue 10, trust boundary; apps/kube/kubeconfig.py, apps/kube/credentials.py) ----
+def credentials_key_file(var_dir: Path = VAR_DIR) -> Path:
+    """Where the quick start keeps the key of ``var_dir``'s database: CONTINUUM_CREDENTIALS_KEY_FILE, else
+    ``$XDG_CONFIG_HOME/continuum/keys/<hash of var_dir>.key`` (``~/.config``). Never inside var/: a copy of
+    the database (a backup, a tarball of var/) must not carry the key that decrypts its kubeconfigs (issue 25).
+    One key per var/ directory, so that two checkouts never share (or take over) each other's."""
+    if os.environ.get("CONTINUUM_CREDENTIALS_KEY_FILE"):
+        return Path(os.environ["CONTINUUM_CREDENTIALS_KEY_FILE"])
+    import hashlib
+
+    config = Path(os.environ.get("XDG_CONFIG_HOME") or Path.home() / ".config")
+    tag = hashlib.sha256(str(var_dir.resolve()).encode()).hexdigest()[:16]
+    return config / "continuum" / "keys" / f"{tag}.key"
+
+
 def _credentials_keys() -> list[str]:
     """Fernet keys that encrypt kubeconfigs at rest: CONTINUUM_CREDENTIALS_KEY (comma-separated, newest first,
-    for rotation), else a random key kept in var/credentials_key (0600). Web and worker must share it."""
+    for rotation), else a random key kept 0600 in :func:`credentials_key_file`, apart from the database. Web
+    and worker must share it. A key an older version kept in var/credentials_key is moved there."""
     if os.environ.get("CONTINUUM_CREDENTIALS_KEY"):
         return [k.strip() for k in os.environ["CONTINUUM_CREDENTIALS_KEY"].split(",") if k.strip()]
     import base64
 
-    # A Fernet key: 32 random bytes, URL-safe base64.
-    return [_var_secret("credentials_key", lambda: base64.urlsafe_b64encode(os.urandom(32)).decode())]
+    path = credentials_key_file()
+    old = VAR_DIR / "credentials_key"
+    # A Fernet key: 32 random bytes, URL-safe base64; or the one an older version kept beside the database.
+    made = old.read_text if old.exists() else lambda: base64.urlsafe_b64encode(os.urandom(32)).decode()
+    key = _var_secret(path.name, made, path.parent)
+    if old.exists() and old.read_text().strip() == key:
+        old.unlink(missing_ok=True)  # moved, not copied: only the config directory holds it now
+    return [key]
 
 
 CONTINUUM_CREDENTIALS_KEYS = _credentials_keys()

@@ -13,6 +13,8 @@ from .serializers import ClusterImportSerializer, ClusterSerializer, ComputeNode
 
 
 class ClusterViewSet(FleetScopedMixin, viewsets.ModelViewSet):
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"import_document"})
     queryset = Cluster.objects.select_related("fleet")
     serializer_class = ClusterSerializer
     filterset_fields = ["fleet__slug", "name"]

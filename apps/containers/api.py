@@ -45,6 +45,9 @@ class RosGraphViewSet(
 ):
     """ROS computation graphs. Create them with ``import``; PATCH edits levels, rates and message sizes."""
 
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"import_file", "update", "partial_update"})
+
     queryset = RosGraph.objects.select_related("fleet")
     filterset_fields = ["fleet__slug", "source_format"]
     search_fields = ["name", "description"]
@@ -82,6 +85,9 @@ class BuildImagesRequestSerializer(serializers.Serializer):
 
 class ClusteringViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
     """Results of clustering jobs: containers with their ROS nodes, bandwidth, image plan and disk figures."""
+
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"place"})
 
     queryset = Clustering.objects.select_related("fleet", "rosgraph")
     filterset_fields = ["rosgraph", "fleet__slug"]
@@ -140,6 +146,9 @@ class ClusteringViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Rea
 
 class PlacementViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet):
     """Placements of containers on nodes, every node's verdict for every container, and their push."""
+
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"run"})
 
     queryset = Placement.objects.select_related("fleet", "cluster", "rosgraph")
     filterset_fields = ["clustering", "cluster", "policy", "rosgraph"]

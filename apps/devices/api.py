@@ -44,6 +44,8 @@ def advice(device: DeviceProfile, request: AdviceRequestSerializer) -> dict:
 
 
 class DeviceProfileViewSet(viewsets.ModelViewSet):
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"thresholds"})
     queryset = DeviceProfile.objects.all()
     serializer_class = DeviceProfileSerializer
     permission_classes = [ReadOrStaff]

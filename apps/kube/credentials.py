@@ -1,7 +1,8 @@
 """Credentials at rest: Fernet encryption of a column, with keys from the environment.
 
 ``settings.CONTINUUM_CREDENTIALS_KEYS`` (from ``CONTINUUM_CREDENTIALS_KEY``, comma-separated, newest first,
-else a key kept in ``var/credentials_key``) feeds a :class:`~cryptography.fernet.MultiFernet`: values are
+else a key kept apart from the database, ``settings.credentials_key_file``) feeds a
+:class:`~cryptography.fernet.MultiFernet`: values are
 encrypted with the first key and decrypted with any of them, so a key is rotated by putting the new one
 first and running ``manage.py rotate_credentials``, then dropping the old one.
 

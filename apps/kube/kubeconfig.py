@@ -34,8 +34,13 @@ from urllib.parse import urlsplit
 
 import yaml
 
+from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import check_yaml_events
+
 #: PyYAML's safe loader, in C when libyaml is there (about 10x faster than the pure-Python one).
 SAFE_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+#: Nesting of a kubeconfig's mappings and lists: a real one nests 5 levels (users[].user.exec.env[].name).
+KUBECONFIG_MAX_DEPTH = 32
 #: Most entries a list (clusters, users, contexts) may have; real kubeconfigs have a handful.
 MAX_ENTRIES = 100
 MAX_TOKEN_CHARS = 16_384
@@ -119,7 +124,12 @@ def parse(text: str, policy: ServerPolicy) -> dict[str, Any]:
     if size > policy.max_bytes:
         raise KubeconfigError("kubeconfig", f"too large: {size} bytes, at most {policy.max_bytes}")
     try:
+        # Depth and aliases first, without recursion: the C loader's composer recurses per level and 60 KB
+        # of "[" overflowed the C stack, killing the web worker with every request in it (issue 25).
+        check_yaml_events(text, "kubeconfig", max_depth=KUBECONFIG_MAX_DEPTH)
         doc = yaml.load(text, Loader=SAFE_LOADER)  # safe: no Python objects
+    except InputError as exc:
+        raise KubeconfigError("kubeconfig", str(exc)) from exc
     except yaml.YAMLError as exc:
         raise KubeconfigError("kubeconfig", f"not valid YAML ({exc})") from exc
     if not isinstance(doc, dict):

@@ -81,6 +81,9 @@ def _visible_cluster(request, pk, with_nodes: bool = False) -> Cluster:
 class RealTimeViewSet(ClusterScoped, viewsets.ModelViewSet):
     """RealTime objects (Listing 3.33). Saving one writes it to the cluster's Kubernetes API as well."""
 
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"import_yaml", "sync"})
+
     queryset = RealTime.objects.select_related("cluster").prefetch_related("wcets__node")
     serializer_class = RealTimeSerializer
     filterset_fields = ["cluster", "namespace", "criticality", "sync_state"]
@@ -229,6 +232,9 @@ class MonitoringReportViewSet(ClusterScoped, mixins.CreateModelMixin, viewsets.R
     ``/api/v1/rt-events/``. A malformed report rejects the whole batch (400).
     """
 
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"create"})
+
     queryset = MonitoringReport.objects.all()
     serializer_class = MonitoringReportSerializer
     robot_actions = {"create"}  # robots' tokens post reports (apps.tenancy.permissions)
@@ -357,6 +363,9 @@ class RTDecisionViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
 
 class RTPlanViewSet(ClusterScoped, viewsets.ReadOnlyModelViewSet):
     """Placement runs: what-if jobs and scheduler cycles (the engine's PlacementPlan)."""
+
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"whatif"})
 
     queryset = RTPlan.objects.all()
     serializer_class = RTPlanSerializer

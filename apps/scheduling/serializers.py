@@ -8,6 +8,7 @@ from apps.tenancy.bounds import at_most
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
+from continuum.engine.core.unique import duplicates
 from continuum.engine.device.algorithms import SCHEDULERS
 from continuum.engine.device.compare import DEFAULT_ALGORITHMS
 from continuum.engine.device.heft import COMM_MODES, RANK_MODES
@@ -162,7 +163,7 @@ class CompareRequestSerializer(TargetSerializer):
     )
 
     def validate_algorithms(self, value):
-        dup = sorted({a for a in value if value.count(a) > 1})
+        dup = sorted(duplicates(value))
         if dup:
             raise serializers.ValidationError(f"{dup[0]!r} is listed twice")
         return value

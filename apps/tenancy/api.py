@@ -4,7 +4,14 @@ import logging
 import uuid
 from functools import partial
 
-from django.core.exceptions import ImproperlyConfigured
+from django.core.exceptions import (
+    ImproperlyConfigured,
+    RequestDataTooBig,
+    SuspiciousOperation,
+    TooManyFieldsSent,
+    TooManyFilesSent,
+)
+from django.db import models
 from django.db.models import QuerySet
 from drf_spectacular.types import OpenApiTypes
 from drf_spectacular.utils import extend_schema_field
@@ -15,6 +22,7 @@ from rest_framework.views import exception_handler as drf_exception_handler
 from rest_framework.views import set_rollback
 
 from continuum.engine.core.errors import InputError
+from continuum.engine.core.safeload import check_json_value, loads_json
 
 from .audit import request_id
 from .models import Fleet, FleetToken
@@ -31,8 +39,11 @@ def exception_handler(exc, context):
     becomes a 500 with an error id, its traceback logged under that id and never sent to the caller."""
     if isinstance(exc, InputError):
         exc = ValidationError({exc.field or "non_field_errors": [str(exc)]})
+    if isinstance(exc, SuspiciousOperation):  # Django's own bounds, met while DRF parses a body
+        return _suspicious(exc)
     response = drf_exception_handler(exc, context)
     if response is not None:
+        response.data = _printable(response.data)
         return response
     error_id = str(uuid.uuid4())
     request = context.get("request")
@@ -46,6 +57,45 @@ def exception_handler(exc, context):
     )
     set_rollback()
     return Response({"detail": "internal error", "error_id": error_id}, status=status.HTTP_500_INTERNAL_SERVER_ERROR)
+
+
+def _printable(data):
+    """An error's detail with every lone UTF-16 surrogate written as its escape (``\\ud800``): a message that
+    echoes one could not be encoded as UTF-8 and the answer became a 500 (issue 25)."""
+    if isinstance(data, str):
+        if not data.isascii():
+            try:
+                data.encode()
+            except UnicodeEncodeError:
+                fixed = data.encode("utf-8", "backslashreplace").decode()
+                return type(data)(fixed, code=data.code) if hasattr(data, "code") else fixed
+        return data
+    if isinstance(data, dict):
+        return {_printable(k): _printable(v) for k, v in data.items()}
+    if isinstance(data, list):
+        return [_printable(v) for v in data]
+    return data
+
+
+def _suspicious(exc: SuspiciousOperation) -> Response:
+    """Django refuses a body it will not parse by raising SuspiciousOperation, which a plain Django view turns
+    into a 400 but DRF hands to this handler: the answer names the bound instead of a 500."""
+    from django.conf import settings
+
+    set_rollback()
+    if isinstance(exc, RequestDataTooBig):
+        limit = settings.DATA_UPLOAD_MAX_MEMORY_SIZE
+        return Response(
+            {"detail": f"request body: at most {limit:,} bytes of form fields", "limit_bytes": limit},
+            status=status.HTTP_413_REQUEST_ENTITY_TOO_LARGE,
+        )
+    if isinstance(exc, TooManyFieldsSent):
+        detail = f"at most {settings.DATA_UPLOAD_MAX_NUMBER_FIELDS:,} form fields"
+    elif isinstance(exc, TooManyFilesSent):
+        detail = f"at most {settings.DATA_UPLOAD_MAX_NUMBER_FILES:,} files"
+    else:
+        detail = "malformed request"
+    return Response({"detail": detail}, status=status.HTTP_400_BAD_REQUEST)
 
 
 def contract_error(errors, path: str = "") -> InputError:
@@ -162,8 +212,32 @@ class ScopedSerializer(FleetScopedSerializerMixin, serializers.Serializer):
     """The base of every plain serializer of the API."""
 
 
+class SafeJSONField(serializers.JSONField):
+    """A JSON value that a form field may carry as text too: read with the API's JSON rules (depth, NaN, NUL,
+    lone surrogates: :func:`~continuum.engine.core.safeload.loads_json`), and ``null`` refused unless the field
+    allows it (issue 25: a form's ``constants=null`` reached a NOT NULL column and answered 500)."""
+
+    def to_internal_value(self, data):
+        if getattr(data, "is_json_string", False) and not self.binary:
+            try:
+                value = loads_json(str(data))
+            except InputError as exc:
+                raise ValidationError(str(exc)) from None
+        else:
+            value = super().to_internal_value(data)
+            try:
+                check_json_value(value)
+            except InputError as exc:
+                raise ValidationError(str(exc)) from None
+        if value is None and not self.allow_null:
+            self.fail("null")
+        return value
+
+
 class ScopedModelSerializer(FleetScopedSerializerMixin, serializers.ModelSerializer):
     """The base of every model serializer of the API."""
+
+    serializer_field_mapping = {**serializers.ModelSerializer.serializer_field_mapping, models.JSONField: SafeJSONField}
 
 
 class FleetOwnedSerializer(DefaultFleetMixin, ScopedModelSerializer):

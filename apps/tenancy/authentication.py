@@ -40,7 +40,13 @@ _lock = threading.Lock()
 
 
 def _generation() -> object:
-    return cache.get(GENERATION_KEY, 0)
+    """The shared generation; with the cache down a new object each time, which matches no kept entry: every
+    request then looks its token up in the database (never a revoked one kept past its revocation)."""
+    try:
+        return cache.get(GENERATION_KEY, 0)
+    except Exception as exc:  # any failure of the cache's backend
+        throttling.cache_down(exc)
+        return object()
 
 
 def revoke_kept(**_) -> None:
@@ -48,9 +54,12 @@ def revoke_kept(**_) -> None:
     with _lock:
         _kept.clear()
     try:
-        cache.incr(GENERATION_KEY)
-    except ValueError:  # not set yet (or evicted): any new value differs from what entries were kept with
-        cache.set(GENERATION_KEY, time.time_ns(), timeout=None)
+        try:
+            cache.incr(GENERATION_KEY)
+        except ValueError:  # not set yet (or evicted): any new value differs from what entries were kept with
+            cache.set(GENERATION_KEY, time.time_ns(), timeout=None)
+    except Exception as exc:  # the cache is down: other processes' entries expire by their age
+        throttling.cache_down(exc)
 
 
 for _model in (FleetToken, Fleet, get_user_model()):

@@ -12,16 +12,15 @@ from django.conf import settings
 from django.contrib.admin.forms import AdminAuthenticationForm
 from django.contrib.auth.forms import AuthenticationForm
 from django.contrib.auth.views import LoginView
-from django.core.cache import cache
-from rest_framework.throttling import BaseThrottle
 
-from .throttling import count
+from .clientaddr import client_address
+from .throttling import cached, count, forget
 
 LOCKED = "too many failed logins for this user from your address; try again in a few minutes"
 
 
 def _key(request, username: str) -> str:
-    ip = BaseThrottle().get_ident(request) if request is not None else "-"
+    ip = client_address(request) if request is not None else "-"
     digest = hashlib.sha256(f"{ip}\0{username.casefold()}".encode()).hexdigest()[:32]
     return f"login_failures_{digest}"
 
@@ -30,14 +29,14 @@ class ThrottledLoginMixin:
     def clean(self):
         username = self.data.get("username", "") or ""
         key = _key(self.request, username)
-        if cache.get(key, 0) >= settings.CONTINUUM_LOGIN_FAILURES:
+        if cached(key) >= settings.CONTINUUM_LOGIN_FAILURES:
             raise forms.ValidationError(LOCKED, code="throttled")
         try:
             cleaned = super().clean()
         except forms.ValidationError:
             count(key, settings.CONTINUUM_LOGIN_WINDOW_S)  # the window opens with the first failure
             raise
-        cache.delete(key)
+        forget(key)
         return cleaned
 
 

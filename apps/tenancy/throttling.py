@@ -9,12 +9,18 @@ general per-token budget then leaves it alone.
 
 from __future__ import annotations
 
+import logging
+import time
+
 from django.conf import settings
 from django.core.cache import cache
 from rest_framework import exceptions, throttling
 from rest_framework.settings import api_settings
 
+from .clientaddr import client_address
 from .models import FleetToken
+
+log = logging.getLogger(__name__)
 
 PERIODS = {"s": 1, "m": 60, "h": 3600, "d": 86400}
 
@@ -55,14 +61,49 @@ class WindowThrottle(throttling.BaseThrottle):
 
 
 def count(key: str, timeout: int) -> int:
-    """Add one to a counter that lives ``timeout`` seconds from its first use; the new value."""
-    if cache.add(key, 1, timeout=timeout):
-        return 1
+    """Add one to a counter that lives ``timeout`` seconds from its first use; the new value (0 when the cache
+    cannot be reached: see :func:`cache_down`)."""
     try:
-        return cache.incr(key)
-    except ValueError:  # expired between add and incr
-        cache.set(key, 1, timeout=timeout)
-        return 1
+        if cache.add(key, 1, timeout=timeout):
+            return 1
+        try:
+            return cache.incr(key)
+        except ValueError:  # expired between add and incr
+            cache.set(key, 1, timeout=timeout)
+            return 1
+    except Exception as exc:  # any failure of the cache's backend (redis, memcached, ...)
+        cache_down(exc)
+        return 0
+
+
+def forget(key: str) -> None:
+    """Delete a counter (a successful login clears its failures); nothing when the cache is down."""
+    try:
+        cache.delete(key)
+    except Exception as exc:
+        cache_down(exc)
+
+
+def cached(key: str) -> int:
+    """A counter's value, 0 when it is not set or the cache cannot be reached."""
+    try:
+        return int(cache.get(key, 0) or 0)
+    except Exception as exc:
+        cache_down(exc)
+        return 0
+
+
+_last_logged = 0.0
+
+
+def cache_down(exc: BaseException) -> None:
+    """The cache the limits count in is down: the limits fail open (every request is let through) so that the
+    API keeps answering, and say so in the log, at most once every 10 s per process."""
+    global _last_logged
+    now = time.monotonic()
+    if now - _last_logged >= 10:
+        _last_logged = now
+        log.warning("rate limits off: the cache is unreachable (%s: %s)", type(exc).__name__, exc)
 
 
 def _caller(request) -> str | None:
@@ -94,6 +135,9 @@ class ScopedTokenThrottle(WindowThrottle):
     def ident(self, request, view) -> str | None:
         return _caller(request) or self.get_ident(request)
 
+    def get_ident(self, request) -> str:
+        return client_address(request)
+
 
 class AnonymousRateThrottle(WindowThrottle):
     """Requests without credentials, counted per client address, scope "anon"."""
@@ -101,12 +145,12 @@ class AnonymousRateThrottle(WindowThrottle):
     scope = "anon"
 
     def ident(self, request, view) -> str | None:
-        return None if request.user and request.user.is_authenticated else self.get_ident(request)
+        return None if request.user and request.user.is_authenticated else client_address(request)
 
 
 # ---- bad token keys -------------------------------------------------------------------------------------------
 def _bad_token_key(request) -> str:
-    return f"throttle_bad_token_{throttling.BaseThrottle().get_ident(request)}"
+    return f"throttle_bad_token_{client_address(request)}"
 
 
 def check_bad_tokens(request) -> None:
@@ -114,7 +158,7 @@ def check_bad_tokens(request) -> None:
     limit = parse_rate(settings.CONTINUUM_THROTTLE_BAD_TOKENS)
     if request is None or limit is None:
         return
-    if cache.get(_bad_token_key(request), 0) >= limit[0]:
+    if cached(_bad_token_key(request)) >= limit[0]:
         raise exceptions.Throttled(wait=limit[1], detail="too many invalid tokens from this address; retry later")
 
 

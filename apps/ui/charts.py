@@ -29,6 +29,7 @@ from __future__ import annotations
 import html
 import json
 import math
+import uuid
 from collections.abc import Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import partial
@@ -36,6 +37,7 @@ from statistics import fmean
 
 import numpy as np
 import plotly.graph_objects as go
+import plotly.io as pio
 from plotly.colors import sample_colorscale
 from plotly.subplots import make_subplots
 
@@ -70,20 +72,29 @@ WEBGL_BARS = 2000
 OUTLINED_BARS = 300
 
 
+CONFIG = {
+    "displaylogo": False,
+    "responsive": True,
+    "modeBarButtonsToRemove": ["select2d", "lasso2d", "autoScale2d", "toggleSpikelines"],
+}
+#: JSON inside a <script> data block: these characters as JSON escapes, so no text can close the element.
+_DATA_BLOCK_ESCAPES = {ord("<"): "\\u003C", ord(">"): "\\u003E", ord("&"): "\\u0026"}
+
+
 def to_html(fig: go.Figure, div_id: str | None = None) -> str:
-    """The figure as a ``<div>`` plus the script that draws it; plotly.js itself comes from static files.
-    A figure with WebGL Gantt bars gets the script that expands their facts (:data:`GL_GANTT_SCRIPT`)."""
+    """The figure as a ``<div>`` plus its JSON in a data block (``<script type="application/json">``, never
+    executed); ``static/js/charts.js`` draws every such chart with plotly.js, both from static files. No inline
+    script, so the Content-Security-Policy needs no 'unsafe-inline' (issue 25). A figure with WebGL Gantt bars
+    is marked ``data-gl-gantt``: charts.js then expands their facts (:func:`gl_gantt_facts`)."""
     gl = any(isinstance(t.meta, dict) and "gantt" in t.meta for t in fig.data if hasattr(t, "meta"))
-    return fig.to_html(
-        post_script=GL_GANTT_SCRIPT if gl else None,
-        full_html=False,
-        include_plotlyjs=False,
-        div_id=div_id,
-        config={
-            "displaylogo": False,
-            "responsive": True,
-            "modeBarButtonsToRemove": ["select2d", "lasso2d", "autoScale2d", "toggleSpikelines"],
-        },
+    div_id = div_id or f"chart-{uuid.uuid4().hex}"
+    figure = pio.to_json(fig, validate=False, engine="json")  # {"data": ..., "layout": ...}
+    payload = (figure.rstrip()[:-1] + ',"config":' + json.dumps(CONFIG) + "}").translate(_DATA_BLOCK_ESCAPES)
+    marker = " data-gl-gantt" if gl else ""
+    return (
+        f'<div class="plotly-chart" id="{html.escape(div_id)}" data-figure="{html.escape(div_id)}-figure"{marker}'
+        f' style="height:100%; width:100%;"></div>'
+        f'<script type="application/json" id="{html.escape(div_id)}-figure">{payload}</script>'
     )
 
 
@@ -523,8 +534,8 @@ def _gantt_gl_trace(
     of bars stay fast and keep their colour at any width (an SVG bar's outline bleached thin ones).
 
     The trace carries its bars' facts once, compactly, in ``meta["gantt"]`` (:func:`gl_gantt_facts` as one
-    JSON string), and
-    :data:`GL_GANTT_SCRIPT` (added by :func:`to_html`) expands them in the browser into the line points
+    JSON string), and ``static/js/charts.js`` (on charts :func:`to_html` marks ``data-gl-gantt``) expands them
+    in the browser into the line points
     (start, middle, finish and a gap per bar: hover finds points, not lines) and their hover text, the
     same lines as :func:`_gantt_hover`'s with the duration written by Python (no ``%{x}``: the base/x
     pitfall of issue 13). Sent as text, the hover strings made a 1000 x 10 schedule page 5.7 MB and the
@@ -581,36 +592,6 @@ def gl_gantt_facts(
         facts["note"] = [esc(notes.get((a.task, a.frame), "")) for a in assignments]
     suffix = f" {esc(unit)}" if unit else " time units"
     return {"unit": suffix, "rows": list(rows), "processors": list(processors)} | facts
-
-
-#: Expands the WebGL Gantt traces' ``meta.gantt`` facts (:func:`gl_gantt_facts`) into their points and hover
-#: text, in :func:`_gantt_hover`'s words; numbers as Python's ``%.6g`` would print them.
-GL_GANTT_SCRIPT = r"""(function () {
-var gd = document.getElementById('{plot_id}'); if (!gd || !window.Plotly) return;
-function num(x) {
-  var a = Math.abs(x);
-  if (a !== 0 && (a < 1e-4 || a >= 1e6)) {
-    return x.toExponential(5).replace(/\.?0+e/, 'e').replace(/e([+-])(\d)$/, 'e$10$2');
-  }
-  return String(parseFloat(x.toPrecision(6)));
-}
-var idx = [], xs = [], ys = [], hs = [];
-gd.data.forEach(function (t, i) {
-  var g = t.meta && t.meta.gantt; if (!g) return; g = JSON.parse(g);
-  var n = g.task.length, x = new Float64Array(4 * n), y = new Array(4 * n), h = new Array(4 * n), u = g.unit;
-  for (var k = 0; k < n; k++) {
-    var s = g.start[k], f = g.finish[k], r = g.rows[g.row[k]];
-    var text = '<b>' + g.task[k] + '</b> (frame ' + g.frame[k] + ')<br>processor: ' + g.processors[g.processor[k]] +
-      '<br>start: ' + num(s) + u + '<br>finish: ' + num(f) + u + '<br>duration: ' + num(g.duration[k]) + u +
-      (g.note && g.note[k] ? '<br>' + g.note[k] : '');
-    x[4 * k] = s; x[4 * k + 1] = (s + f) / 2; x[4 * k + 2] = f; x[4 * k + 3] = NaN;
-    y[4 * k] = y[4 * k + 1] = y[4 * k + 2] = y[4 * k + 3] = r;
-    h[4 * k] = h[4 * k + 1] = h[4 * k + 2] = text; h[4 * k + 3] = '';
-  }
-  idx.push(i); xs.push(x); ys.push(y); hs.push(h);
-});
-if (idx.length) Plotly.restyle(gd, {x: xs, y: ys, hovertext: hs}, idx);
-})();"""
 
 
 def _gantt_facts(a: Assignment, notes: Mapping[tuple[str, int], str]) -> list:

@@ -60,6 +60,9 @@ class MonitorViewSet(FleetScopedMixin, viewsets.ModelViewSet):
 class HandlerViewSet(FleetScopedMixin, mixins.UpdateModelMixin, viewsets.ReadOnlyModelViewSet):
     """The monitor handler of each node (liveness, CPU statistics); threshold and delay are editable."""
 
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"sync"})
+
     queryset = Handler.objects.select_related("node", "cluster")
     serializer_class = HandlerSerializer
     fleet_lookup = "cluster__fleet"
@@ -98,6 +101,9 @@ class VerdictViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):
 class EventViewSet(viewsets.GenericViewSet):
     """Robots post events here, in batches; a malformed batch answers 400 and nothing of it is used."""
 
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"create"})
+
     serializer_class = EventBatchSerializer
     robot_actions = {"create"}  # robots' tokens post events (apps.tenancy.permissions)
     throttle_scope = "reports"  # their own, high rate limit (REST_FRAMEWORK["DEFAULT_THROTTLE_RATES"])
@@ -117,6 +123,9 @@ class EventViewSet(viewsets.GenericViewSet):
 class AllocationRunViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):
     """Runs of the monitor-allocation MILP: ``POST`` starts one as a job (with progress), ``simulate``
     runs a thesis case study and stores it as a series of runs."""
+
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"create", "simulate"})
 
     queryset = AllocationRun.objects.select_related("fleet", "cluster").prefetch_related("migrations")
     serializer_class = AllocationRunSerializer

@@ -17,6 +17,8 @@ from .serializers import (
 
 
 class ApplicationViewSet(FleetScopedMixin, ExtensibleViewSetMixin, viewsets.ModelViewSet):
+    #: Actions taking a document or a file: bodies up to limits.upload_bytes (other actions: body_bytes).
+    document_actions = frozenset({"create", "update", "partial_update", "import_file"})
     # No docstring: it would become the description of every operation in the schema. Apps above workloads
     # add actions through ExtensibleViewSetMixin: ``schedule`` and ``compare`` (apps.scheduling.api).
     queryset = Application.objects.select_related("fleet")

@@ -207,3 +207,34 @@ def test_the_client_configuration_is_built_from_the_validated_fields_only():
         assert stat.S_IMODE(os.stat(os.path.dirname(path)).st_mode) == 0o700
     token = configuration_for(validate(text(doc()), "", STRICT))
     assert token.api_key == {"authorization": "Bearer abc.def-123"} and token.cert_file is None
+
+
+@pytest.mark.parametrize("opener", ["[", "{", "- "])
+def test_deeply_nested_yaml_is_refused_before_the_c_loader_sees_it(opener):
+    """60 KB of "[" overflowed the C stack inside libyaml's composer and killed the process (issue 25): run in
+    a child process, so that a crash is this test's failure and not the test run's."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = (
+        "from apps.kube.kubeconfig import KubeconfigError, ServerPolicy, validate\n"
+        f"text = {opener!r} * {60_000 // len(opener)}\n"
+        "try:\n"
+        "    validate(text, '', ServerPolicy())\n"
+        "except KubeconfigError as exc:\n"
+        "    print('refused:', exc)\n"
+    )
+    root = Path(__file__).resolve().parents[2]
+    done = subprocess.run([sys.executable, "-c", script], cwd=root, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
+    assert "refused:" in done.stdout and "nested too deeply" in done.stdout, done.stdout
+
+
+def test_a_kubeconfig_nested_within_the_bound_still_parses():
+    deep = {"k": 1}
+    for _ in range(10):
+        deep = {"k": deep}
+    d = doc()
+    d["preferences"] = {"extensions": [{"name": "x", "extension": deep}]}
+    assert validate(text(d), "", STRICT).server == "https://k8s.example.org:6443"

@@ -198,7 +198,7 @@ def test_past_webgl_bars_the_gantt_is_webgl_lines_carrying_each_bars_facts(fleet
         assert bars[(a.task, a.frame)] == (a.processor, float(charts.fmt(a.start)), float(charts.fmt(a.finish)))
     critical = next(t for t in traces if t.name == "critical path")
     assert len(json.loads(critical.meta["gantt"])["task"]) == len(engine.critical_path(dag, PLATFORM))
-    assert "JSON.parse(g)" in charts.to_html(fig)  # the script that expands the facts in the browser
+    assert "data-gl-gantt" in charts.to_html(fig)  # static/js/charts.js expands the facts in the browser
 
 
 def test_below_webgl_bars_the_gantt_keeps_svg_bars_without_bleaching_outlines(fleet):

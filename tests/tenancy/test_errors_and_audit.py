@@ -77,12 +77,15 @@ def test_api_changes_by_a_token_are_recorded_with_actor_token_and_request_id(api
     response = api.post(
         "/api/v1/clusters/import/", {"name": "edge", **cluster_doc}, format="json", HTTP_X_REQUEST_ID="req-42"
     )
-    assert response.status_code == 201 and response.headers["X-Request-ID"] == "req-42"
+    # The id is the server's (issue 25: a caller-chosen id went into the trail); the caller's is kept apart.
+    rid = response.headers["X-Request-ID"]
+    assert response.status_code == 201 and re.fullmatch(r"[0-9a-f]{32}", rid)
+    assert response.headers["X-Client-Request-ID"] == "req-42"
     pk = response.data["id"]
     created = entries(Cluster, pk).get(action=LogEntry.Action.CREATE)
-    assert created.actor == fleet_token.user and created.cid == "req-42"
+    assert created.actor == fleet_token.user and created.cid == rid
     token = {"token": fleet_token.prefix, "fleet": fleet_token.fleet.slug, "scope": "operator"}
-    assert created.additional_data == token
+    assert created.additional_data == {"client_request_id": "req-42", **token}
     response = api.patch(f"/api/v1/clusters/{pk}/", {"description": "north site"}, format="json")
     assert response.status_code == 200
     updated = entries(Cluster, pk).get(action=LogEntry.Action.UPDATE)
@@ -140,3 +143,61 @@ def test_changes_a_job_makes_in_a_worker_name_whoever_started_it(api, operator, 
     schedule = Schedule.objects.get(application=Application.objects.get(pk=app.data["id"]))
     entry = entries(Schedule, schedule.pk).get(action=LogEntry.Action.CREATE)
     assert entry.actor == operator and entry.additional_data == {"job": str(job.pk), "kind": "schedule"}
+
+
+def test_request_ids_are_the_servers_even_when_the_caller_sends_one(api):
+    ids = set()
+    for given in ("same", "same", "x" * 65, "bad id"):
+        response = api.get("/api/v1/clusters/", HTTP_X_REQUEST_ID=given)
+        ids.add(response.headers["X-Request-ID"])
+        assert response.headers.get("X-Client-Request-ID") == (given if given == "same" else None)
+    assert len(ids) == 4 and "same" not in ids
+
+
+def test_the_trail_records_the_connections_address_not_a_forged_forwarded_for(cluster_doc, fleet_token):
+    from rest_framework.test import APIClient
+
+    caller = APIClient(REMOTE_ADDR="192.0.2.7")
+    caller.credentials(HTTP_AUTHORIZATION=f"Token {fleet_token.plaintext}")
+    body = {"name": "forged", **cluster_doc}
+    response = caller.post("/api/v1/clusters/import/", body, format="json", HTTP_X_FORWARDED_FOR="10.9.9.9")
+    assert response.status_code == 201
+    entry = entries(Cluster, response.data["id"]).get(action=LogEntry.Action.CREATE)
+    assert entry.remote_addr == "192.0.2.7"
+
+
+def test_the_trail_takes_the_address_a_trusted_proxy_appended(settings, cluster_doc, fleet_token):
+    from rest_framework.test import APIClient
+
+    settings.CONTINUUM_NUM_PROXIES = 1
+    caller = APIClient(REMOTE_ADDR="127.0.0.1")  # the proxy
+    caller.credentials(HTTP_AUTHORIZATION=f"Token {fleet_token.plaintext}")
+    body = {"name": "proxied", **cluster_doc}
+    # The caller wrote the first entry; the proxy appended the address it saw.
+    forwarded = "10.9.9.9, 198.51.100.4"
+    response = caller.post("/api/v1/clusters/import/", body, format="json", HTTP_X_FORWARDED_FOR=forwarded)
+    entry = entries(Cluster, response.data["id"]).get(action=LogEntry.Action.CREATE)
+    assert entry.remote_addr == "198.51.100.4"
+
+
+def test_users_groups_and_permissions_are_in_the_trail(django_user_model):
+    from django.contrib.auth.models import Group, Permission
+
+    def changed(model, pk) -> set[str]:
+        return {field for e in entries(model, pk) for field in (e.changes_dict or {})}
+
+    user = django_user_model.objects.create_user("newcomer", password="newcomer-pass-123")
+    group = Group.objects.create(name="operators")
+    permission = Permission.objects.get(codename="change_cluster")
+    group.permissions.add(permission)
+    user.groups.add(group)
+    user.user_permissions.add(permission)
+    user.is_superuser = True
+    user.set_password("another-pass-456")
+    user.save()
+    assert entries(django_user_model, user.pk).filter(action=LogEntry.Action.CREATE).exists()
+    assert {"groups", "user_permissions", "is_superuser"} <= changed(django_user_model, user.pk)
+    assert "password" not in changed(django_user_model, user.pk)  # not even its hash
+    assert {"name", "permissions"} <= changed(Group, group.pk)
+    made = Permission.objects.create(codename="audit_probe", name="probe", content_type=permission.content_type)
+    assert entries(Permission, made.pk).filter(action=LogEntry.Action.CREATE).exists()

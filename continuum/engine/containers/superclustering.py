@@ -52,10 +52,12 @@ from continuum.engine.containers import robot_pinning
 from continuum.engine.containers.resource_model import ResourceModel
 from continuum.engine.containers.resource_model import profiles as resource_profiles
 from continuum.engine.containers.rosgraph import RosGraph, natural_key, pair
+from continuum.engine.core import limits
 from continuum.engine.core.cluster import Cluster, ClusterNode, normalize_arch
 from continuum.engine.core.errors import InputError
 from continuum.engine.core.placement import Decision, NodeVerdict, PlacementPlan
 from continuum.engine.core.taints import Toleration, untolerated
+from continuum.engine.core.unique import duplicates
 
 __all__ = [
     "ALIASES",
@@ -189,7 +191,7 @@ class Workload:
 
     def __post_init__(self) -> None:
         names = [c.name for c in self.containers]
-        dup = sorted({n for n in names if names.count(n) > 1})
+        dup = sorted(duplicates(names))
         if dup:
             raise InputError(f"duplicate container name {dup[0]!r}", "containers")
         known = set(names)
@@ -261,6 +263,7 @@ def load_workload(
     raw = doc.get("containers")
     if not isinstance(raw, list) or not raw:
         raise InputError("'containers' must be a non-empty list", "containers")
+    limits.check("containers", len(raw), name="nodes")  # before any per-container work
     default_archs = _archs(doc.get("archs", list(DEFAULT_PLATFORMS)), "containers document")
     classes = doc.get("priority_classes") or {}
     if not isinstance(classes, Mapping) or not all(
@@ -276,6 +279,7 @@ def load_workload(
     raw_bw = doc.get("bandwidth", [])
     if not isinstance(raw_bw, list):
         raise InputError("'bandwidth' must be a list of {a, b, bytes_per_s}", "bandwidth")
+    limits.check("bandwidth", len(raw_bw), name="links")
     for i, item in enumerate(raw_bw):
         if not isinstance(item, Mapping) or not item.get("a") or not item.get("b"):
             raise InputError(f"bandwidth[{i}] needs container names 'a' and 'b'", "bandwidth")

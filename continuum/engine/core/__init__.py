@@ -13,4 +13,5 @@ __all__ = [
     "safeload",
     "schedule",
     "taints",
+    "unique",
 ]

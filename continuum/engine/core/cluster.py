@@ -339,12 +339,17 @@ class Cluster:
         return len(self.nodes)
 
 
-def _limit(where: str, raw: Mapping[str, Any], key: str) -> float | None:
+def _limit(where: str, raw: Mapping[str, Any], key: str, most: float | None = None) -> float | None:
+    """``raw[key]``: a finite number from 0 to ``most`` (default ``limits.magnitude``: every figure a placer
+    sums stays finite), ``None`` when absent."""
     value = raw.get(key)
     if value is None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
         raise InputError(f"{where} has invalid {key} {value!r}", "nodes")
+    most = limits.get().magnitude if most is None else most
+    if value > most:
+        raise InputError(f"{where}: {key}: at most {limits._fmt(most)} (got {value!r})", "nodes")
     return float(value)
 
 
@@ -373,14 +378,13 @@ def node_from_dict(raw: Any, index: int = 0) -> ClusterNode:
     cls = raw.get("class", "cpu")
     if not isinstance(cls, str) or not cls:
         raise InputError(f"{where} has an invalid class {cls!r}", "nodes")
-    cpu = _limit(where, raw, "cpu")
+    cpu = _limit(where, raw, "cpu", limits.get().cores)
     if cpu == 0:
         raise InputError(f"{where} cpu must be a positive number, not 0", "nodes")
-    if cpu is not None and cpu > limits.get().cores:
-        raise InputError(f"{where}: cpu: at most {limits.get().cores}", "nodes")
     speed = _limit(where, raw, "speed")
-    if speed is not None and speed <= 0:
-        raise InputError(f"{where} speed must be a positive number, not {speed!r}", "nodes")
+    if speed is not None and not limits.get().min_rate <= speed <= 1 / limits.get().min_rate:
+        lim = limits.get()
+        raise InputError(f"{where} speed must be from {lim.min_rate:g} to {1 / lim.min_rate:g}, not {speed!r}", "nodes")
     rt = raw.get("rt", False)
     if not isinstance(rt, bool):
         raise InputError(f"{where}: rt must be true or false (a JSON boolean), not {rt!r}", "nodes")

@@ -107,6 +107,13 @@ class TaskGraph:
         entries, most = sum(len(t.cost) for t in self.tasks.values()), limits.get().cost_entries
         if entries > most:
             raise InputError(f"tasks: at most {most:,} cost entries in all (got {entries:,})", "tasks")
+        most_value = limits.get().magnitude
+        for t in self.tasks.values():
+            for key, value in t.cost.items():
+                if not (_finite_nonneg(value) and value <= most_value):
+                    raise InputError(
+                        f"task {t.id!r} has an invalid cost {value!r} on {key!r} (0 to {most_value:g})", "tasks"
+                    )
         seen: set[tuple[str, str]] = set()
         for e in self.edges:
             for end in (e.src, e.dst):
@@ -117,8 +124,10 @@ class TaskGraph:
             if (e.src, e.dst) in seen:
                 raise InputError(f"duplicate edge {e.src}->{e.dst}", "edges")
             seen.add((e.src, e.dst))
-            if not _finite_nonneg(e.data):
-                raise InputError(f"edge {e.src}->{e.dst} has invalid data size {e.data!r}", "edges")
+            if not (_finite_nonneg(e.data) and e.data <= most_value):
+                raise InputError(
+                    f"edge {e.src}->{e.dst} has invalid data size {e.data!r} (0 to {most_value:g})", "edges"
+                )
         self.topological_order()  # raises on a cycle
 
     def predecessors(self) -> dict[str, list[Edge]]:

@@ -48,8 +48,10 @@ class Limits:
     nodes: int = 5000
     #: Links of one cluster document and edges of one ROS graph.
     links: int = 50_000
-    #: Bytes of one uploaded file or request body.
+    #: Bytes of one uploaded file, and of the request body of an endpoint that takes a document or a file.
     upload_bytes: int = 32 * 1024 * 1024
+    #: Bytes of the request body of every other API endpoint (a form of fields, an action's few options).
+    body_bytes: int = 1024 * 1024
     #: Nesting depth of a JSON or YAML document (objects and lists).
     json_depth: int = 64
     #: YAML aliases (``*name``) in one document: blocks "billion laughs" alias bombs.
@@ -66,6 +68,12 @@ class Limits:
     msg_bytes: int = 1 << 30
     #: Memory of one ROS node's profile, in MiB (``memory_mib``): 1 TiB.
     memory_mib: int = 1 << 20
+    #: Largest task cost, edge data size, latency or other figure of a DAG, platform or cluster document. With
+    #: ``min_rate`` it keeps every sum a scheduler makes finite: (tasks + edges) x frames x magnitude / min_rate
+    #: is about 2e26 at the other maxima, where 1e308 costs overflowed to inf and NaN inside jobs (issue 25).
+    magnitude: float = 1e12
+    #: Smallest processor speed factor or link bandwidth (a cost or data size is divided by it).
+    min_rate: float = 1e-6
 
     @classmethod
     def from_env(cls, environ: Mapping[str, str] | None = None) -> Limits:

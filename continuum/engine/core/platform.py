@@ -28,6 +28,7 @@ from typing import Any
 from continuum.engine.core import limits
 from continuum.engine.core.dag import Task, TaskGraph
 from continuum.engine.core.errors import InputError
+from continuum.engine.core.unique import duplicates
 
 __all__ = ["CLASSES", "FORMAT", "ROUTINGS", "Link", "Platform", "Processor"]
 
@@ -71,12 +72,18 @@ class Platform:
         if not self.processors:
             raise InputError("a platform needs at least one processor", "processors")
         ids = [p.id for p in self.processors]
-        dup = {i for i in ids if ids.count(i) > 1}
+        dup = duplicates(ids)
         if dup:
             raise InputError(f"duplicate processor id {sorted(dup)[0]!r}", "processors")
+        lim = limits.get()
         for p in self.processors:
             if not (p.speed > 0 and math.isfinite(p.speed)):
                 raise InputError(f"processor {p.id!r} has invalid speed {p.speed!r}", "processors")
+            if not lim.min_rate <= p.speed <= 1 / lim.min_rate:  # a cost is divided by it: keep sums finite
+                raise InputError(
+                    f"processor {p.id!r}: speed must be from {lim.min_rate:g} to {1 / lim.min_rate:g}, not {p.speed!r}",
+                    "processors",
+                )
             if isinstance(p.cores, bool) or not isinstance(p.cores, int) or p.cores < 1:
                 raise InputError(f"processor {p.id!r} has invalid cores {p.cores!r} (a positive integer)", "processors")
             if p.cores > limits.get().cores:
@@ -84,12 +91,14 @@ class Platform:
         if self.routing not in ROUTINGS:
             raise InputError(f"unknown routing {self.routing!r} (choose from {', '.join(ROUTINGS)})", "routing")
         _check_bandwidth(self.bandwidth, "platform")
+        _check_latency(self.latency, "platform")
         known = set(ids)
         for link in self.links:
             for end in (link.src, link.dst):
                 if end not in known:
                     raise InputError(f"link {link.src}-{link.dst} refers to unknown processor {end!r}", "links")
             _check_bandwidth(link.bandwidth, f"link {link.src}-{link.dst}")
+            _check_latency(link.latency, f"link {link.src}-{link.dst}")
         self.index = {p.id: i for i, p in enumerate(self.processors)}
         self._matrices: tuple[list[list[float]], list[list[float]]] | None = None
 
@@ -317,6 +326,14 @@ def _check_bandwidth(bw: Any, where: str) -> None:
         return
     if isinstance(bw, bool) or not isinstance(bw, (int, float)) or not (bw > 0 and math.isfinite(bw)):
         raise InputError(f"{where} has invalid bandwidth {bw!r} (a positive number or null)", "bandwidth")
+    if bw < limits.get().min_rate:  # data sizes are divided by it: keep sums finite
+        raise InputError(f"{where}: bandwidth must be at least {limits.get().min_rate:g}, not {bw!r}", "bandwidth")
+
+
+def _check_latency(latency: Any, where: str) -> None:
+    most = limits.get().magnitude
+    if isinstance(latency, (int, float)) and not isinstance(latency, bool) and latency > most:
+        raise InputError(f"{where}: latency: at most {most:g} (got {latency!r})", "latency")
 
 
 def _number(value: Any, what: str, field: str) -> float:

@@ -23,11 +23,15 @@ import yaml
 from continuum.engine.core import limits
 from continuum.engine.core.errors import InputError
 
-__all__ = ["check_json_value", "check_text_file", "load_yaml_all", "loads_json", "too_deep"]
+__all__ = ["check_json_value", "check_text_file", "check_yaml_events", "load_yaml_all", "loads_json", "too_deep"]
 
 # A JSON string (with escapes) or one structural bracket; strings are matched whole so brackets in them
 # do not count.
 _TOKENS = re.compile(r'"(?:[^"\\]|\\.)*"|[\[\]{}]', re.DOTALL)
+#: A JSON escape of a UTF-16 surrogate: a lone one decodes to a string that UTF-8 (PostgreSQL, every response)
+#: cannot encode. Pairs decode to one character and pass.
+_SURROGATE_ESCAPE = re.compile(r"\\u[dD][89a-fA-F]")
+_SURROGATE = re.compile("[\ud800-\udfff]")
 
 
 def too_deep(text: str, limit: int) -> bool:
@@ -69,8 +73,14 @@ def _int(text: str) -> int | _Bad:
     return int(text)
 
 
-def _has_problem(doc: Any) -> bool:
+def _bad_text(s: str, surrogates: bool) -> bool:
+    return "\x00" in s or (surrogates and _SURROGATE.search(s) is not None)
+
+
+def _has_problem(doc: Any, surrogates: bool = False) -> bool:
     """Whether :func:`_first_problem` will find something: the same walk without building paths (fast)."""
+    if surrogates:
+        return _first_problem(doc, surrogates) is not None
     stack = [doc]
     pop, push = stack.pop, stack.extend
     while stack:
@@ -90,23 +100,30 @@ def _has_problem(doc: Any) -> bool:
     return False
 
 
-def _first_problem(doc: Any) -> tuple[str, str] | None:
-    """(path, problem) of the first refused value: a marker, or a string (or key) holding a NUL."""
+def _first_problem(doc: Any, surrogates: bool = False) -> tuple[str, str] | None:
+    """(path, problem) of the first refused value: a marker, or a string (or key) holding a NUL (or, when
+    ``surrogates``, a lone UTF-16 surrogate)."""
     stack: list[tuple[str, Any]] = [("", doc)]
     while stack:
         path, node = stack.pop()
         if isinstance(node, _Bad):
             return path, node.problem
-        if isinstance(node, str) and "\x00" in node:
-            return path, "contains a NUL character, which no text may hold"
+        if isinstance(node, str) and _bad_text(node, surrogates):
+            return path, _text_problem(node)
         if isinstance(node, dict):
             for key, value in reversed(list(node.items())):
-                if "\x00" in key:
-                    return path, "a key contains a NUL character, which no text may hold"
+                if _bad_text(key, surrogates):
+                    return path, "a key " + _text_problem(key)
                 stack.append((f"{path}.{key}" if path else key, value))
         elif isinstance(node, list):
             stack.extend((f"{path}[{i}]", v) for i, v in reversed(list(enumerate(node))))
     return None
+
+
+def _text_problem(s: str) -> str:
+    if "\x00" in s:
+        return "contains a NUL character, which no text may hold"
+    return "contains a lone UTF-16 surrogate (\\ud800-\\udfff), which is not text"
 
 
 def check_text_file(text: str) -> None:
@@ -134,7 +151,8 @@ def loads_json(text: str | bytes, field: str | None = None, *, max_depth: int | 
         raise InputError(f"malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}", field) from exc
     except RecursionError as exc:  # not expected after the depth scan; never a 500 all the same
         raise InputError("nested too deeply", field) from exc
-    found = _first_problem(doc) if _has_problem(doc) else None  # iterative, linear in the document
+    surrogates = _SURROGATE_ESCAPE.search(text) is not None  # only escapes make them: text is decoded UTF-8
+    found = _first_problem(doc, surrogates) if _has_problem(doc, surrogates) else None  # iterative, linear
     if found is not None:
         path, problem = found
         top = re.split(r"[.\[]", path, maxsplit=1)[0] if path else None
@@ -142,25 +160,33 @@ def loads_json(text: str | bytes, field: str | None = None, *, max_depth: int | 
     return doc
 
 
-def load_yaml_all(text: str, field: str | None = None, *, max_depth: int | None = None) -> list[Any]:
-    """Every document of a YAML stream, after an iterative check of depth, aliases and NUL."""
+def check_yaml_events(text: str, field: str | None = None, *, max_depth: int | None = None) -> None:
+    """Depth, aliases and NUL of a YAML stream, checked on the events of PyYAML's pure-Python parser (a state
+    machine with its own stack: no recursion) before any loader builds nodes. The composers recurse once per
+    level, and libyaml's C one (``CSafeLoader``) overflows the C stack and kills the process on about 60 KB
+    of ``[`` (issue 25); run this first on any text a loader will see. YAMLError for malformed text."""
     lim = limits.get()
     limit = max_depth if max_depth is not None else lim.json_depth
     if "\x00" in text:
         raise InputError("contains a NUL character, which no text field may hold", field)
     depth = aliases = 0
+    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+        if isinstance(event, (yaml.MappingStartEvent, yaml.SequenceStartEvent)):
+            depth += 1
+            if depth > limit:
+                raise InputError(f"nested too deeply: at most {limit} levels of mappings and lists", field)
+        elif isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
+            depth -= 1
+        elif isinstance(event, yaml.AliasEvent):
+            aliases += 1
+            if aliases > lim.yaml_aliases:
+                raise InputError(f"too many YAML aliases: at most {lim.yaml_aliases}", field)
+
+
+def load_yaml_all(text: str, field: str | None = None, *, max_depth: int | None = None) -> list[Any]:
+    """Every document of a YAML stream, after an iterative check of depth, aliases and NUL."""
     try:
-        for event in yaml.parse(text, Loader=yaml.SafeLoader):
-            if isinstance(event, (yaml.MappingStartEvent, yaml.SequenceStartEvent)):
-                depth += 1
-                if depth > limit:
-                    raise InputError(f"nested too deeply: at most {limit} levels of mappings and lists", field)
-            elif isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
-                depth -= 1
-            elif isinstance(event, yaml.AliasEvent):
-                aliases += 1
-                if aliases > lim.yaml_aliases:
-                    raise InputError(f"too many YAML aliases: at most {lim.yaml_aliases}", field)
+        check_yaml_events(text, field, max_depth=max_depth)
         docs = list(yaml.safe_load_all(text))
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)

@@ -166,12 +166,13 @@ class Scenario:
         names = [n.name for n in self.nodes]
         if len(set(names)) != len(names) or not names:
             raise InputError("scenario nodes must be a non-empty list of distinct names", "nodes")
+        known = set(names)
         topics = {t.name: t for t in self.topics}
         for t in self.topics:
-            if t.publisher not in names:
+            if t.publisher not in known:
                 raise InputError(f"topic {t.name!r}: unknown publisher {t.publisher!r}", "topics")
         for m in self.monitors:
-            if m.node not in names:
+            if m.node not in known:
                 raise InputError(f"monitor {m.name!r}: unknown node {m.node!r}", "monitors")
             for topic in m.topics:
                 if topic not in topics:

@@ -51,6 +51,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from continuum.engine.core.errors import InputError
+from continuum.engine.core.unique import first_duplicate
 from continuum.engine.verification import stl_parser as P
 
 __all__ = [
@@ -1071,11 +1072,11 @@ def parse_trace_csv(text: str, source: str = "trace") -> tuple[list[Event], list
     header = [h.strip() for h in rows[0]]
     if "time" not in header:
         raise InputError(f"{source}: line 1: no 'time' column (columns: {', '.join(header)})", field="trace")
-    for name in header:
-        if not name:
-            raise InputError(f"{source}: line 1: an empty column name", field="trace")
-        if header.count(name) > 1:
-            raise InputError(f"{source}: line 1: column {name!r} appears twice", field="trace")
+    if not all(header):
+        raise InputError(f"{source}: line 1: an empty column name", field="trace")
+    twice = first_duplicate(header)
+    if twice is not None:
+        raise InputError(f"{source}: line 1: column {twice!r} appears twice", field="trace")
     t_col = header.index("time")
     signals = [h for h in header if h != "time"]
     events: list[Event] = []
