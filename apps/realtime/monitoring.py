@@ -358,7 +358,14 @@ def _reconcile_claims(
     of the stages before the reconcile (the task's ``queued``, ``picked``), kept with each eviction."""
     events = []
     for pk, r, trigger, received in claims:
-        event = reconcile(cluster, policy, monitor_policy, r, trigger, received, claim=pk, stamps=dict(stamps or {}))
+        try:
+            event = reconcile(cluster, policy, monitor_policy, r, trigger, received, claim=pk,
+                              stamps=dict(stamps or {}))  # fmt: skip
+        except Exception:
+            # One row the code cannot handle must not stop the others (issue 25: the sweep aborted its loop over
+            # every cluster, every 10 s). Its claim was rolled back with the failure: the next sweep tries again.
+            log.exception("reconcile of violation %s of cluster %s failed; skipped", pk, cluster.pk)
+            continue
         if event is not DUPLICATE and event is not None:
             events.append(event)
     return events
@@ -402,8 +409,13 @@ def reconcile_overdue(older_than_s: float = 30.0, limit: int = 1000) -> int:
         by_cluster.setdefault(cluster_id, []).append(pk)
     done = 0
     for cluster in Cluster.objects.select_related("rt_policy").filter(pk__in=by_cluster):
-        reconcile_stored(cluster, by_cluster[cluster.pk], policy_of(cluster))
-        done += len(by_cluster[cluster.pk])
+        try:
+            reconcile_stored(cluster, by_cluster[cluster.pk], policy_of(cluster))
+        except Exception:  # this cluster's rows (its policy...): logged, and every other cluster still served
+            log.exception("overdue reconcile of cluster %s failed; skipped until the next sweep", cluster.pk)
+            continue
+        left = MonitoringReport.objects.filter(pk__in=by_cluster[cluster.pk], reconciled_at__isnull=True).count()
+        done += len(by_cluster[cluster.pk]) - left
     return done
 
 
@@ -588,7 +600,11 @@ def reconcile(
             reconciled_at=timezone.now()
         ):
             return DUPLICATE
-        node = ComputeNode.objects.select_for_update().get(cluster=cluster, name=r.node)
+        node = ComputeNode.objects.select_for_update().filter(cluster=cluster, name=r.node).first()
+        if node is None:  # deleted after the report was stored: nothing on it to evict, said once (claimed)
+            base = _event_fields(cluster, monitor_policy, r, trigger, received)
+            gone = f"node {r.node!r} is no longer in the cluster: the violation reported on it was not acted on"
+            return _unmatched_alert(cluster, monitor_policy, r, gone, base)
         pods = list(
             RTPod.objects.filter(cluster=cluster, node=r.node, deleted_at__isnull=True).select_related("realtime")
         )
