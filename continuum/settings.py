@@ -257,9 +257,16 @@ CELERY_TASK_DEFAULT_QUEUE = os.environ.get("CELERY_QUEUE", "continuum")
 # `celery -A continuum worker -Q continuum-rt -P threads -c 8` (docker-compose.yml: rt-worker), whose threads keep
 # each cluster's Kubernetes client and its TLS connection warm between evictions (apps/realtime/tasks.py).
 CONTINUUM_RT_QUEUE = os.environ.get("CONTINUUM_RT_QUEUE") or f"{CELERY_TASK_DEFAULT_QUEUE}-rt"
-CELERY_TASK_QUEUES = (Queue(CELERY_TASK_DEFAULT_QUEUE), Queue(CONTINUUM_RT_QUEUE))
+# The periodic safety sweeps (beat's tasks: RT taints lifted, overdue violations reconciled, lost jobs and lost
+# messages recovered) have a queue of their own too, consumed by a worker of its own (docker-compose.yml:
+# sweeper; scripts/start runs one): behind a backlog of jobs they waited 18 minutes (issue 25).
+CONTINUUM_SWEEP_QUEUE = os.environ.get("CONTINUUM_SWEEP_QUEUE") or f"{CELERY_TASK_DEFAULT_QUEUE}-sweeps"
+CELERY_TASK_QUEUES = (Queue(CELERY_TASK_DEFAULT_QUEUE), Queue(CONTINUUM_RT_QUEUE), Queue(CONTINUUM_SWEEP_QUEUE))
 CELERY_TASK_ROUTES = {"continuum.rt_reconcile": {"queue": CONTINUUM_RT_QUEUE},
-                      "continuum.rt_warm": {"queue": CONTINUUM_RT_QUEUE}}  # fmt: skip
+                      "continuum.rt_warm": {"queue": CONTINUUM_RT_QUEUE},
+                      "continuum.rt_lift_taints": {"queue": CONTINUUM_SWEEP_QUEUE},
+                      "continuum.rt_reconcile_overdue": {"queue": CONTINUUM_SWEEP_QUEUE},
+                      "continuum.recover_lost_jobs": {"queue": CONTINUUM_SWEEP_QUEUE}}  # fmt: skip
 CELERY_TASK_ACKS_LATE = True
 CELERY_TASK_REJECT_ON_WORKER_LOST = True
 CELERY_WORKER_PREFETCH_MULTIPLIER = 1
@@ -300,6 +307,15 @@ CONTINUUM_JOB_STALE_S = float(os.environ.get("CONTINUUM_JOB_STALE_S", "30"))
 CONTINUUM_JOB_CHECK_S = float(os.environ.get("CONTINUUM_JOB_CHECK_S", "15"))
 CONTINUUM_JOB_MAX_ATTEMPTS = int(os.environ.get("CONTINUUM_JOB_MAX_ATTEMPTS", "3"))
 CELERY_BEAT_SCHEDULE["jobs-recover-lost"] = {"task": "continuum.recover_lost_jobs", "schedule": CONTINUUM_JOB_CHECK_S}
+# A sweep message not run within its period is dropped (the next one does the same work): a sweeper that was
+# down does not find a pile of them when it comes back.
+for _entry in CELERY_BEAT_SCHEDULE.values():
+    _entry.setdefault("options", {"expires": float(_entry["schedule"])})
+# Pending jobs (apps/jobs/dispatch.py): a job queued this long ago whose message the queue no longer holds (a
+# broker restarted empty, or down when the job was recorded) gets its message again at the next check (so
+# within RESEND_AFTER_S + CHECK_S = 35 s); one no worker picked up for PICKUP_WARN_S says so (page and API).
+CONTINUUM_JOB_RESEND_AFTER_S = float(os.environ.get("CONTINUUM_JOB_RESEND_AFTER_S", "20"))
+CONTINUUM_JOB_PICKUP_WARN_S = float(os.environ.get("CONTINUUM_JOB_PICKUP_WARN_S", "60"))
 
 # ---- Continuum ------------------------------------------------------------------------------------
 # HEFT's average computation cost: "mean" (literature, Topcuoglu) or "max" (thesis Fig. 3.1). Spec 01 2.1.
