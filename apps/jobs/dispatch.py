@@ -130,9 +130,11 @@ def resend_missing(grace_s: float | None = None) -> int:
     now = timezone.now()
     for job_id in waiting.order_by("created", "pk").values_list("pk", flat=True)[:missing]:
         # Stamped first: two checkers (a worker's thread, beat) do not both send for the same job.
-        if not Job.objects.filter(pk=job_id, state=Job.State.PENDING).filter(
-            Q(queued__lt=before) | Q(queued__isnull=True)
-        ).update(queued=now):
+        if (
+            not Job.objects.filter(pk=job_id, state=Job.State.PENDING)
+            .filter(Q(queued__lt=before) | Q(queued__isnull=True))
+            .update(queued=now)
+        ):
             continue
         joblog.write(job_id, f"the queue held {have} message(s) for {need} pending job(s): its message was "
                              "lost (broker restarted, or down when it was sent); sent again")  # fmt: skip
