@@ -5,6 +5,8 @@ import os
 from celery import Celery
 from celery.signals import task_prerun, worker_ready
 
+from continuum import filebroker  # noqa: F401 - registers the quick start's broker, continuumfs://
+
 os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
 
 app = Celery("continuum")

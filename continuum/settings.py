@@ -1,7 +1,7 @@
 """Django settings, read from the environment.
 
 DATABASE_URL       default: a SQLite file under var/ (the embedded quick-start default)
-CELERY_BROKER_URL  default: a broker in files under var/broker/ (kombu's filesystem transport), so the quick start
+CELERY_BROKER_URL  default: a broker in files under var/broker/ (continuum/filebroker.py), so the quick start
                    runs a real worker (scripts/start starts it) with no broker server to install
 SECRET_KEY, DEBUG, ALLOWED_HOSTS
 CONTINUUM_*        algorithm defaults where the thesis is ambiguous (see continuum/engine docstrings)
@@ -232,18 +232,20 @@ SPECTACULAR_SETTINGS = {
 CELERY_BROKER_URL = os.environ.get("CELERY_BROKER_URL", "")
 CELERY_BROKER_TRANSPORT_OPTIONS: dict = {}
 if not CELERY_BROKER_URL:
-    # The quick start: no broker server, messages are files under var/broker/ (kombu's filesystem transport:
-    # flock'ed files, fanout for revoke and the other remote controls), consumed by the worker that
-    # scripts/start runs beside the web server. Web and worker share the directory as they share the database.
+    # The quick start: no broker server, messages are files under var/broker/ (continuum/filebroker.py: kombu's
+    # filesystem transport with atomic writes and takes, and broken files quarantined instead of crashing the
+    # worker), consumed by the workers that scripts/start runs beside the web server. Web and workers share
+    # the directory as they share the database.
     BROKER_DIR = Path(os.environ.get("CONTINUUM_BROKER_DIR") or VAR_DIR / "broker")
-    for _sub in ("queue", "control", "processed"):
+    for _sub in ("queue", "control", "processed", "quarantine"):
         (BROKER_DIR / _sub).mkdir(mode=0o700, parents=True, exist_ok=True)
-    CELERY_BROKER_URL = "filesystem://"
+    CELERY_BROKER_URL = "continuumfs://"
     CELERY_BROKER_TRANSPORT_OPTIONS = {
         "data_folder_in": str(BROKER_DIR / "queue"),
         "data_folder_out": str(BROKER_DIR / "queue"),
         "control_folder": str(BROKER_DIR / "control"),
         "processed_folder": str(BROKER_DIR / "processed"),
+        "quarantine_folder": str(BROKER_DIR / "quarantine"),
         "store_processed": False,
         "polling_interval": 0.2,  # seconds between two looks at the queue directory when it is empty
     }
