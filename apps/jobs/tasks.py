@@ -1,10 +1,11 @@
 """The one Celery task that runs every job kind, with late acknowledgement so none is lost.
 
-Delivery is at least once: the message is acknowledged when the job ends, so a worker that dies leaves it
-to be delivered again (after the broker's visibility timeout), and the stale-job check
-(:mod:`apps.jobs.liveness`) queues a lost job again within a minute. A run therefore first claims the job
-(its attempt number); a delivery of a job another live run holds waits for that run instead of running
-the job twice.
+A message is a turn (:mod:`apps.jobs.dispatch`): the worker that gets it takes the pending job whose fleet's
+turn it is, by its attempt number, so a job runs once however many messages name it. Delivery is at least
+once: the message is acknowledged when the job ends, so a worker that dies leaves it to be delivered again
+(after the broker's visibility timeout), and the stale-job check (:mod:`apps.jobs.liveness`) queues a lost
+job again within a minute. In-process (eager) runs claim the job the message names; a claim of a job another
+live run holds waits for that run instead of running the job twice.
 """
 
 import logging
