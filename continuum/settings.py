@@ -286,6 +286,9 @@ CELERY_BROKER_TRANSPORT_OPTIONS |= {
     "unacked_restore_throttle": int(os.environ.get("CELERY_RESTORE_THROTTLE", 10)),
 }
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
+# A worker outlives a broker outage of any length (Celery's default gives up after 100 attempts, about 50 minutes,
+# and the worker exits): it reconnects when the broker is back, and the jobs wait in the database meanwhile.
+CELERY_BROKER_CONNECTION_MAX_RETRIES = None
 # Celery's Django fix-up closes a worker thread's database connections before and after EVERY task unless told to
 # reuse them: each RT-Kube eviction (continuum.rt_reconcile) then opened a new PostgreSQL connection on the clock.
 # Reused for this many tasks instead; a stale or broken one is still retired before each task as Django retires

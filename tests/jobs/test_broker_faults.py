@@ -98,6 +98,8 @@ def test_a_worker_survives_redis_restarted_empty_and_nothing_is_lost(fleet, own_
         wait_for(long.pk, lambda j: j.state == Job.State.RUNNING)
         assert redis.Redis.from_url(server.url).llen(queue) == 3
         server.kill()
+        time.sleep(8)  # down a while: the worker loses its connection and tries again (it once exited here)
+        assert worker.proc.poll() is None, worker.log.read_text()[-3000:]
         server.start()  # empty: the three messages are gone, and the running job's unacknowledged one
         restarted = time.monotonic()
         assert redis.Redis.from_url(server.url).llen(queue) == 0
