@@ -893,25 +893,35 @@ def lift_expired_taints(cluster: Cluster | None = None, now: datetime | None = N
         due = due.filter(cluster=cluster)
     lifted = 0
     for taint in due:
-        still = NodeTaint.objects.filter(
-            node=taint.node, key=taint.key, effect=taint.effect, lifted_at__isnull=True, expires_at__gt=now
-        ).exists()
-        if not still:
-            if has_api(taint.cluster):
-                try:
-                    kube_for(taint.cluster).set_taint(taint.node.name, taint.as_dict(), present=False)
-                except KUBE_ERRORS as exc:
-                    NodeTaint.objects.filter(pk=taint.pk).update(error=problem(exc)[:500])
-                    continue  # try again next time
-            with transaction.atomic():
-                node = ComputeNode.objects.select_for_update().get(pk=taint.node_id)
-                kept = [t for t in node.taints if not (t.get("key") == taint.key and t.get("effect") == taint.effect)]
-                if kept != node.taints:
-                    node.taints = kept
-                    node.save(update_fields=["taints"])
-        NodeTaint.objects.filter(pk=taint.pk).update(lifted_at=now)
-        lifted += 1
+        try:
+            lifted += _lift(taint, now)
+        except Exception:  # one taint the code cannot lift must not keep every other node tainted (issue 25)
+            log.exception("lifting taint %s of node %s (cluster %s) failed; skipped until the next sweep",
+                          taint.pk, taint.node_id, taint.cluster_id)  # fmt: skip
     return lifted
+
+
+def _lift(taint: NodeTaint, now: datetime) -> int:
+    """Lift one expired taint (in the API, then on the node's row) unless a later one with its key holds; 1 when
+    it is done with, 0 when the API refused (tried again at the next sweep)."""
+    still = NodeTaint.objects.filter(
+        node=taint.node, key=taint.key, effect=taint.effect, lifted_at__isnull=True, expires_at__gt=now
+    ).exists()
+    if not still:
+        if has_api(taint.cluster):
+            try:
+                kube_for(taint.cluster).set_taint(taint.node.name, taint.as_dict(), present=False)
+            except KUBE_ERRORS as exc:
+                NodeTaint.objects.filter(pk=taint.pk).update(error=problem(exc)[:500])
+                return 0  # try again next time
+        with transaction.atomic():
+            node = ComputeNode.objects.select_for_update().get(pk=taint.node_id)
+            kept = [t for t in node.taints if not (t.get("key") == taint.key and t.get("effect") == taint.effect)]
+            if kept != node.taints:
+                node.taints = kept
+                node.save(update_fields=["taints"])
+    NodeTaint.objects.filter(pk=taint.pk).update(lifted_at=now)
+    return 1
 
 
 def active_taints(cluster: Cluster) -> Q:

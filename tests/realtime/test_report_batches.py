@@ -247,3 +247,31 @@ def test_a_row_that_raises_is_logged_and_the_sweep_goes_on(api, cluster_doc, rt_
     assert f"violation {poison} of cluster {rt_cluster.pk}" in caplog.text and "RuntimeError" in caplog.text
     # The row is left unclaimed: a transient failure is tried again by the next sweep.
     assert MonitoringReport.objects.get(pk=poison).reconciled_at is None
+
+
+def test_a_taint_that_cannot_be_lifted_is_logged_and_the_others_are_lifted(rt_cluster, caplog, monkeypatch):
+    """The taint sweep skips and logs a taint whose lift raises, instead of leaving every later one in place."""
+    from datetime import timedelta
+
+    from apps.clusters.models import ComputeNode
+
+    past = timezone.now() - timedelta(seconds=1)
+    nodes = {n.name: n for n in ComputeNode.objects.filter(cluster=rt_cluster)}
+    for name in ("node0", "node1"):
+        nodes[name].taints = [{"key": "rt.monitoring/violation", "value": "true", "effect": "NoSchedule"}]
+        nodes[name].save()
+    bad = NodeTaint.objects.create(cluster=rt_cluster, node=nodes["node0"], expires_at=past)
+    good = NodeTaint.objects.create(cluster=rt_cluster, node=nodes["node1"], expires_at=past)
+    real = monitoring._lift
+
+    def poison(taint, now):
+        if taint.pk == bad.pk:
+            raise RuntimeError("a row the code does not expect")
+        return real(taint, now)
+
+    monkeypatch.setattr(monitoring, "_lift", poison)
+    assert monitoring.lift_expired_taints() == 1
+    assert NodeTaint.objects.get(pk=good.pk).lifted_at is not None
+    assert ComputeNode.objects.get(pk=nodes["node1"].pk).taints == []
+    assert NodeTaint.objects.get(pk=bad.pk).lifted_at is None  # tried again by the next sweep
+    assert f"lifting taint {bad.pk} of node" in caplog.text and "RuntimeError" in caplog.text
