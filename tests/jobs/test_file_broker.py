@@ -178,3 +178,19 @@ def test_the_quick_start_uses_the_hardened_broker():
         pytest.skip("a broker is configured: not the quick start's")
     assert settings.CELERY_BROKER_URL == "continuumfs://"
     assert json.dumps(settings.CELERY_BROKER_TRANSPORT_OPTIONS)  # the folders, as plain strings
+
+
+def test_a_message_taken_by_a_reader_that_died_goes_back_to_the_queue(file_broker):
+    """A reader takes a file by renaming it; one killed before reading it must not lose the message."""
+    from continuum import filebroker
+    from continuum.celery import app
+
+    root, queue = file_broker
+    gone = subprocess.Popen(["true"])
+    gone.wait()
+    name = f"1_{uuid.uuid4()}.{queue}.msg"
+    (root / "queue" / f".{name}.{gone.pid}.taken").write_text(json.dumps({"body": "kept", "headers": {}}))
+    filebroker.Channel._last_tidy = 0.0  # the tidy-up is due
+    with app.connection_for_read() as conn:
+        assert conn.default_channel._get(queue)["body"] == "kept"
+    assert os.listdir(root / "queue") == []
