@@ -16,7 +16,7 @@ import redis
 from apps.jobs.dispatch import resend_missing
 from apps.jobs.models import Job
 from apps.scheduling.models import Schedule
-from tests.services.conftest import Worker
+from tests.services.conftest import Worker, fresh_pools
 from tests.services.test_celery_worker import PLATFORM, make_app, wait_for
 
 from .test_fair_dispatch import schedule
@@ -57,16 +57,6 @@ class RedisServer:
         if self.proc and self.proc.poll() is None:
             self.proc.kill()
             self.proc.wait(10)
-
-
-def fresh_pools() -> None:
-    """Drop this process's broker connections: the next message opens one to the broker configured now."""
-    from continuum.celery import app
-
-    if app._pool is not None:
-        app._pool.force_close_all()
-    app._pool = None
-    app.amqp._producer_pool = None
 
 
 @pytest.fixture

@@ -42,8 +42,9 @@ def test_pending_jobs_whose_messages_are_lost_are_sent_again(fleet, celery_broke
     app = make_app(fleet, 20)
     jobs = [schedule(fleet, app) for _ in range(4)]
     conn = redis.Redis.from_url(redis_url)
-    assert conn.llen(celery_broker) == 4
+    sent = conn.llen(celery_broker)
     conn.delete(celery_broker)  # what a broker restarted empty leaves: the jobs say pending, nothing runs them
+    assert sent == 4, [line.text for line in jobs[0].log_lines.all()]
     Job.objects.filter(pk__in=[j.pk for j in jobs]).update(queued=None)  # sent long ago
     start_worker(env={"CONTINUUM_JOB_CHECK_S": "1", "CONTINUUM_JOB_RESEND_AFTER_S": "1"})
     for job in jobs:

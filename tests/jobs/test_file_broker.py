@@ -13,10 +13,9 @@ import pytest
 
 from apps.jobs.models import Job
 from apps.scheduling.models import Schedule
-from tests.services.conftest import Worker
+from tests.services.conftest import Worker, fresh_pools
 from tests.services.test_celery_worker import make_app, wait_for
 
-from .test_broker_faults import fresh_pools
 from .test_fair_dispatch import schedule
 
 pytestmark = [pytest.mark.services, pytest.mark.django_db(transaction=True)]
