@@ -101,8 +101,8 @@ def fresh_pools() -> None:
     point the app at several brokers: Redis, a Redis of their own, a file broker)."""
     from continuum.celery import app
 
-    if app._pool is not None:
-        app._pool.force_close_all()
+    # Dropped, not closed: kombu's producer pools (one per broker, process-wide) share these connections, and
+    # a closed pool answers "Acquire on closed pool" to the next test on that broker.
     app._pool = None
     app.amqp._producer_pool = None
 
