@@ -7,6 +7,8 @@ from typing import Any
 from celery import Celery
 from celery.signals import beat_init, task_postrun, task_prerun, worker_process_shutdown, worker_ready
 
+from continuum import filebroker  # noqa: F401 - registers the quick start's broker, continuumfs://
+
 os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
 
 app = Celery("continuum")

@@ -1,7 +1,7 @@
 """Django settings, read from the environment.
 
 DATABASE_URL       default: a SQLite file under var/ (the embedded quick-start default)
-CELERY_BROKER_URL  default: a broker in files under var/broker/ (kombu's filesystem transport), so the quick start
+CELERY_BROKER_URL  default: a broker in files under var/broker/ (continuum/filebroker.py), so the quick start
                    runs a real worker (scripts/start starts it) with no broker server to install
 SECRET_KEY, DEBUG, ALLOWED_HOSTS
 CONTINUUM_*        algorithm defaults where the thesis is ambiguous (see continuum/engine docstrings)
@@ -301,18 +301,20 @@ SPECTACULAR_SETTINGS = {
 CELERY_BROKER_URL = os.environ.get("CELERY_BROKER_URL", "")
 CELERY_BROKER_TRANSPORT_OPTIONS: dict = {}
 if not CELERY_BROKER_URL:
-    # The quick start: no broker server, messages are files under var/broker/ (kombu's filesystem transport:
-    # flock'ed files, fanout for revoke and the other remote controls), consumed by the worker that
-    # scripts/start runs beside the web server. Web and worker share the directory as they share the database.
+    # The quick start: no broker server, messages are files under var/broker/ (continuum/filebroker.py: kombu's
+    # filesystem transport with atomic writes and takes, and broken files quarantined instead of crashing the
+    # worker), consumed by the workers that scripts/start runs beside the web server. Web and workers share
+    # the directory as they share the database.
     BROKER_DIR = Path(os.environ.get("CONTINUUM_BROKER_DIR") or VAR_DIR / "broker")
-    for _sub in ("queue", "control", "processed"):
+    for _sub in ("queue", "control", "processed", "quarantine"):
         (BROKER_DIR / _sub).mkdir(mode=0o700, parents=True, exist_ok=True)
-    CELERY_BROKER_URL = "filesystem://"
+    CELERY_BROKER_URL = "continuumfs://"
     CELERY_BROKER_TRANSPORT_OPTIONS = {
         "data_folder_in": str(BROKER_DIR / "queue"),
         "data_folder_out": str(BROKER_DIR / "queue"),
         "control_folder": str(BROKER_DIR / "control"),
         "processed_folder": str(BROKER_DIR / "processed"),
+        "quarantine_folder": str(BROKER_DIR / "quarantine"),
         "store_processed": False,
         "polling_interval": 0.2,  # seconds between two looks at the queue directory when it is empty
     }
@@ -326,9 +328,16 @@ CELERY_TASK_DEFAULT_QUEUE = os.environ.get("CELERY_QUEUE", "continuum")
 # `celery -A continuum worker -Q continuum-rt -P threads -c 8` (docker-compose.yml: rt-worker), whose threads keep
 # each cluster's Kubernetes client and its TLS connection warm between evictions (apps/realtime/tasks.py).
 CONTINUUM_RT_QUEUE = os.environ.get("CONTINUUM_RT_QUEUE") or f"{CELERY_TASK_DEFAULT_QUEUE}-rt"
-CELERY_TASK_QUEUES = (Queue(CELERY_TASK_DEFAULT_QUEUE), Queue(CONTINUUM_RT_QUEUE))
+# The periodic safety sweeps (beat's tasks: RT taints lifted, overdue violations reconciled, lost jobs and lost
+# messages recovered) have a queue of their own too, consumed by a worker of its own (docker-compose.yml:
+# sweeper; scripts/start runs one): behind a backlog of jobs they waited 18 minutes (issue 25).
+CONTINUUM_SWEEP_QUEUE = os.environ.get("CONTINUUM_SWEEP_QUEUE") or f"{CELERY_TASK_DEFAULT_QUEUE}-sweeps"
+CELERY_TASK_QUEUES = (Queue(CELERY_TASK_DEFAULT_QUEUE), Queue(CONTINUUM_RT_QUEUE), Queue(CONTINUUM_SWEEP_QUEUE))
 CELERY_TASK_ROUTES = {"continuum.rt_reconcile": {"queue": CONTINUUM_RT_QUEUE},
-                      "continuum.rt_warm": {"queue": CONTINUUM_RT_QUEUE}}  # fmt: skip
+                      "continuum.rt_warm": {"queue": CONTINUUM_RT_QUEUE},
+                      "continuum.rt_lift_taints": {"queue": CONTINUUM_SWEEP_QUEUE},
+                      "continuum.rt_reconcile_overdue": {"queue": CONTINUUM_SWEEP_QUEUE},
+                      "continuum.recover_lost_jobs": {"queue": CONTINUUM_SWEEP_QUEUE}}  # fmt: skip
 CELERY_TASK_ACKS_LATE = True
 CELERY_TASK_REJECT_ON_WORKER_LOST = True
 CELERY_WORKER_PREFETCH_MULTIPLIER = 1
@@ -346,6 +355,9 @@ CELERY_BROKER_TRANSPORT_OPTIONS |= {
     "unacked_restore_throttle": int(os.environ.get("CELERY_RESTORE_THROTTLE", 10)),
 }
 CELERY_BROKER_CONNECTION_RETRY_ON_STARTUP = True
+# A worker outlives a broker outage of any length (Celery's default gives up after 100 attempts, about 50 minutes,
+# and the worker exits): it reconnects when the broker is back, and the jobs wait in the database meanwhile.
+CELERY_BROKER_CONNECTION_MAX_RETRIES = None
 # Celery's Django fix-up closes a worker thread's database connections before and after EVERY task unless told to
 # reuse them: each RT-Kube eviction (continuum.rt_reconcile) then opened a new PostgreSQL connection on the clock.
 # Reused for this many tasks instead; a stale or broken one is still retired before each task as Django retires
@@ -369,6 +381,15 @@ CONTINUUM_JOB_STALE_S = float(os.environ.get("CONTINUUM_JOB_STALE_S", "30"))
 CONTINUUM_JOB_CHECK_S = float(os.environ.get("CONTINUUM_JOB_CHECK_S", "15"))
 CONTINUUM_JOB_MAX_ATTEMPTS = int(os.environ.get("CONTINUUM_JOB_MAX_ATTEMPTS", "3"))
 CELERY_BEAT_SCHEDULE["jobs-recover-lost"] = {"task": "continuum.recover_lost_jobs", "schedule": CONTINUUM_JOB_CHECK_S}
+# A sweep message not run within its period is dropped (the next one does the same work): a sweeper that was
+# down does not find a pile of them when it comes back.
+for _entry in CELERY_BEAT_SCHEDULE.values():
+    _entry.setdefault("options", {"expires": float(_entry["schedule"])})
+# Pending jobs (apps/jobs/dispatch.py): a job queued this long ago whose message the queue no longer holds (a
+# broker restarted empty, or down when the job was recorded) gets its message again at the next check (so
+# within RESEND_AFTER_S + CHECK_S = 35 s); one no worker picked up for PICKUP_WARN_S says so (page and API).
+CONTINUUM_JOB_RESEND_AFTER_S = float(os.environ.get("CONTINUUM_JOB_RESEND_AFTER_S", "20"))
+CONTINUUM_JOB_PICKUP_WARN_S = float(os.environ.get("CONTINUUM_JOB_PICKUP_WARN_S", "60"))
 
 # ---- Continuum ------------------------------------------------------------------------------------
 # HEFT's average computation cost: "mean" (literature, Topcuoglu) or "max" (thesis Fig. 3.1). Spec 01 2.1.

@@ -25,6 +25,7 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from datetime import datetime, timedelta
+from functools import partial
 
 from django.conf import settings
 from django.db import DatabaseError, connection, transaction
@@ -104,7 +105,7 @@ def recover_lost_jobs(queryset: QuerySet[Job] | None = None) -> list[tuple[str, 
         if job.cancel_requested:  # it was being cancelled: the cancel is what it gets
             change = {"state": Job.State.CANCELLED, "finished": now, "message": "cancelled (its worker was lost)"}
         elif again:
-            change = {"state": Job.State.PENDING, "message": f"{reason}; queued again"[:300]}
+            change = {"state": Job.State.PENDING, "message": f"{reason}; queued again"[:300], "queued": now}
         else:
             tries = "" if eager else f" (attempt {job.attempts} of {settings.CONTINUUM_JOB_MAX_ATTEMPTS})"
             change = {"state": Job.State.FAILED, "finished": now, "message": "failed", "error": reason + tries}
@@ -117,9 +118,9 @@ def recover_lost_jobs(queryset: QuerySet[Job] | None = None) -> list[tuple[str, 
         log.warning("job %s: %s; %s", job.pk, reason, outcome)
         joblog.write(job.pk, f"{reason}; {outcome}")
         if again:
-            from .tasks import run_job
+            from .dispatch import publish
 
-            transaction.on_commit(lambda pk=str(job.pk): run_job.apply_async(args=(pk,), task_id=pk))
+            transaction.on_commit(partial(publish, str(job.pk)))
         done.append((str(job.pk), outcome))
     return done
 
@@ -165,8 +166,11 @@ def watch(interval: float | None = None) -> threading.Thread:
             time.sleep(interval)
             try:
                 recover_lost_jobs()
+                from .dispatch import resend_missing
+
+                resend_missing()
             except Exception:  # the next round may succeed (database restarting, ...)
-                log.exception("checking for jobs whose worker is gone")
+                log.exception("checking for jobs whose worker is gone or whose message is lost")
             finally:
                 connection.close()  # not held across a fork of the worker's pool
 

@@ -46,12 +46,20 @@ class Job(FleetOwned):
         help_text="the job this one runs again, with the same arguments",
     )  # fmt: skip
     created = models.DateTimeField(auto_now_add=True)
+    queued = models.DateTimeField(
+        null=True, blank=True, help_text="when the job's message was last sent to the workers' queue"
+    )
     started = models.DateTimeField(null=True, blank=True)
     finished = models.DateTimeField(null=True, blank=True)
 
     class Meta:
         ordering = ["-created"]
-        indexes = [models.Index(fields=["fleet", "state"]), models.Index(fields=["kind"])]
+        indexes = [
+            models.Index(fields=["fleet", "state"]),
+            models.Index(fields=["kind"]),
+            # The fair dispatch's question (apps/jobs/dispatch.py): when was each fleet last served.
+            models.Index(fields=["fleet", "started"], name="jobs_fleet_served"),
+        ]
 
     def __str__(self) -> str:
         return f"{self.kind} {self.id}"
@@ -82,6 +90,13 @@ class Job(FleetOwned):
         if not self.done:
             return f"the job is {self.state}: cancel it first, or wait for its end"
         return ""
+
+    def waiting_notice(self, now=None) -> str:
+        """What a pending job no worker has picked up for a while says ('' otherwise): how long, and what is ahead
+        of it or that no worker runs anything (a worker down, or consuming another queue)."""
+        from .dispatch import waiting_notice
+
+        return waiting_notice(self, now)
 
     @property
     def duration(self) -> float | None:

@@ -28,6 +28,9 @@ class JobSerializer(ScopedModelSerializer):
     retry_unavailable = serializers.SerializerMethodField(
         help_text="why POST .../retry/ would be refused now ('' when the job can be retried)"
     )
+    waiting_notice = serializers.SerializerMethodField(
+        help_text="a pending job no worker has picked up for a minute: how long, and what is ahead of it ('' else)"
+    )
 
     class Meta:
         model = Job
@@ -52,8 +55,10 @@ class JobSerializer(ScopedModelSerializer):
             "cancel_requested",
             "cancel_unavailable",
             "retry_unavailable",
+            "waiting_notice",
             "retry_of",
             "created",
+            "queued",
             "started",
             "finished",
             "duration",
@@ -65,6 +70,9 @@ class JobSerializer(ScopedModelSerializer):
 
     def get_retry_unavailable(self, job: Job) -> str:
         return job.retry_unavailable()
+
+    def get_waiting_notice(self, job: Job) -> str:
+        return job.waiting_notice()
 
 
 class JobDetailSerializer(JobSerializer):

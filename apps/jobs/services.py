@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from functools import partial
 
 from django.conf import settings
 from django.db import transaction
@@ -11,6 +12,7 @@ from django.utils import timezone
 from apps.tenancy.models import Fleet
 
 from . import joblog
+from .dispatch import publish
 from .models import Job
 from .registry import JobKind, resolve
 
@@ -30,6 +32,7 @@ def start_job(kind: JobKind | str, fleet: Fleet, arguments: dict, user=None, *, 
     :class:`~apps.jobs.registry.UnknownJobKind` (a ``ValueError``) and records nothing."""
     kind_value = resolve(kind)
     job = Job.objects.create(
+        queued=timezone.now(),
         kind=kind_value,
         fleet=fleet,
         arguments=arguments,
@@ -44,12 +47,9 @@ def start_job(kind: JobKind | str, fleet: Fleet, arguments: dict, user=None, *, 
         run_job.apply(args=(str(job.pk),), task_id=str(job.pk))
         job.refresh_from_db()
     else:
-        # A worker may only see the job once its record is committed. The task id is the job's, so a cancel
-        # can revoke the queued message. No time limits in the message: the worker's own
-        # CONTINUUM_JOB_*_TIME_LIMIT apply (Celery would otherwise send this process's settings along).
-        transaction.on_commit(
-            lambda: run_job.apply_async(args=(str(job.pk),), task_id=str(job.pk), time_limit=None, soft_time_limit=None)
-        )
+        # A worker may only see the job once its record is committed. A broker that refuses the message (down,
+        # full) leaves the job pending, said in its log, and it is sent again later (apps/jobs/dispatch.py).
+        transaction.on_commit(partial(publish, str(job.pk)))
     return job
 
 

@@ -1,10 +1,11 @@
 """The one Celery task that runs every job kind, with late acknowledgement so none is lost.
 
-Delivery is at least once: the message is acknowledged when the job ends, so a worker that dies leaves it
-to be delivered again (after the broker's visibility timeout), and the stale-job check
-(:mod:`apps.jobs.liveness`) queues a lost job again within a minute. A run therefore first claims the job
-(its attempt number); a delivery of a job another live run holds waits for that run instead of running
-the job twice.
+A message is a turn (:mod:`apps.jobs.dispatch`): the worker that gets it takes the pending job whose fleet's
+turn it is, by its attempt number, so a job runs once however many messages name it. Delivery is at least
+once: the message is acknowledged when the job ends, so a worker that dies leaves it to be delivered again
+(after the broker's visibility timeout), and the stale-job check (:mod:`apps.jobs.liveness`) queues a lost
+job again within a minute. In-process (eager) runs claim the job the message names; a claim of a job another
+live run holds waits for that run instead of running the job twice.
 """
 
 import logging
@@ -24,6 +25,7 @@ from django.utils import timezone
 from apps.tenancy.audit import acting_for
 
 from . import joblog
+from .dispatch import next_job, resend_missing
 from .liveness import heartbeats, identity, lost_reason, recover_lost_jobs
 from .models import Job
 from .registry import HANDLERS
@@ -89,13 +91,41 @@ def claim(job_id: str, eager: bool) -> int | None:
             return job.attempts + 1
 
 
+def take_turn() -> tuple[str, int] | None:
+    """Take the next job by the fair dispatch (:func:`apps.jobs.dispatch.next_job`) for this process: its id and
+    attempt number, or None when no job is pending."""
+    while True:
+        job = next_job()
+        if job is None:
+            return None
+        now = timezone.now()
+        # Taken only if still as read: another worker's turn may have taken it meanwhile (then look again).
+        if Job.objects.filter(pk=job.pk, state=Job.State.PENDING, attempts=job.attempts).update(
+            state=Job.State.RUNNING, started=now, attempts=job.attempts + 1, progress=0, error="",
+            worker=identity(), heartbeat=now,
+        ):  # fmt: skip
+            joblog.write(job.pk, f"attempt {job.attempts + 1} started on {identity()}", 0)
+            return str(job.pk), job.attempts + 1
+
+
 @shared_task(bind=True, acks_late=True, reject_on_worker_lost=True, name="continuum.run_job")
 def run_job(self, job_id: str) -> str:
+    """A worker's turn (apps/jobs/dispatch.py): it runs the pending job whose fleet's turn it is, which may not be
+    ``job_id``; in-process (``CONTINUUM_JOBS_EAGER``) it runs ``job_id`` itself."""
     eager = bool(self.request.is_eager)
-    attempt = claim(job_id, eager)
-    if attempt is None:  # deleted, or a duplicate delivery of a finished job: nothing to do (idempotence)
+    if eager:
+        attempt = claim(job_id, eager)
+    else:
+        turn = take_turn()
+        job_id, attempt = turn if turn else (job_id, None)
+    if attempt is None:  # deleted, finished, or no job left for this turn: nothing to do (idempotence)
         job = Job.objects.filter(pk=job_id).first()
         return job.state if job else "missing"
+    return run_attempt(job_id, attempt, eager)
+
+
+def run_attempt(job_id: str, attempt: int, eager: bool) -> str:
+    """Run the job's handler as the attempt this process holds, and record how it ended."""
     mine = Job.objects.filter(pk=job_id, attempts=attempt, state=Job.State.RUNNING)
     last = [0.0]
     logged = [""]
@@ -156,8 +186,9 @@ def end(mine, job_id, line: str, **change) -> bool:
 
 @shared_task(name="continuum.recover_lost_jobs")
 def recover_lost_jobs_task() -> int:
-    """Celery beat: queue again (or fail) running jobs whose worker is gone (see apps.jobs.liveness)."""
-    return len(recover_lost_jobs())
+    """Celery beat: queue again (or fail) running jobs whose worker is gone (see apps.jobs.liveness), and send
+    the messages of pending jobs the queue lost (apps.jobs.dispatch)."""
+    return len(recover_lost_jobs()) + resend_missing()
 
 
 @contextmanager

@@ -366,7 +366,14 @@ def _reconcile_claims(
     of the stages before the reconcile (the task's ``queued``, ``picked``), kept with each eviction."""
     events = []
     for pk, r, trigger, received in claims:
-        event = reconcile(cluster, policy, monitor_policy, r, trigger, received, claim=pk, stamps=dict(stamps or {}))
+        try:
+            event = reconcile(cluster, policy, monitor_policy, r, trigger, received, claim=pk,
+                              stamps=dict(stamps or {}))  # fmt: skip
+        except Exception:
+            # One row the code cannot handle must not stop the others (issue 25: the sweep aborted its loop over
+            # every cluster, every 10 s). Its claim was rolled back with the failure: the next sweep tries again.
+            log.exception("reconcile of violation %s of cluster %s failed; skipped", pk, cluster.pk)
+            continue
         if event is not DUPLICATE and event is not None:
             events.append(event)
     return events
@@ -410,8 +417,13 @@ def reconcile_overdue(older_than_s: float = 30.0, limit: int = 1000) -> int:
         by_cluster.setdefault(cluster_id, []).append(pk)
     done = 0
     for cluster in Cluster.objects.select_related("rt_policy").filter(pk__in=by_cluster):
-        reconcile_stored(cluster, by_cluster[cluster.pk], policy_of(cluster))
-        done += len(by_cluster[cluster.pk])
+        try:
+            reconcile_stored(cluster, by_cluster[cluster.pk], policy_of(cluster))
+        except Exception:  # this cluster's rows (its policy...): logged, and every other cluster still served
+            log.exception("overdue reconcile of cluster %s failed; skipped until the next sweep", cluster.pk)
+            continue
+        left = MonitoringReport.objects.filter(pk__in=by_cluster[cluster.pk], reconciled_at__isnull=True).count()
+        done += len(by_cluster[cluster.pk]) - left
     return done
 
 
@@ -596,7 +608,11 @@ def reconcile(
             reconciled_at=timezone.now()
         ):
             return DUPLICATE
-        node = ComputeNode.objects.select_for_update().get(cluster=cluster, name=r.node)
+        node = ComputeNode.objects.select_for_update().filter(cluster=cluster, name=r.node).first()
+        if node is None:  # deleted after the report was stored: nothing on it to evict, said once (claimed)
+            base = _event_fields(cluster, monitor_policy, r, trigger, received)
+            gone = f"node {r.node!r} is no longer in the cluster: the violation reported on it was not acted on"
+            return _unmatched_alert(cluster, monitor_policy, r, gone, base)
         pods = list(
             RTPod.objects.filter(cluster=cluster, node=r.node, deleted_at__isnull=True).select_related("realtime")
         )
@@ -885,25 +901,35 @@ def lift_expired_taints(cluster: Cluster | None = None, now: datetime | None = N
         due = due.filter(cluster=cluster)
     lifted = 0
     for taint in due:
-        still = NodeTaint.objects.filter(
-            node=taint.node, key=taint.key, effect=taint.effect, lifted_at__isnull=True, expires_at__gt=now
-        ).exists()
-        if not still:
-            if has_api(taint.cluster):
-                try:
-                    kube_for(taint.cluster).set_taint(taint.node.name, taint.as_dict(), present=False)
-                except KUBE_ERRORS as exc:
-                    NodeTaint.objects.filter(pk=taint.pk).update(error=problem(exc)[:500])
-                    continue  # try again next time
-            with transaction.atomic():
-                node = ComputeNode.objects.select_for_update().get(pk=taint.node_id)
-                kept = [t for t in node.taints if not (t.get("key") == taint.key and t.get("effect") == taint.effect)]
-                if kept != node.taints:
-                    node.taints = kept
-                    node.save(update_fields=["taints"])
-        NodeTaint.objects.filter(pk=taint.pk).update(lifted_at=now)
-        lifted += 1
+        try:
+            lifted += _lift(taint, now)
+        except Exception:  # one taint the code cannot lift must not keep every other node tainted (issue 25)
+            log.exception("lifting taint %s of node %s (cluster %s) failed; skipped until the next sweep",
+                          taint.pk, taint.node_id, taint.cluster_id)  # fmt: skip
     return lifted
+
+
+def _lift(taint: NodeTaint, now: datetime) -> int:
+    """Lift one expired taint (in the API, then on the node's row) unless a later one with its key holds; 1 when
+    it is done with, 0 when the API refused (tried again at the next sweep)."""
+    still = NodeTaint.objects.filter(
+        node=taint.node, key=taint.key, effect=taint.effect, lifted_at__isnull=True, expires_at__gt=now
+    ).exists()
+    if not still:
+        if has_api(taint.cluster):
+            try:
+                kube_for(taint.cluster).set_taint(taint.node.name, taint.as_dict(), present=False)
+            except KUBE_ERRORS as exc:
+                NodeTaint.objects.filter(pk=taint.pk).update(error=problem(exc)[:500])
+                return 0  # try again next time
+        with transaction.atomic():
+            node = ComputeNode.objects.select_for_update().get(pk=taint.node_id)
+            kept = [t for t in node.taints if not (t.get("key") == taint.key and t.get("effect") == taint.effect)]
+            if kept != node.taints:
+                node.taints = kept
+                node.save(update_fields=["taints"])
+    NodeTaint.objects.filter(pk=taint.pk).update(lifted_at=now)
+    return 1
 
 
 def active_taints(cluster: Cluster) -> Q:

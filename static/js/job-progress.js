@@ -13,6 +13,7 @@
   var percent = document.getElementById("job-percent");
   var note = document.getElementById("job-poll-note");
   var logList = document.getElementById("job-log");
+  var waiting = document.getElementById("job-waiting");
   var delay = 1000;
   var MAX_DELAY = 10000;
 
@@ -57,6 +58,10 @@
     state.textContent = job.state.charAt(0).toUpperCase() + job.state.slice(1);
     state.className = "badge state-" + job.state;
     message.textContent = job.message || "";
+    if (waiting) {  // a pending job no worker picked up for a minute says so (apps/jobs/dispatch.py)
+      waiting.textContent = job.waiting_notice || "";
+      waiting.hidden = !job.waiting_notice;
+    }
     button("cancel", job.cancel_unavailable);
     button("retry", job.retry_unavailable);
     showLog(job.log);

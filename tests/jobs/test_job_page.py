@@ -74,3 +74,27 @@ def test_the_log_keeps_the_newest_lines_only(fleet):
     long = "x" * 1000
     joblog.write(job.pk, long)
     assert joblog.lines(job.pk)[-1].text == long[:300]
+
+
+def test_a_job_no_worker_picks_up_within_a_minute_says_so_on_its_page_and_in_the_api(member, fleet, api):
+    """Issue 30: a job queued where no worker consumes said "pending" for ever, with no warning."""
+    from datetime import timedelta
+
+    from django.utils import timezone
+
+    long_ago = timezone.now() - timedelta(seconds=75)
+    stuck = Job.objects.create(fleet=fleet, kind=SchedulingJob.SCHEDULE.value, queued=long_ago)
+    fresh = Job.objects.create(fleet=fleet, kind=SchedulingJob.SCHEDULE.value, queued=timezone.now())
+    body = api.get(f"/api/v1/jobs/{stuck.pk}/").json()
+    assert body["state"] == "pending"
+    assert body["waiting_notice"].startswith("no worker has picked this job up in 7")
+    assert "is a worker started, on this broker and queue?" in body["waiting_notice"]
+    assert api.get(f"/api/v1/jobs/{fresh.pk}/").json()["waiting_notice"] == ""
+    html = member.get(f"/jobs/{stuck.pk}/").content.decode()
+    assert 'id="job-waiting"' in html and "no worker has picked this job up in 7" in html
+    assert 'id="job-waiting" hidden' in member.get(f"/jobs/{fresh.pk}/").content.decode()
+    # Workers busy with other jobs: it says what is ahead of it.
+    Job.objects.create(fleet=fleet, kind=SchedulingJob.SCHEDULE.value, state=Job.State.RUNNING,
+                       worker="elsewhere:1@1", heartbeat=timezone.now())  # fmt: skip
+    notice = api.get(f"/api/v1/jobs/{stuck.pk}/").json()["waiting_notice"]
+    assert notice.startswith("waiting 7") and "1 job(s) running, 0 older job(s) pending (fleets take turns)" in notice

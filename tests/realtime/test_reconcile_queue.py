@@ -40,16 +40,24 @@ def test_the_reconcile_is_published_after_the_commit_to_the_rt_queue(rt_cluster,
     assert isinstance(kwargs["queued_at"], float)
 
 
-def test_a_plain_worker_consumes_both_queues_and_only_rt_tasks_are_routed_to_the_rt_queue():
+def test_a_plain_worker_consumes_every_queue_and_rt_tasks_and_sweeps_have_queues_of_their_own():
     from continuum.celery import app
 
     assert settings.CONTINUUM_RT_QUEUE != settings.CELERY_TASK_DEFAULT_QUEUE
     assert {q.name for q in settings.CELERY_TASK_QUEUES} == {settings.CELERY_TASK_DEFAULT_QUEUE,
-                                                             settings.CONTINUUM_RT_QUEUE}  # fmt: skip
+                                                             settings.CONTINUUM_RT_QUEUE,
+                                                             settings.CONTINUUM_SWEEP_QUEUE}  # fmt: skip
     route = app.amqp.router.route
     assert route({}, "continuum.rt_reconcile")["queue"].name == settings.CONTINUUM_RT_QUEUE
     assert route({}, "continuum.rt_warm")["queue"].name == settings.CONTINUUM_RT_QUEUE
-    assert route({}, "continuum.rt_reconcile_overdue")["queue"].name == settings.CELERY_TASK_DEFAULT_QUEUE
+    # The periodic safety sweeps on a queue of their own, which no backlog of jobs delays (issue 25), and dropped
+    # when not run within their period (the next one does the same work).
+    for task in ("continuum.rt_reconcile_overdue", "continuum.rt_lift_taints", "continuum.recover_lost_jobs"):
+        assert route({}, task)["queue"].name == settings.CONTINUUM_SWEEP_QUEUE
+    for entry in settings.CELERY_BEAT_SCHEDULE.values():
+        assert route({}, entry["task"])["queue"].name == settings.CONTINUUM_SWEEP_QUEUE
+        assert entry["options"]["expires"] == entry["schedule"]
+    assert route({}, "continuum.run_job")["queue"].name == settings.CELERY_TASK_DEFAULT_QUEUE
 
 
 def test_the_endpoint_reads_the_cluster_and_its_nodes_in_one_query(api, rt_cluster):

@@ -189,3 +189,89 @@ def test_the_sweep_reconciles_a_violation_whose_task_never_ran(rt_cluster, node0
     assert RTEvent.objects.get().kind == "eviction"
     assert MonitoringReport.objects.get(pk=result["pending"][0]).reconciled_at is not None
     assert monitoring.reconcile_overdue(older_than_s=0) == 0 and RTEvent.objects.count() == 1
+
+
+def test_a_poison_row_is_skipped_and_logged_and_the_sweep_goes_on_to_every_other_cluster(
+    api, cluster_doc, rt_cluster, node0_pods, caplog
+):
+    """Issue 25: a violation whose node is deleted before it is handled made the overdue sweep raise and abort its
+    loop over all clusters, every 10 s. Now the row is handled (an alert saying why, never tried again) and the
+    sweep goes on to the next cluster, whose violation is evicted for."""
+    from apps.clusters.models import Cluster, ComputeNode
+
+    from .conftest import make_pod
+
+    response = api.post("/api/v1/clusters/import/", {"name": "later-edge", **cluster_doc}, format="json")
+    assert response.status_code == 201, response.data
+    other = Cluster.objects.get(pk=response.data["id"])
+    assert Cluster.objects.filter(pk__in=[rt_cluster.pk, other.pk]).first().pk == rt_cluster.pk  # the poison first
+    make_pod(other, "victim", "node1", "NONE", True, cpu=2)
+    make_pod(other, "slam", "node1", "B", True, cpu=1, utilization=0.4)
+    [poison] = monitoring.ingest(rt_cluster, monitoring.parse_batch([spec(period=50, total=50)]), defer=True)["pending"]
+    [fine] = monitoring.ingest(other, monitoring.parse_batch([spec(node="node1", period=50, total=50)]), defer=True)[
+        "pending"
+    ]
+    ComputeNode.objects.filter(cluster=rt_cluster, name="node0").delete()  # before the violation is handled
+    assert monitoring.reconcile_overdue(older_than_s=0) == 2
+    assert RTEvent.objects.get(cluster=other).kind == "eviction"
+    alert = RTEvent.objects.get(cluster=rt_cluster)
+    assert alert.kind == "alert" and "node 'node0' is no longer in the cluster" in alert.message
+    assert MonitoringReport.objects.filter(pk__in=[poison, fine], reconciled_at__isnull=True).count() == 0
+    assert monitoring.reconcile_overdue(older_than_s=0) == 0  # handled once, not every 10 s
+
+
+def test_a_row_that_raises_is_logged_and_the_sweep_goes_on(api, cluster_doc, rt_cluster, node0_pods, caplog,
+                                                           monkeypatch):  # fmt: skip
+    """Any other failure of one cluster's reconcile (a bug, a row the code does not expect) is logged with the
+    cluster and the row, and the sweep still reconciles every other cluster's violations."""
+    from apps.clusters.models import Cluster
+
+    from .conftest import make_pod
+
+    response = api.post("/api/v1/clusters/import/", {"name": "later-edge", **cluster_doc}, format="json")
+    other = Cluster.objects.get(pk=response.data["id"])
+    make_pod(other, "victim", "node1", "NONE", True, cpu=2)
+    make_pod(other, "slam", "node1", "B", True, cpu=1, utilization=0.4)
+    [poison] = monitoring.ingest(rt_cluster, monitoring.parse_batch([spec(period=50, total=50)]), defer=True)["pending"]
+    monitoring.ingest(other, monitoring.parse_batch([spec(node="node1", period=50, total=50)]), defer=True)
+    real = monitoring.reconcile
+
+    def broken(cluster, *args, **kwargs):
+        if cluster.pk == rt_cluster.pk:
+            raise RuntimeError("a row the code does not expect")
+        return real(cluster, *args, **kwargs)
+
+    monkeypatch.setattr(monitoring, "reconcile", broken)
+    assert monitoring.reconcile_overdue(older_than_s=0) == 1
+    assert RTEvent.objects.get(cluster=other).kind == "eviction"
+    assert f"violation {poison} of cluster {rt_cluster.pk}" in caplog.text and "RuntimeError" in caplog.text
+    # The row is left unclaimed: a transient failure is tried again by the next sweep.
+    assert MonitoringReport.objects.get(pk=poison).reconciled_at is None
+
+
+def test_a_taint_that_cannot_be_lifted_is_logged_and_the_others_are_lifted(rt_cluster, caplog, monkeypatch):
+    """The taint sweep skips and logs a taint whose lift raises, instead of leaving every later one in place."""
+    from datetime import timedelta
+
+    from apps.clusters.models import ComputeNode
+
+    past = timezone.now() - timedelta(seconds=1)
+    nodes = {n.name: n for n in ComputeNode.objects.filter(cluster=rt_cluster)}
+    for name in ("node0", "node1"):
+        nodes[name].taints = [{"key": "rt.monitoring/violation", "value": "true", "effect": "NoSchedule"}]
+        nodes[name].save()
+    bad = NodeTaint.objects.create(cluster=rt_cluster, node=nodes["node0"], expires_at=past)
+    good = NodeTaint.objects.create(cluster=rt_cluster, node=nodes["node1"], expires_at=past)
+    real = monitoring._lift
+
+    def poison(taint, now):
+        if taint.pk == bad.pk:
+            raise RuntimeError("a row the code does not expect")
+        return real(taint, now)
+
+    monkeypatch.setattr(monitoring, "_lift", poison)
+    assert monitoring.lift_expired_taints() == 1
+    assert NodeTaint.objects.get(pk=good.pk).lifted_at is not None
+    assert ComputeNode.objects.get(pk=nodes["node1"].pk).taints == []
+    assert NodeTaint.objects.get(pk=bad.pk).lifted_at is None  # tried again by the next sweep
+    assert f"lifting taint {bad.pk} of node" in caplog.text and "RuntimeError" in caplog.text

@@ -96,6 +96,17 @@ class Worker:
                 self.kill()
 
 
+def fresh_pools() -> None:
+    """Drop this process's broker connections: the next message opens one to the broker configured now (tests
+    point the app at several brokers: Redis, a Redis of their own, a file broker)."""
+    from continuum.celery import app
+
+    # Dropped, not closed: kombu's producer pools (one per broker, process-wide) share these connections, and
+    # a closed pool answers "Acquire on closed pool" to the next test on that broker.
+    app._pool = None
+    app.amqp._producer_pool = None
+
+
 @pytest.fixture
 def celery_broker(redis_url, settings):
     """Point this process's Celery app at Redis on a private queue (no eager execution)."""
@@ -104,11 +115,13 @@ def celery_broker(redis_url, settings):
     queue = f"test-{uuid.uuid4().hex[:8]}"
     saved = {k: app.conf[k] for k in ("broker_url", "task_always_eager", "task_default_queue")}
     app.conf.update(broker_url=redis_url, task_always_eager=False, task_default_queue=queue)
+    fresh_pools()
     settings.CELERY_TASK_ALWAYS_EAGER = False
     with app.connection_for_write() as conn:
         conn.ensure_connection(max_retries=3)
     yield queue
     app.conf.update(saved)
+    fresh_pools()
 
 
 @pytest.fixture
