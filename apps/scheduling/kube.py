@@ -73,7 +73,7 @@ def push_schedule(schedule: Schedule, progress: Progress | None = None) -> dict:
         assignment.placement_message = outcome.message[:500]
         assignment.pod_name = names[assignment.pk]
     with transaction.atomic():
-        Assignment.objects.bulk_update(assignments, ["placement", "placement_message", "pod_name"])
+        Assignment.store_placements(assignments)
     failed = [a for a in assignments if not outcomes[a.pk].ok]
     summary = {
         "schedule": schedule.pk,
