@@ -231,6 +231,8 @@ class Assignment(models.Model):
     class Meta:
         ordering = ["start", "processor", "task"]
         constraints = [models.UniqueConstraint(fields=["schedule", "task", "frame"], name="unique_assignment")]
+        # Keyset pages and the export (apps/scheduling/reads.py) read a schedule in this order from the index.
+        indexes = [models.Index(fields=["schedule", "start", "processor", "task", "frame"], name="assignment_keyset")]
 
     def __str__(self) -> str:
         return f"{self.task}@{self.processor}"
