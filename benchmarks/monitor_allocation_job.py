@@ -9,7 +9,7 @@ time, status, objective, relative gap and bound, and whether the job's allocatio
 the budget is work, not time). ``--repeat`` runs the job again to show the same allocation under the load of
 the moment. Prints the load average.
 
-    python benchmarks/monitor_allocation_job.py [--monitors 1000] [--nodes 20] [--seed 1]
+    python benchmarks/monitor_allocation_job.py [--monitors 1000] [--nodes 20] [--seed N]
 """
 
 from __future__ import annotations
@@ -38,8 +38,9 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--monitors", type=int, default=1000)
     p.add_argument("--nodes", type=int, default=20)
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--seed", type=int, default=None, help="default: monitors + nodes, as milp_scaling.py")
     p.add_argument("--repeat", type=int, default=1, help="extra runs of the job on the same statistics")
+    p.add_argument("--fleets", default="robot-local,cross-robot", help="which fleets (comma-separated)")
     args = p.parse_args()
     base = os.environ.get("DATABASE_URL", "postgres://postgres@127.0.0.1:5432/continuum")
     parts = urlsplit(base)
@@ -74,8 +75,12 @@ def run(args: argparse.Namespace) -> None:
     print(f"{args.monitors} monitors x {args.nodes} nodes, work budget {DEFAULT_WORK_LIMIT} nodes per solve; "
           f"load average {loadavg()}", flush=True)  # fmt: skip
     rows = []
+    chosen = {f.strip() for f in args.fleets.split(",")}
     for label, cross in (("robot-local", 0.0), ("cross-robot", 0.1)):
-        doc = fleet(args.monitors, args.nodes, args.seed, uniform=False, cross=cross)
+        if label not in chosen:
+            continue
+        seed = args.seed if args.seed is not None else args.monitors + args.nodes
+        doc = fleet(args.monitors, args.nodes, seed, uniform=False, cross=cross)
         engine, e_wall, e_cpu = clock(lambda doc=doc: allocate(doc, work_limit=DEFAULT_WORK_LIMIT, time_limit=math.inf))
         rows.append([f"{label}: engine", e_wall, e_cpu, engine.status, engine.objective, engine.gap,
                      engine.objective * (1 - engine.gap), "-"])  # fmt: skip
