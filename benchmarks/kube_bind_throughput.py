@@ -19,6 +19,15 @@ hollow node (MiB, from /proc) and of the control plane. Then each client, in its
    (answers parsed into models; the Binding's answer read raw, as the client cannot parse it). The gateway reads
    the answers it does not use raw, one of the reasons it can be faster with more work per pod.
 
+3. ``job``: the schedule push job's code, :func:`apps.scheduling.kube.push_schedule`, on a stored schedule of
+   ``--pods`` assignments (its reads of the rows, the gateway's push above, the write-back of every row's
+   placement in one statement), in a throw-away database (``<DATABASE_URL's name>_bind_bench``, dropped at the
+   end); then its re-push (nothing to create, nothing to write back), timed as ``re-push``.
+
+``--mode apiserver`` runs the same clients against a bare kube-apiserver (tests/kubeapi.py's, only the
+``kube-apiserver`` binary from the build cache) with synthetic Ready Node objects: no kubelet runs the pods and
+no controller deletes namespaces, so there is no "until Running" figure nor any Deployments (``--deployments 0``).
+
 Both clients' timed windows hold the same work: the namespace's creation, then the pods (the gateway's window
 also holds its reads before the first write: namespace, nodes, pods already there; and before the Deployments:
 namespace, nodes, Deployments already there). Printed per client and round: pods/s (``--pods`` / seconds until
@@ -54,6 +63,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
+# The job client's rows live in a database of their own, made (and dropped) by main(): set before Django reads it.
+_BASE_DB = os.environ.get("DATABASE_URL", "postgres://postgres@127.0.0.1:5432/continuum")
+BENCH_DB = _BASE_DB.rsplit("/", 1)[0] + "/" + _BASE_DB.rsplit("/", 1)[1].split("?")[0] + "_bind_bench"
+os.environ["DATABASE_URL"] = BENCH_DB
 
 import django  # noqa: E402
 
@@ -66,7 +79,7 @@ from kubernetes import client, config  # noqa: E402
 from apps.kube import gateway  # noqa: E402
 from apps.kube.pods import PodSet, pod_manifest, pod_name, push  # noqa: E402
 from apps.kube.resources import pod_event  # noqa: E402
-from benchmarks._bench import table  # noqa: E402
+from benchmarks._bench import drop_database, recreate_database, table  # noqa: E402
 from continuum.devcluster import DevCluster, build_binaries, hollow_nodes, rss_mib  # noqa: E402
 from continuum.engine.core.schedule import Assignment  # noqa: E402
 
@@ -109,6 +122,20 @@ def deployment(namespace: str, i: int, node: str) -> dict:
     }  # fmt: skip
     body["metadata"]["annotations"][HASH] = hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
     return body
+
+
+def ready_nodes(kubeconfig: str, names: list[str]) -> None:
+    """Node objects reporting Ready (a bare API server has no kubelet to make them)."""
+    api_client = config.new_client_from_config_dict(yaml.safe_load(kubeconfig), persist_config=False)
+    with api_client:
+        api = client.CoreV1Api(api_client)
+        for name in names:
+            labels = {"kubernetes.io/hostname": name, "kubernetes.io/arch": "amd64"}
+            api.create_node({"apiVersion": "v1", "kind": "Node", "metadata": {"name": name, "labels": labels}})
+            status = {"conditions": [{"type": "Ready", "status": "True", "reason": "KubeletReady", "message": "bench"}],
+                      "capacity": {"cpu": "1", "memory": "3840Mi", "pods": "110"},
+                      "allocatable": {"cpu": "1", "memory": "3840Mi", "pods": "110"}}  # fmt: skip
+            api.patch_node_status(name, {"status": status})
 
 
 def rss_line(cluster: DevCluster) -> tuple[str, list[float]]:
@@ -212,6 +239,80 @@ def repush_gateway(kubeconfig: str, nodes: list[str], args, namespace: str) -> T
     return again
 
 
+class JobRows:
+    """The database side of the ``job`` client: a fleet, a cluster row pointing at the test cluster, and a
+    fresh stored schedule of ``--pods`` assignments per push (the namespace is the cluster's)."""
+
+    def __init__(self, kubeconfig: str) -> None:
+        from django.core.management import call_command
+
+        from apps.clusters.models import Cluster
+        from apps.tenancy.models import Fleet
+
+        call_command("migrate", verbosity=0)
+        self.fleet, _ = Fleet.objects.get_or_create(slug="bind-bench", defaults={"name": "bind-bench"})
+        self.cluster = Cluster.objects.create(fleet=self.fleet, name="bench", kubeconfig=kubeconfig)
+        self.count = 0
+
+    def schedule(self, nodes: list[str], m: int, namespace: str):
+        from django.db import transaction
+
+        from apps.scheduling.models import Schedule
+        from apps.workloads.models import Application
+        from continuum.engine.core.platform import Platform, Processor
+        from continuum.engine.core.schedule import Schedule as EngineSchedule
+
+        self.count += 1
+        self.cluster.namespace = namespace
+        self.cluster.save(update_fields=["namespace"])
+        app = Application.objects.create(fleet=self.fleet, name=f"bench-{self.count}", dag={})
+        platform = Platform([Processor(n) for n in nodes])
+        with transaction.atomic():
+            row = Schedule.store(EngineSchedule("heft", assignments(nodes, m)), application=app, platform=platform)
+        row.cluster = self.cluster
+        row.save(update_fields=["cluster"])
+        return row
+
+
+JOB: dict[str, JobRows] = {}
+
+
+def run_job(kubeconfig: str, nodes: list[str], args, namespace: str) -> dict[str, Timed]:
+    """The push job's code on a stored schedule (rows read, pods pushed, placements written back)."""
+    from apps.scheduling.kube import push_schedule
+    from apps.scheduling.models import Schedule
+
+    if "rows" not in JOB:
+        JOB["rows"] = JobRows(kubeconfig)
+    rows = JOB["rows"]
+    stored = rows.schedule(nodes, args.pods, namespace)
+    schedule = Schedule.objects.select_related("cluster", "application").get(pk=stored.pk)
+    with Timed() as pods_t:
+        summary = push_schedule(schedule)
+    check("job push", [] if summary["failed"] == 0 else [f"{summary['failed']} failed"], None)
+    JOB["last"] = schedule  # type: ignore[assignment]
+    return {"pods": pods_t, "deployments": _zero()}
+
+
+def _zero() -> Timed:
+    """No Deployments: the job pushes pods only."""
+    t = Timed()
+    t.wall = t.cpu = 1e-9
+    return t
+
+
+def repush_job(kubeconfig: str, nodes: list[str], args, namespace: str) -> Timed:
+    """The job again on the same schedule: every pod exists and is bound, no row changes."""
+    from apps.scheduling.kube import push_schedule
+    from apps.scheduling.models import Schedule
+
+    last = JOB["last"]
+    schedule = Schedule.objects.select_related("cluster", "application").get(pk=last.pk)  # type: ignore[attr-defined]
+    with Timed() as again:
+        push_schedule(schedule)
+    return again
+
+
 def check(what: str, bad: list[str], reason: str | None) -> None:
     if reason or bad:
         raise RuntimeError(f"{what} failed: {reason or bad[0]} ({len(bad)} failed)")
@@ -277,31 +378,51 @@ def main() -> None:
     parser.add_argument("--threads", type=int, default=8, help="calls in flight, both clients")
     parser.add_argument("--rounds", type=int, default=1, help="gateway/plain pairs, order alternating")
     parser.add_argument("--timeout", type=float, default=1800, help="seconds to wait for pods to run")
+    parser.add_argument(
+        "--mode",
+        choices=("live", "apiserver"),
+        default="live",
+        help="live: a DevCluster with hollow nodes; apiserver: a bare kube-apiserver, Node objects",
+    )
     args = parser.parse_args()
     if args.nodes < 1 or args.pods < 1 or args.deployments < 0 or args.threads < 1 or args.rounds < 1:
         sys.exit("--nodes, --pods, --threads and --rounds must be positive")
-    if args.pods + args.deployments > args.nodes * 110:
+    if args.mode == "apiserver":
+        args.deployments = 0  # no controller makes their pods
+    if args.mode == "live" and args.pods + args.deployments > args.nodes * 110:
         sys.exit(f"{args.pods + args.deployments} pods do not fit {args.nodes} hollow nodes of 110 pods each")
     settings.CONTINUUM_KUBE_PUSH_CONCURRENCY = args.threads  # the gateway's bound, and its connection pool
 
     doc = cluster_doc(args.nodes)
-    cluster = DevCluster(tempfile.mkdtemp(prefix="bench-bind-"))
+    recreate_database(BENCH_DB)
+    cluster: DevCluster | None = None
+    server = None
     try:
         began = time.monotonic()
-        bin_dir = build_binaries(progress=progress)
-        cluster.up(hollow_nodes(doc), bin_dir, timeout=max(900, 15 * args.nodes), progress=progress)
+        if args.mode == "live":
+            cluster = DevCluster(tempfile.mkdtemp(prefix="bench-bind-"))
+            bin_dir = build_binaries(progress=progress)
+            cluster.up(hollow_nodes(doc), bin_dir, timeout=max(900, 15 * args.nodes), progress=progress)
+            kubeconfig = cluster.kubeconfig()
+        else:
+            from tests.kubeapi import KubeAPIServer, build_kube_apiserver
+
+            server = KubeAPIServer(build_kube_apiserver()).start()
+            kubeconfig = server.kubeconfig()
+            ready_nodes(kubeconfig, [n["name"] for n in doc["nodes"]])
         startup = time.monotonic() - began
-        kubeconfig = cluster.kubeconfig()
         nodes = [n["name"] for n in doc["nodes"]]
-        print(f"== Pushing {args.pods} pods and {args.deployments} Deployments on {args.nodes} kubemark hollow nodes, "
+        where = "kubemark hollow nodes" if cluster else "synthetic Ready nodes of a bare kube-apiserver"
+        print(f"== Pushing {args.pods} pods and {args.deployments} Deployments on {args.nodes} {where}, "
               f"{args.threads} calls in flight, {args.rounds} round(s) ==")  # fmt: skip
-        print(f"cluster up in {startup:.1f} s; {rss_line(cluster)[0]}; {load()}")
+        print(f"cluster up in {startup:.1f} s; {rss_line(cluster)[0] if cluster else ''}; {load()}")
         print(f"(bound pods name schedulerName {settings.CONTINUUM_SCHEDULER_NAME}: kube-scheduler places only the "
               "Deployments' pods)")  # fmt: skip
         observer = Observer(kubeconfig)
         tag = uuid.uuid4().hex[:6]
-        clients = {"gateway": run_gateway, "plain": run_plain}
-        measured: dict[str, list[dict[str, float]]] = {"gateway": [], "plain": []}
+        clients = {"gateway": run_gateway, "plain": run_plain, "job": run_job}
+        repush = {"gateway": repush_gateway, "job": repush_job}
+        measured: dict[str, list[dict[str, float]]] = {"gateway": [], "plain": [], "job": []}
         rows = []
         n_pods, n_dep = args.pods, max(args.deployments, 1)
         # Unmeasured warm-up of each client: the first use of a model, an API class or a connection costs CPU
@@ -310,12 +431,13 @@ def main() -> None:
                                      "deployments": min(args.deployments, 4)})  # fmt: skip
         for label, run in clients.items():
             run(kubeconfig, nodes, warm, f"bench-{tag}-warm-{label}")
-            if label == "gateway":
-                repush_gateway(kubeconfig, nodes, warm, f"bench-{tag}-warm-{label}")
-            observer.delete(f"bench-{tag}-warm-{label}")
+            if label in repush:
+                repush[label](kubeconfig, nodes, warm, f"bench-{tag}-warm-{label}")
+            if cluster:
+                observer.delete(f"bench-{tag}-warm-{label}")
         print(f"warmed up both clients ({warm.pods} pods, {warm.deployments} Deployments each); {load()}", flush=True)
         for r in range(args.rounds):
-            order = ["gateway", "plain"] if r % 2 == 0 else ["plain", "gateway"]
+            order = ["gateway", "job", "plain"] if r % 2 == 0 else ["plain", "job", "gateway"]
             for label in order:
                 namespace = f"bench-{tag}-{r}-{label}"
                 t0 = time.monotonic()
@@ -336,12 +458,16 @@ def main() -> None:
                     f"load {load1:.1f}; waiting for Running",
                     flush=True,
                 )
-                bound_s, deployed_s, all_s, lost = observer.wait_running(
-                    namespace, args.pods, args.deployments, t0, args.timeout
-                )
+                if cluster:
+                    bound_s, deployed_s, all_s, lost = observer.wait_running(
+                        namespace, args.pods, args.deployments if label != "job" else 0, t0, args.timeout
+                    )
+                else:  # no kubelet: nothing runs
+                    bound_s = deployed_s = all_s = float("nan")
+                    lost = 0
                 again = None
-                if label == "gateway":  # after the wait: it must not delay the pods' start
-                    again = repush_gateway(kubeconfig, nodes, args, namespace)
+                if label in repush:  # after the wait: it must not delay the pods' start
+                    again = repush[label](kubeconfig, nodes, args, namespace)
                     figures["re-push s"] = again.wall
                     figures["re-push CPU ms/pod"] = 1000 * again.cpu / n_pods
                     cpu_ms = figures["re-push CPU ms/pod"]
@@ -356,8 +482,9 @@ def main() -> None:
                 rows.append([f"{r + 1}", label, figures["pods/s"], figures["Deployments/s"], figures["CPU ms/pod"],
                              figures["CPU ms/Deployment"], pods_t.wall, deploy_t.wall,
                              again.wall if again else "-", bound_s, deployed_s, all_s, load1])  # fmt: skip
-                gone = observer.delete(namespace)
-                print(f"    namespace deleted in {gone:.1f} s", flush=True)
+                if cluster:
+                    gone = observer.delete(namespace)
+                    print(f"    namespace deleted in {gone:.1f} s", flush=True)
         print()
         print(table(["round", "client", "pods/s", "Deployments/s", "CPU ms/pod", "CPU ms/Deployment", "pods s",
                      "Deployments s", "re-push s", "bound Running s", "Deployment pods Running s", "all Running s",
@@ -370,16 +497,24 @@ def main() -> None:
         for key, unit in units.items():
             if key in ("Deployments/s", "CPU ms/Deployment") and not args.deployments:
                 continue
+            if key == "all Running s" and not cluster:
+                continue
             g = [f[key] for f in measured["gateway"]]
             p = [f[key] for f in measured["plain"]]
             med[key] = statistics.median(g) / statistics.median(p)
             digits = 2 if "CPU" in key else 1
             print(f"  {key:18s} gateway {spread(g, unit, digits)}; plain {spread(p, unit, digits)}; "
                   f"gateway / plain {med[key]:.2f}x")  # fmt: skip
-        runs = measured["gateway"]
-        print(f"  gateway re-push of the {args.pods} pods (all exist): "
-              f"{spread([f['re-push s'] for f in runs], 's', 2)}, "
-              f"{spread([f['re-push CPU ms/pod'] for f in runs], 'ms CPU/pod', 3)}")  # fmt: skip
+        for label in repush:
+            runs = measured[label]
+            print(f"  {label} re-push of the {args.pods} pods (all exist): "
+                  f"{spread([f['re-push s'] for f in runs], 's', 2)}, "
+                  f"{spread([f['re-push CPU ms/pod'] for f in runs], 'ms CPU/pod', 3)}")  # fmt: skip
+        j = [f["pods/s"] for f in measured["job"]]
+        jc = [f["CPU ms/pod"] for f in measured["job"]]
+        p = [f["pods/s"] for f in measured["plain"]]
+        print(f"  {'pods/s':18s} job {spread(j, 'pods/s')} ({spread(jc, 'ms CPU/pod', 2)}); job / plain "
+              f"{statistics.median(j) / statistics.median(p):.2f}x (goal >= 1); re-push goal < 1 s")  # fmt: skip
         loads = [f["load 1 min"] for label in measured for f in measured[label]]
         print(f"  load average (1 min) at the end of each client's push: {spread(loads, '')}")
         print(f"gateway / plain, pods/s: {med['pods/s']:.2f}x (ratio of the medians; goal >= 1)")
@@ -388,11 +523,19 @@ def main() -> None:
         print(f"gateway / plain, CPU per pod: {med['CPU ms/pod']:.2f}x (goal <= 1)")
         if args.deployments:
             print(f"gateway / plain, CPU per Deployment: {med['CPU ms/Deployment']:.2f}x (goal <= 1)")
-        print(f"gateway / plain, time until all Running: {med['all Running s']:.2f}x (goal <= 1)")
-        print(f"after the runs: {rss_line(cluster)[0]}; {load()}")
+        if cluster:
+            print(f"gateway / plain, time until all Running: {med['all Running s']:.2f}x (goal <= 1)")
+            print(f"after the runs: {rss_line(cluster)[0]}; {load()}")
         observer.api_client.close()
     finally:
-        cluster.down()
+        from django.db import connections
+
+        connections.close_all()
+        if cluster:
+            cluster.down()
+        if server:
+            server.stop()
+        drop_database(BENCH_DB)
 
 
 if __name__ == "__main__":

@@ -171,19 +171,27 @@ class PlacementViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Read
         return job_response(self, job)
 
     @extend_schema(
-        parameters=[OpenApiParameter("container", str, description="one container (default: every container)")],
+        parameters=[
+            OpenApiParameter("container", str, description="one container (default: every container)"),
+            OpenApiParameter(
+                "full", bool, description="with container: every node's verdict, recomputed from the stored inputs"
+            ),
+        ],
         responses={200: OpenApiTypes.OBJECT},
     )
     @action(detail=True, methods=["get"])
     def why(self, request, pk=None):
         """Why each container went where it went: per node, the rejecting filter and reason, or each
-        scoring policy's score and the total (like kube-scheduler-simulator)."""
+        scoring policy's score and the total (like kube-scheduler-simulator). Stored bounded (the best
+        candidates, nodes per filter in ``rejections``, an example each); ``container`` with ``full=1``:
+        every node's verdict, recomputed from the placement's stored inputs."""
         placement = self.get_object()
         plan = placement.engine_plan()
         container = request.query_params.get("container")
         if container is not None:
             try:
-                return Response(services.why_table(plan, container))
+                full = request.query_params.get("full", "").lower() in ("1", "true", "yes")
+                return Response(services.why_table(plan, container, placement, full=full))
             except KeyError:
                 raise NotFound(f"placement {placement.pk} has no container {container!r}") from None
         tables = [services.why_table(plan, d.item) for d in plan.decisions]

@@ -15,6 +15,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+import numpy as np
 import plotly.graph_objects as go
 from plotly.colors import qualitative
 
@@ -321,9 +322,14 @@ def placement_figure(
     spots = _placed_spots(nodes, pos, on_node, scores)
     pending = [p["container"] for p in plan.get("pending", [])]
     spots.update(_pending_spots(pending))
-    # One trace per container: the legend gives each container its colour, as on the ROS graph.
-    for c in [*container_order, *(c for c in spots if c not in container_order)]:
-        if c in spots:
+    # One trace per container: the legend gives each container its colour, as on the ROS graph. Past
+    # LEGEND_UP_TO containers a legend is unreadable and a trace each costs seconds (plotly builds and
+    # validates every trace): one trace holds them all, each dot still in its colour with its hover text.
+    order = [c for c in [*container_order, *(c for c in spots if c not in container_order)] if c in spots]
+    if len(order) > LEGEND_UP_TO:
+        fig.add_trace(_containers_trace(order, spots, palette, set(pending)))
+    else:
+        for c in order:
             fig.add_trace(_container_trace(c, spots[c], palette.get(c, NODE_COLOUR), c in pending))
     if pending:
         fig.add_annotation(x=1.75, y=1.15, text="<b>pending</b>", showarrow=False, font={"color": PENDING_COLOUR})
@@ -428,6 +434,37 @@ def _pending_spots(pending: Sequence[str]) -> dict[str, tuple[float, float, str]
         c: (1.75, 0.9 - 0.25 * i, f"<b>{esc(c)}</b><br>pending: no node passed the filters")
         for i, c in enumerate(pending)
     }
+
+
+#: Containers drawn one trace (one legend entry) each; more are drawn as one trace.
+LEGEND_UP_TO = 200
+
+
+def _containers_trace(
+    order: Sequence[str],
+    spots: Mapping[str, tuple[float, float, str]],
+    palette: Mapping[str, str],
+    pending: set[str],
+) -> go.Scatter:
+    """Every container's dot in one trace (a large placement): the colours and rims of :func:`_container_trace`."""
+    # numpy arrays: plotly validates a list element by element, an array at once.
+    return go.Scatter(
+        x=np.array([spots[c][0] for c in order]),
+        y=np.array([spots[c][1] for c in order]),
+        mode="markers",
+        marker={
+            "size": 9,
+            "color": np.array([palette.get(c, NODE_COLOUR) for c in order]),
+            "line": {
+                "color": np.array([PENDING_COLOUR if c in pending else "white" for c in order]),
+                "width": np.array([2.5 if c in pending else 1.0 for c in order]),
+            },
+        },
+        hovertext=np.array([spots[c][2] for c in order]),
+        hoverinfo="text",
+        name=f"{len(order)} containers",
+        legendgroup="containers",
+    )
 
 
 def _container_trace(c: str, spot: tuple[float, float, str], colour: str, pending: bool) -> go.Scatter:

@@ -19,6 +19,7 @@ from apps.jobs.registry import job_kind, owned_row
 from continuum.engine.containers.image_inheritance import dependency_sets
 from continuum.engine.containers.ros_clustering import cluster_ros as engine_cluster_ros
 from continuum.engine.containers.ros_clustering import max_containers
+from continuum.engine.containers.superclustering import FULL_UP_TO, bounded_plan
 from continuum.engine.containers.superclustering import place as engine_place
 from continuum.engine.core.errors import InputError
 
@@ -152,11 +153,15 @@ def place_job(job, progress) -> tuple[dict, str]:
         baseline = {
             "policy": other,
             "inter_node_bandwidth": alt.metrics["inter_node_bandwidth"],
-            "placements": alt.to_dict()["placements"],
+            # Only where things went: ``alt.to_dict()`` would build every node's verdict for every container.
+            "placements": [{"container": d.item, "node": d.node, "score": d.score} for d in alt.decisions if d.node],
             "pending": [d.item for d in alt.decisions if d.pending],
         }
     progress(90, "storing the placement")
-    doc = plan.to_dict()
+    # On more than FULL_UP_TO nodes, bounded explanations (the best candidates, the count of nodes per filter,
+    # an example each): every node's verdict for every container was hundreds of MiB at 5,000 x 500, over
+    # jsonb's limit. The rest is recomputed from the stored inputs when asked (why_table(..., full=True)).
+    doc = (bounded_plan(plan) if len(engine.nodes) > FULL_UP_TO else plan).to_dict()
     with transaction.atomic():
         Placement.objects.filter(job=job).delete()
         row = Placement.objects.create(

@@ -132,7 +132,11 @@ class Placement(FleetOwned):
         return PlacementPlan.from_dict(self.plan)
 
     def placed(self) -> dict[str, str]:
-        return self.engine_plan().placed()
+        # ``placements`` is derived from the decisions when stored: no need to read every verdict back.
+        placements = (self.plan or {}).get("placements")
+        if placements is None:
+            return self.engine_plan().placed()
+        return {p["container"]: p["node"] for p in placements}
 
 
 class ContainerDeployment(models.Model):

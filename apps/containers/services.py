@@ -24,11 +24,17 @@ from continuum.engine.containers.rosgraph import (
     natural_key,
     pair,
 )
-from continuum.engine.containers.superclustering import CONTAINERS_FORMAT, SCORERS, Workload, load_workload
+from continuum.engine.containers.superclustering import (
+    CONTAINERS_FORMAT,
+    SCORERS,
+    Workload,
+    decision_verdicts,
+    load_workload,
+)
 from continuum.engine.core import artifact_names
 from continuum.engine.core.cluster import Cluster as EngineCluster
 from continuum.engine.core.errors import InputError
-from continuum.engine.core.placement import PlacementPlan
+from continuum.engine.core.placement import Decision, PlacementPlan
 from continuum.engine.core.safeload import loads_json
 
 from .models import Clustering, Placement
@@ -299,16 +305,28 @@ def resolve_workload(doc: Mapping[str, Any], graph: RosGraph | None = None) -> t
 
 
 # ---- read-outs ----------------------------------------------------------------------------------------
-def why_table(plan: PlacementPlan | Mapping[str, Any], container: str) -> dict[str, Any]:
+def why_table(
+    plan: PlacementPlan | Mapping[str, Any], container: str, placement: Placement | None = None, full: bool = False
+) -> dict[str, Any]:
     """Why ``container`` went where it went: for every node, the filter that rejected it and the reason, or
     what each scoring policy gave it and the total (the chosen node first, then by total, rejected last).
-    ``plan`` is the engine's plan or its stored form (``PlacementPlan.to_dict()``)."""
-    if not isinstance(plan, PlacementPlan):
-        plan = PlacementPlan.from_dict(plan) if plan.get("decisions") is not None else PlacementPlan("", [])
-    order = [d.item for d in plan.decisions]
-    if container not in order:
-        raise KeyError(container)
-    decision = plan.decisions[order.index(container)]
+    ``plan`` is the engine's plan or its stored form (``PlacementPlan.to_dict()``). A stored plan keeps a
+    bounded explanation (``rejections``: nodes per filter; the best candidates and an example per filter in
+    ``rows``); with ``full`` and the ``placement``, every node's verdict is recomputed from its stored inputs."""
+    if isinstance(plan, PlacementPlan):
+        order = [d.item for d in plan.decisions]
+        if container not in order:
+            raise KeyError(container)
+        decision = plan.decisions[order.index(container)]
+        policy = plan.policy
+    else:  # the stored form: only this container's decision is read back
+        order = [d.get("item") for d in plan.get("decisions") or []]
+        if container not in order:
+            raise KeyError(container)
+        decision = Decision.from_dict(plan["decisions"][order.index(container)])
+        policy = plan.get("policy", "")
+    if full and decision.rejections and placement is not None:
+        decision = full_decision(placement, container)
     # A fixed order: JSON stored in PostgreSQL (jsonb) does not keep the order of a plan's keys.
     used = {p for v in decision.verdicts for p in v.scores}
     policies = sorted(used, key=lambda p: (SCORERS.index(p) if p in SCORERS else len(SCORERS), p))
@@ -333,10 +351,24 @@ def why_table(plan: PlacementPlan | Mapping[str, Any], container: str) -> dict[s
         "node": decision.node,
         "score": decision.score,
         "pending": decision.pending,
-        "policy": plan.policy,
+        "policy": policy,
         "policies": policies,
         "rows": rows,
+        # Bounded: ``rows`` are a sample and these are the counts of rejected nodes per filter.
+        "rejections": dict(decision.rejections),
+        "bounded": bool(decision.rejections),
     }
+
+
+#: Parameters of a stored plan that ``place()`` takes back (the rest, e.g. ``tie_break``, follow from the policy).
+_REPLAY = ("weights", "overhead_mib", "drivers_on_robot", "robot_label", "seed")
+
+
+def full_decision(placement: Placement, container: str) -> Decision:
+    """Every node's verdict on ``container``, recomputed from the placement's stored inputs (its resolved
+    containers, its cluster snapshot and parameters): the run is deterministic, so the same decision."""
+    params = {k: v for k, v in (placement.params or {}).items() if k in _REPLAY}
+    return decision_verdicts(placement.policy, placement.workload(), placement.engine_cluster(), container, **params)
 
 
 def node_traffic(placement: Placement) -> list[dict[str, Any]]:

@@ -300,24 +300,40 @@ def clustering_place(request: HttpRequest, pk: int) -> HttpResponse:
 @login_required
 def placement_detail(request: HttpRequest, pk: int) -> HttpResponse:
     placement = get_object_or_404(
-        scoped(request, Placement.objects.select_related("fleet", "cluster", "clustering", "rosgraph", "job")), pk=pk
+        scoped(
+            request,
+            # The job's arguments and result are not shown here: a placement's arguments hold its whole
+            # containers document again (megabytes at thousands of containers).
+            Placement.objects.select_related("fleet", "cluster", "clustering", "rosgraph", "job").defer(
+                "job__arguments",
+                "job__result",
+                "clustering__graph_document",
+                "clustering__result",
+                "clustering__images",
+                "rosgraph__document",
+            ),
+        ),
+        pk=pk,
     )
-    plan = placement.engine_plan()
-    order = [d.item for d in plan.decisions]
+    # The stored plan read as it is: only the selected container's decision becomes engine objects (a plan
+    # of 5,000 containers has tens of thousands of verdicts; building them all took seconds).
+    decisions = placement.plan.get("decisions") or []
+    order = [d["item"] for d in decisions]
     names = [c["name"] for c in placement.containers.get("containers", [])]
     selected = request.GET.get("container") or (order[0] if order else None)
     if selected is not None and selected not in order:
         raise Http404("no such container in this placement")
-    why = services.why_table(plan, selected) if selected else None
+    full = request.GET.get("full") == "1"
+    why = services.why_table(placement.plan, selected, placement, full=full) if selected else None
     traffic = services.node_traffic(placement)
     specs = {c["name"]: c for c in placement.containers.get("containers", [])}
     deployments = {d.container: d for d in placement.deployments.all()}
-    placed = plan.placed()
+    by_item = {d["item"]: d for d in decisions}
     rows = [
         {
             "name": c,
-            "node": placed.get(c),
-            "score": decision.score if (decision := plan.decision(c)) else None,
+            "node": by_item[c].get("node"),
+            "score": by_item[c].get("score"),
             "spec": specs.get(c, {}),
             "deployment": deployments.get(c),
             "position": i + 1,

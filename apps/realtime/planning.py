@@ -114,6 +114,7 @@ def whatif(
     params: Mapping[str, Any] | None = None,
     with_bound: bool = True,
     full: str = "auto",
+    explain: str | None = None,
 ) -> PlacementPlan:
     nodes = db_rt_nodes(cluster)
     if not nodes:
@@ -121,7 +122,9 @@ def whatif(
     names = [n.name for n in nodes]
     containers = containers_for(cluster, realtime_ids, rtset, names)
     ledger = bound_ledger(cluster, nodes, [c.name for c in containers]) if with_bound else None
-    return rt_kube_vec.schedule(containers, nodes, params_for(cluster, params), ledger, now=time.time(), full=full)
+    return rt_kube_vec.schedule(
+        containers, nodes, params_for(cluster, params), ledger, now=time.time(), full=full, explain=explain
+    )
 
 
 def decision_container(decision: RTDecision, node_names: list[str]) -> RTContainer:

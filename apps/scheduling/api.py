@@ -1,3 +1,5 @@
+from django.http import StreamingHttpResponse
+from drf_spectacular.types import OpenApiTypes
 from drf_spectacular.utils import OpenApiParameter, extend_schema
 from rest_framework import mixins, serializers, status, viewsets
 from rest_framework.decorators import action
@@ -9,6 +11,7 @@ from apps.scheduling.kinds import SchedulingJob
 from apps.tenancy.api import ExtensibleViewSetMixin, FleetScopedMixin
 from apps.workloads.api import ApplicationViewSet
 
+from . import reads
 from .models import Comparison, Schedule
 from .serializers import (
     AssignmentFilterSerializer,
@@ -49,6 +52,14 @@ class ScheduleViewSet(
                 description=str(field.help_text),
             )
             for name, field in AssignmentFilterSerializer().fields.items()
+        ]
+        + [
+            OpenApiParameter(
+                "cursor",
+                str,
+                description="keyset pages: empty for the first, then the cursor of the answer's next link; "
+                "the answer is {next, results} (no count), each page as cheap as the first",
+            )
         ],
         responses={200: AssignmentSerializer(many=True)},
         filters=False,
@@ -64,9 +75,44 @@ class ScheduleViewSet(
         context = {**self.get_serializer_context(), "processors": set(processors)}
         filters = AssignmentFilterSerializer(data=request.query_params, context=context)
         filters.is_valid(raise_exception=True)
+        cursor = request.query_params.get("cursor")
+        if cursor is not None:
+            return self._keyset(request, filters.filter(schedule.assignments.all()), cursor)
         page = self.paginate_queryset(filters.filter(schedule.assignments.all()))
         data = AssignmentSerializer(page, many=True, context=self.get_serializer_context()).data
         return self.get_paginated_response(data)
+
+    def _keyset(self, request, queryset, cursor: str) -> Response:
+        limit = self.paginator.get_limit(request)  # the same bounded ``limit`` as the offset pages
+        try:
+            rows, after = reads.keyset_page(queryset, cursor, limit)
+        except reads.BadCursor as exc:
+            return Response({"cursor": [str(exc)]}, status=status.HTTP_400_BAD_REQUEST)
+        following = None
+        if after is not None:
+            params = request.query_params.copy()
+            params["cursor"] = after
+            following = request.build_absolute_uri(f"{request.path}?{params.urlencode()}")
+        data = AssignmentSerializer(rows, many=True, context=self.get_serializer_context()).data
+        return Response({"next": following, "results": data})
+
+    @extend_schema(
+        parameters=[OpenApiParameter("as", str, enum=["csv", "jsonl"], description="CSV (default) or JSON lines")],
+        responses={(200, "text/csv"): OpenApiTypes.STR, (200, "application/jsonl"): OpenApiTypes.STR},
+    )
+    @action(detail=True, methods=["get"], filter_backends=[], pagination_class=None)
+    def export(self, request, pk=None):
+        """Every assignment of the schedule in one streamed answer, in start order: CSV with a header
+        (``as=csv``, the default) or one JSON object a line (``as=jsonl``)."""
+        schedule = self.get_object()
+        kind = request.query_params.get("as", "csv")
+        if kind not in ("csv", "jsonl"):
+            return Response({"as": ["must be csv or jsonl"]}, status=status.HTTP_400_BAD_REQUEST)
+        body = reads.export_csv(schedule.pk) if kind == "csv" else reads.export_jsonl(schedule.pk)
+        media = "text/csv; charset=utf-8" if kind == "csv" else "application/jsonl; charset=utf-8"
+        response = StreamingHttpResponse(body, content_type=media)
+        response["Content-Disposition"] = f'attachment; filename="schedule-{schedule.pk}.{kind}"'
+        return response
 
     @extend_schema(request=None, responses={202: JobSerializer})
     @action(detail=True, methods=["post"])

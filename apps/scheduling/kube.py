@@ -67,13 +67,18 @@ def push_schedule(schedule: Schedule, progress: Progress | None = None) -> dict:
     with api_client:
         results, fatal = gateway.push(pods, api_client, [(a.to_engine(), names[a.pk]) for a in assignments], progress)
     outcomes: dict[int, Outcome] = {a.pk: outcome for a, outcome in zip(assignments, results, strict=True)}
+    changed = []
     for assignment in assignments:
         outcome = outcomes[assignment.pk]
+        before = (assignment.placement, assignment.placement_message, assignment.pod_name)
         assignment.placement = Assignment.Placement.BOUND if outcome.ok else Assignment.Placement.FAILED
         assignment.placement_message = outcome.message[:500]
         assignment.pod_name = names[assignment.pk]
-    with transaction.atomic():
-        Assignment.objects.bulk_update(assignments, ["placement", "placement_message", "pod_name"])
+        if before != (assignment.placement, assignment.placement_message, assignment.pod_name):
+            changed.append(assignment)
+    if changed:  # a re-push that changes nothing writes nothing
+        with transaction.atomic():
+            Assignment.store_placements(changed)
     failed = [a for a in assignments if not outcomes[a.pk].ok]
     summary = {
         "schedule": schedule.pk,

@@ -16,7 +16,8 @@ from .models import AllocationRun
 
 @job_kind(VerificationJob.ALLOCATE_MONITORS)
 def allocate_monitors(job, progress) -> tuple[dict, str]:
-    """Arguments: ``cluster`` (id) or ``stats`` (a monitorstats document), ``apply`` (bool), ``time_limit``."""
+    """Arguments: ``cluster`` (id) or ``stats`` (a monitorstats document), ``apply`` (bool), ``work_limit``
+    (branch-and-bound nodes per solve; default the engine's), optional ``time_limit`` (a wall-clock cap)."""
     run = services.run_allocation(job, progress)
     result = {
         "allocation_run": run.pk,
@@ -25,10 +26,20 @@ def allocate_monitors(job, progress) -> tuple[dict, str]:
         "objective": run.objective,
         "migrations": run.migrations.count(),
         "solve_time_ms": run.solve_time_ms,
+        # How far from proven: the relative gap and the best bound on the objective it leaves.
+        "gap": (run.result or {}).get("gap"),
+        "bound": _bound(run.objective, (run.result or {}).get("gap")),
         "applied": run.applied,
         "page": reverse("verification:run", args=[run.pk]),
     }
     return result, f"/api/v1/allocations/{run.pk}/"
+
+
+def _bound(objective: float | None, gap: float | None) -> float | None:
+    """The solver's best bound on the total delay: HiGHS's gap is (objective - bound) / objective."""
+    if objective is None or gap is None:
+        return None
+    return objective * (1 - gap)
 
 
 @job_kind(VerificationJob.VERIFICATION_SIMULATION)

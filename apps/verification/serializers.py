@@ -5,7 +5,7 @@ from apps.clusters.models import ComputeNode
 from apps.clusters.serializers import VisibleClusterField
 from apps.tenancy.api import FleetOwnedSerializer, ScopedModelSerializer, ScopedSerializer, VisibleRelatedField
 from continuum.engine.core.errors import InputError
-from continuum.engine.verification.monitor_milp import MonitorStats
+from continuum.engine.verification.monitor_milp import DEFAULT_WORK_LIMIT, MonitorStats
 
 from . import services
 from .models import AllocationRun, Assertion, Handler, MigrationEvent, Monitor, MonitorVerdict, Violation
@@ -230,7 +230,18 @@ class AllocationRequestSerializer(ScopedSerializer):
     cluster = VisibleClusterField(required=False)
     stats = serializers.JSONField(required=False)
     apply = serializers.BooleanField(default=False, help_text="move the monitors (cluster only)")
-    time_limit = serializers.FloatField(default=10.0, min_value=0.1, max_value=600)
+    work_limit = serializers.IntegerField(
+        default=DEFAULT_WORK_LIMIT,
+        min_value=1,
+        max_value=1_000_000,
+        help_text="branch-and-bound nodes per solve: the same input gives the same allocation under any load",
+    )
+    time_limit = serializers.FloatField(
+        required=False,
+        min_value=0.1,
+        max_value=600,
+        help_text="optional wall-clock cap in seconds (the allocation may then depend on the machine's load)",
+    )
 
     def validate(self, attrs):
         if ("cluster" in attrs) == ("stats" in attrs):
@@ -253,7 +264,9 @@ class AllocationRequestSerializer(ScopedSerializer):
 
     def job_arguments(self) -> dict:
         data = self.validated_data
-        args = {"apply": data["apply"], "time_limit": data["time_limit"]}
+        args = {"apply": data["apply"], "work_limit": data["work_limit"]}
+        if data.get("time_limit") is not None:
+            args["time_limit"] = data["time_limit"]
         if "cluster" in data:
             args["cluster"] = data["cluster"].pk
         else:

@@ -17,7 +17,7 @@ from apps.clusters.models import Cluster, ComputeNode
 from apps.jobs.registry import owned_row
 from continuum.engine.core.errors import InputError
 from continuum.engine.verification.abv_simulation import SimulationResult
-from continuum.engine.verification.monitor_milp import Allocation, MonitorStats, allocate
+from continuum.engine.verification.monitor_milp import DEFAULT_WORK_LIMIT, Allocation, MonitorStats, allocate
 from continuum.engine.verification.stl_monitor import Monitor as EngineMonitor
 from continuum.verification_runtime.coordinator import gone_handlers, hand_over
 
@@ -366,6 +366,20 @@ def store_allocation(
     return run
 
 
+def solve_budget(args: Mapping[str, Any]) -> dict[str, Any]:
+    """The solver's budget from a job's arguments: ``work_limit`` branch-and-bound nodes per solve (default
+    :data:`~continuum.engine.verification.monitor_milp.DEFAULT_WORK_LIMIT`), so that the same statistics give
+    the same allocation whatever the machine's load (a 10 s wall-clock budget stopped every large solve with a
+    100 % gap on a loaded machine). ``time_limit`` (seconds) only when the request gives one: a cap that makes
+    the result depend on the load again, for who wants an answer by a deadline."""
+    work = args.get("work_limit")
+    seconds = args.get("time_limit")
+    return {
+        "work_limit": int(work) if work is not None else DEFAULT_WORK_LIMIT,
+        "time_limit": float(seconds) if seconds is not None else math.inf,
+    }
+
+
 def run_allocation(job, progress: Callable[[float, str], None]) -> AllocationRun:
     """The ``allocate_monitors`` job: solve, store, and (``apply``) move the monitors."""
     args = job.arguments or {}
@@ -377,7 +391,7 @@ def run_allocation(job, progress: Callable[[float, str], None]) -> AllocationRun
     raw = args.get("stats") if args.get("stats") is not None else stats_document(cluster)
     stats = MonitorStats.from_dict(raw)
     progress(20, f"solving the MILP: {len(stats.monitors)} monitors on {len(stats.nodes)} nodes")
-    result = allocate(stats, time_limit=float(args.get("time_limit", 10.0)))
+    result = allocate(stats, **solve_budget(args))
     progress(80, f"{result.status}: {len(result.migrations)} migration(s), {result.solve_time_ms:.1f} ms")
     with transaction.atomic():
         run = store_allocation(job.fleet, stats, result, cluster=cluster, job=job, raw=raw)

@@ -263,3 +263,32 @@ def test_the_stored_plan_reads_back_as_the_engine_type(api):
     assert plan.to_dict() == row.plan and plan.policy == row.policy
     assert row.placed() == {p["container"]: p["node"] for p in row.plan["placements"]}
     assert why_table(plan, "main-rb") == why_table(row.plan, "main-rb") == why(api, row.pk, "main-rb")
+
+
+def test_a_large_cluster_stores_bounded_explanations_and_gives_every_verdict_on_demand(api):
+    """Issue 29: on more than 32 nodes the stored plan keeps each container's best candidates and the count
+    of nodes per filter; ``full=1`` recomputes every node's verdict from the stored inputs, same decision."""
+    nodes = [{"name": f"n{i:02d}", "cpu": 4 if i % 3 else 1, "arch": "arm64" if i % 5 == 0 else "amd64"}
+             for i in range(40)]  # fmt: skip
+    cluster = import_cluster(api, "forty", {"nodes": nodes})
+    containers = {
+        **FIG_3_28,
+        "containers": [{**c, "cpu": 3} if c["name"] == "C4" else c for c in FIG_3_28["containers"]],
+    }
+    job = run(api, "/api/v1/placements/run/", {"cluster": cluster, "containers": containers})
+    row = Placement.objects.get(pk=job["result"]["placement"])
+    for d in row.plan["decisions"]:
+        assert len(d["verdicts"]) <= 5 + len(d.get("rejections", {}))
+    bounded = why(api, row.pk, "C4")
+    assert bounded["bounded"] and bounded["rows"][0]["verdict"] == "chosen"
+    assert bounded["rejections"]["NodeResourcesFit"] >= 13  # the 1-CPU nodes (and the full ones)
+    response = api.get(f"/api/v1/placements/{row.pk}/why/", {"container": "C4", "full": "1"})
+    assert response.status_code == 200, response.data
+    full = response.data
+    assert not full["bounded"] and len(full["rows"]) == 40 and full["node"] == bounded["node"]
+    assert full["rows"][0] == bounded["rows"][0]
+    counts = {}
+    for r in full["rows"]:
+        if r["rejected_by"]:
+            counts[r["rejected_by"]] = counts.get(r["rejected_by"], 0) + 1
+    assert counts == bounded["rejections"]

@@ -17,7 +17,7 @@ CLUSTER = str(DATA / "rtkube.cluster.json")
 
 def options(**kw):
     base = {"rtset": RTSET, "cluster": CLUSTER, "json": True, "k": None, "b_score_argument": None,
-            "sort_tiebreak": None, "explain": False}  # fmt: skip
+            "sort_tiebreak": None, "explain": None}  # fmt: skip
     base.update(kw)
     return base
 
@@ -44,7 +44,7 @@ def test_run_returns_the_contract_keys():
 
 
 def test_options_reach_the_scheduler():
-    result = Command().run(**options(b_score_argument="load", k=4.0, sort_tiebreak="utilization", explain=True))
+    result = Command().run(**options(b_score_argument="load", k=4.0, sort_tiebreak="utilization", explain="*"))
     assert result["params"]["b_score_argument"] == "load" and result["params"]["k"] == 4.0
     assert {"container", "node", "chosen", "rejected_by", "reason", "score"} <= set(result["explain"][0])
 
@@ -101,4 +101,52 @@ def test_bad_input_exits_2_with_one_line(tmp_path, rtset, cluster, message):
 def test_missing_file_exits_2(tmp_path):
     with pytest.raises(CommandError, match="no such file") as err:
         call_command(Command(), str(tmp_path / "none.json"), "--cluster", CLUSTER, stdout=StringIO())
+    assert err.value.returncode == 2
+
+
+def big_cluster(tmp_path, n=60):
+    """``n`` RT nodes (more than FULL_UP_TO) and three containers: two fit, one fits nowhere (deadline)."""
+    nodes = [
+        {"name": f"n{i:03d}", "cpu": 4, "rt": True, "rt_threshold": 0.95, "criticality": "C" if i % 10 == 0 else "A"}
+        for i in range(n)
+    ]
+    wcet = {f"n{i:03d}": 1.0 + (i % 7) / 10 for i in range(n)}
+    containers = [
+        {"name": "a1", "criticality": "A", "period": 10, "deadline": 10, "wcet": wcet},
+        {"name": "c1", "criticality": "C", "period": 10, "deadline": 10, "wcet": wcet},
+        {"name": "huge", "criticality": "A", "period": 10, "deadline": 10, "wcet": {k: 9.9 for k in wcet}},
+    ]
+    cluster, rtset = tmp_path / "cluster.json", tmp_path / "rtset.json"
+    cluster.write_text(json.dumps({"nodes": nodes}))
+    rtset.write_text(json.dumps({"containers": containers}))
+    return str(rtset), str(cluster)
+
+
+def test_large_cluster_output_is_bounded_with_counts_per_reason(tmp_path):
+    rtset, cluster = big_cluster(tmp_path)
+    result = Command().run(**options(rtset=rtset, cluster=cluster))
+    [pending] = result["pending"]
+    # huge: 9.9/10 > 0.95 on every node; the C nodes reject it first (XOR criticality comes after admission)
+    assert pending["container"] == "huge"
+    assert sum(pending["rejections"].values()) == 60 and pending["rejections"]["RealTimeAdmission"] == 60
+    assert len(pending["reasons"]) == 1  # one example node per filter, not 60
+    for d in result["decisions"]:
+        assert len(d["verdicts"]) <= 5 + len(d.get("rejections", {}))
+    out = StringIO()
+    call_command(Command(), rtset, "--cluster", cluster, stdout=out)
+    assert "60 nodes: RealTimeAdmission" in out.getvalue()
+
+
+def test_explain_one_pod_gives_its_verdict_on_every_node_and_the_same_choices(tmp_path):
+    rtset, cluster = big_cluster(tmp_path)
+    plain = Command().run(**options(rtset=rtset, cluster=cluster))
+    explained = Command().run(**options(rtset=rtset, cluster=cluster, explain="c1"))
+    assert explained["placements"] == plain["placements"]
+    rows = explained["explain"]
+    assert {r["container"] for r in rows} == {"c1"} and len(rows) == 60
+    [chosen] = [r for r in rows if r["chosen"]]
+    assert chosen["node"] == next(p["node"] for p in plain["placements"] if p["container"] == "c1")
+    assert sum(1 for r in rows if r["rejected_by"] == "RealTimeCriticality") == 54  # the 54 non-C nodes
+    with pytest.raises(CommandError, match="no container named 'nope'") as err:
+        call_command(Command(), rtset, "--cluster", cluster, "--explain", "nope", stdout=StringIO())
     assert err.value.returncode == 2

@@ -255,3 +255,35 @@ def test_simulation_job_stores_a_series(api, other_api):
     assert other_api.get("/api/v1/allocations/", {"series": series}).data["count"] == 0
     r = api.post("/api/v1/allocations/simulate/", {"scenario": "mars"}, format="json")
     assert r.status_code == 400 and "scenario" in r.data
+
+
+def test_allocation_budget_is_work_not_wall_clock(api):
+    """Issue 29: a request without a budget gets the default work budget (branch-and-bound nodes) and no
+    wall-clock limit, so the same statistics give the same allocation whatever the load; the answer says
+    how far from proven it is (gap, bound)."""
+    import random
+
+    from apps.jobs.models import Job
+    from continuum.engine.verification.monitor_milp import DEFAULT_WORK_LIMIT
+
+    rng = random.Random(3)
+    nodes = [f"n{j}" for j in range(6)]
+    topics = [{"name": f"/t{k}", "delay": {n: rng.randint(0, 9) for n in nodes}} for k in range(8)]
+    monitors = [
+        {"name": f"m{i}", "topics": [f"/t{rng.randrange(8)}"], "cpu": {n: rng.randint(1, 6) for n in nodes},
+         "current": rng.choice(nodes)}
+        for i in range(60)
+    ]  # fmt: skip
+    doc = {"format": "continuum.monitorstats/v1", "topics": topics, "monitors": monitors,
+           "nodes": [{"name": n, "available_cpu": 80} for n in nodes]}  # fmt: skip
+    answers = []
+    for _ in range(2):
+        r = api.post("/api/v1/allocations/", {"stats": doc}, format="json")
+        assert r.status_code == 202 and r.data["state"] == "succeeded", r.data
+        job = Job.objects.get(pk=r.data["id"])
+        assert job.arguments["work_limit"] == DEFAULT_WORK_LIMIT and "time_limit" not in job.arguments
+        assert r.data["result"]["gap"] is not None and r.data["result"]["bound"] <= r.data["result"]["objective"] + 1e-9
+        answers.append(AllocationRun.objects.get(pk=r.data["result"]["allocation_run"]).result["allocation"])
+    assert answers[0] == answers[1]
+    r = api.post("/api/v1/allocations/", {"stats": doc, "work_limit": 0}, format="json")
+    assert r.status_code == 400 and "work_limit" in r.data

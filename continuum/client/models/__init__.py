@@ -195,6 +195,7 @@ from .schedule_list import ScheduleList
 from .schedule_request_request import ScheduleRequestRequest
 from .schedule_request_request_params import ScheduleRequestRequestParams
 from .schedules_assignments_list_placement import SchedulesAssignmentsListPlacement
+from .schedules_export_retrieve_as import SchedulesExportRetrieveAs
 from .simulation_request_request import SimulationRequestRequest
 from .sort_tiebreak_enum import SortTiebreakEnum
 from .source_format_enum import SourceFormatEnum
@@ -410,6 +411,7 @@ __all__ = (
     "ScheduleRequestRequest",
     "ScheduleRequestRequestParams",
     "SchedulesAssignmentsListPlacement",
+    "SchedulesExportRetrieveAs",
     "SimulationRequestRequest",
     "SortTiebreakEnum",
     "SourceFormatEnum",

@@ -19,13 +19,17 @@ class AllocationRequestRequest:
         cluster (int | Unset):
         stats (Any | Unset):
         apply (bool | Unset): move the monitors (cluster only) Default: False.
-        time_limit (float | Unset):  Default: 10.0.
+        work_limit (int | Unset): branch-and-bound nodes per solve: the same input gives the same allocation under any
+            load Default: 2000.
+        time_limit (float | Unset): optional wall-clock cap in seconds (the allocation may then depend on the machine's
+            load)
     """
 
     cluster: int | Unset = UNSET
     stats: Any | Unset = UNSET
     apply: bool | Unset = False
-    time_limit: float | Unset = 10.0
+    work_limit: int | Unset = 2000
+    time_limit: float | Unset = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
@@ -34,6 +38,8 @@ class AllocationRequestRequest:
         stats = self.stats
 
         apply = self.apply
+
+        work_limit = self.work_limit
 
         time_limit = self.time_limit
 
@@ -46,6 +52,8 @@ class AllocationRequestRequest:
             field_dict["stats"] = stats
         if apply is not UNSET:
             field_dict["apply"] = apply
+        if work_limit is not UNSET:
+            field_dict["work_limit"] = work_limit
         if time_limit is not UNSET:
             field_dict["time_limit"] = time_limit
 
@@ -60,12 +68,15 @@ class AllocationRequestRequest:
 
         apply = d.pop("apply", UNSET)
 
+        work_limit = d.pop("work_limit", UNSET)
+
         time_limit = d.pop("time_limit", UNSET)
 
         allocation_request_request = cls(
             cluster=cluster,
             stats=stats,
             apply=apply,
+            work_limit=work_limit,
             time_limit=time_limit,
         )
 

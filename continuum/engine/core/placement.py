@@ -120,11 +120,20 @@ class PlacementPlan:
             "placements": [
                 {item_key: d.item, "node": d.node, "score": d.score} for d in self.decisions if not d.pending
             ],
-            "pending": [{item_key: d.item, "reasons": d.reasons()} for d in self.decisions if d.pending],
+            "pending": [self._pending(d, item_key) for d in self.decisions if d.pending],
             "decisions": [d.to_dict() for d in self.decisions],
             "params": dict(self.params),
             **self.metrics,
         }
+
+    @staticmethod
+    def _pending(d: Decision, item_key: str) -> dict[str, Any]:
+        # A bounded decision lists a few example nodes in ``reasons``: the count of nodes per filter says
+        # what the examples stand for (kube-scheduler's "0/5000 nodes are available: ..." in numbers).
+        doc: dict[str, Any] = {item_key: d.item, "reasons": d.reasons()}
+        if d.rejections:
+            doc["rejections"] = dict(d.rejections)
+        return doc
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], *, ignore: tuple[str, ...] = ()) -> PlacementPlan:

@@ -330,11 +330,15 @@ def schedule(
     top_k: int = TOP_K,
     full: str = "none",
     examples: int = EXAMPLES,
+    explain: str | None = None,
 ) -> PlacementPlan:
     """One scheduler pass (``rt_kube.schedule``'s contract and choices): sort, then filter/score/bind each
     container in queue order. ``full``: ``"none"`` (bounded explanations), ``"pending"`` (every node's
     verdict for the containers left pending), ``"all"`` (every node's verdict, as the reference) or
-    ``"auto"`` (``"all"`` on at most :data:`FULL_UP_TO` nodes, else ``"none"``)."""
+    ``"auto"`` (``"all"`` on at most :data:`FULL_UP_TO` nodes, else ``"none"``). ``explain`` names one
+    container whose decision keeps every node's verdict whatever ``full`` says: its verdicts against the
+    ledger as it was at its turn in the queue, which a later :func:`why_not` (against the final ledger)
+    cannot give."""
     if full not in ("none", "pending", "all", "auto"):
         raise ValueError(f"full must be none, pending, all or auto, got {full!r}")
     if full == "auto":
@@ -349,11 +353,11 @@ def schedule(
     matrix = NodeMatrix(nodes, book)
     decisions = []
     for c in rt_kube.sort_queue(containers, p.sort_tiebreak):
-        d = place_one(c, matrix, p, now, top_k, full == "all", examples)
+        d = place_one(c, matrix, p, now, top_k, full == "all" or c.name == explain, examples)
         if d.node is not None:
             book.reserve(c, d.node)
             matrix.refresh(d.node)
-        elif full == "pending":
+        elif full == "pending" and c.name != explain:
             d = place_one(c, matrix, p, now, top_k, True)
         decisions.append(d)
     return PlacementPlan(

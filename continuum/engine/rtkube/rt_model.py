@@ -198,16 +198,19 @@ def container_from_dict(raw: Any, index: int, known_nodes: Iterable[str] | None 
     wcet_raw = raw.get("wcet")
     if not isinstance(wcet_raw, Mapping) or not wcet_raw:
         raise InputError(f"{where}: wcet must map at least one node to its WCET", "wcet")
-    wcet = {}
-    for node, value in wcet_raw.items():
-        w = _positive(value, f"{where}: wcet on node {node!r}", "wcet")
-        if w > deadline:
-            raise InputError(f"{where}: wcet {w:g} on node {node!r} exceeds deadline {deadline:g}", "wcet")
-        wcet[str(node)] = w
+    wcet = _wcet_fast(wcet_raw, deadline)
+    if wcet is None:  # something is wrong: the value-by-value check names the first bad one
+        wcet = {}
+        for node, value in wcet_raw.items():
+            w = _positive(value, f"{where}: wcet on node {node!r}", "wcet")
+            if w > deadline:
+                raise InputError(f"{where}: wcet {w:g} on node {node!r} exceeds deadline {deadline:g}", "wcet")
+            wcet[str(node)] = w
     if known_nodes is not None:
-        known = set(known_nodes)
-        unknown = sorted(n for n in wcet if n not in known)
-        if unknown:
+        # A set given by the caller is used as it is: rtset_from_dict builds one for all its containers.
+        known = known_nodes if isinstance(known_nodes, set | frozenset) else set(known_nodes)
+        if not known.issuperset(wcet):
+            unknown = sorted(n for n in wcet if n not in known)
             raise InputError(f"{where}: wcet names unknown node {unknown[0]!r}", "wcet")
     return RTContainer(name, crit, period, deadline, wcet, stateless, cpu, mem, tolerations, arrival)
 
@@ -222,7 +225,7 @@ def rtset_from_dict(doc: Any, known_nodes: Iterable[str] | None = None) -> list[
     raw = doc.get("containers")
     if not isinstance(raw, list):
         raise InputError("RT set: containers must be a list", "containers")
-    known = None if known_nodes is None else list(known_nodes)
+    known = None if known_nodes is None else frozenset(known_nodes)
     containers = [container_from_dict(c, i, known) for i, c in enumerate(raw)]
     seen: set[str] = set()
     for c in containers:
@@ -443,6 +446,27 @@ def _positive(value: Any, what: str, field_name: str) -> float:
     if v <= 0:
         raise InputError(f"{what} must be positive, got {value!r}", field_name)
     return v
+
+
+def _wcet_fast(raw: Mapping[Any, Any], deadline: float) -> dict[str, float] | None:
+    """The WCET map as floats when every value is a finite number in (0, deadline], else ``None``: the
+    checks of ``_positive`` on all values at once with C-level builtins (a WCET per node of a 5,000-node
+    cluster for each of 1,000 containers is 5 M values: one Python call each cost seconds)."""
+    values = list(raw.values())
+    types = set(map(type, values))
+    if not types <= {float, int}:  # bool is not int here: type() is exact
+        return None
+    floats = values if types == {float} else list(map(float, values))
+    total = sum(floats)  # NaN or an infinity anywhere makes it non-finite
+    if not math.isfinite(total) or min(floats) <= 0 or max(floats) > deadline:
+        return None
+    if set(map(type, raw)) == {str}:
+        if floats is values and type(raw) is dict:
+            # Already str -> float: the parsed document's own dict (read-only from here on), not a copy of
+            # millions of entries (a third of the command's peak memory at 5,000 nodes x 1,000 containers).
+            return raw
+        return dict(zip(raw, floats, strict=True))
+    return dict(zip(map(str, raw), floats, strict=True))
 
 
 def _request(raw: Mapping[str, Any], key: str, where: str) -> float:

@@ -931,6 +931,11 @@ def _solve(
     return _Solved("error", None, 0.0, h.modelStatusToString(status), **extra)
 
 
+#: The work budget the API, the jobs and the command give a solve by default: branch-and-bound nodes per solve,
+#: so that the same statistics give the same allocation on a loaded machine as on an idle one.
+DEFAULT_WORK_LIMIT = 2000
+
+
 def allocate(
     stats: MonitorStats | Mapping,
     *,

@@ -1,5 +1,12 @@
 """``python manage.py rt_schedule RTSET --cluster FILE [--json]``: RT-Kube's sort/filter/score/bind (thesis 3.4).
 
+The output is bounded whatever the cluster's size: on more than ``rt_kube_vec.FULL_UP_TO`` (32) nodes each
+decision keeps its best candidates with their scores, the count of nodes each filter rejected
+(``rejections``, also on every ``pending`` entry) and one example node per filter (the ``reasons``); on a
+smaller cluster every node's reason for the pending containers, as before. ``--explain POD`` adds one
+container's verdict on every node (``explain``), taken at its turn in the queue; ``--explain`` alone, every
+container's on every node (for small clusters: 1,000 pods on 5,000 nodes make millions of rows).
+
 With ``--cluster-id ID`` instead of ``--cluster FILE`` the what-if runs on a stored cluster: its nodes (RT
 attributes, taints, the monitor's active taints), the reservations of its bound pods, and its RealTime
 objects when no RTSET is given (the same pass as the ``rt_whatif`` job, without storing the plan).
@@ -45,7 +52,14 @@ class Command(EngineCommand):
             default=None,
             help="queue order within a criticality class (default: arrival)",
         )
-        parser.add_argument("--explain", action="store_true", help="list every node's filter or score")
+        parser.add_argument(
+            "--explain",
+            nargs="?",
+            const=EVERY,
+            default=None,
+            metavar="POD",
+            help="POD's filter or score on every node (without POD: every container's, only for small clusters)",
+        )
 
     def run(self, **options: Any) -> dict:
         if options.get("cluster_id") is not None:
@@ -65,13 +79,11 @@ class Command(EngineCommand):
         for opt, key in (("k", "k"), ("b_score_argument", "b_score_argument"), ("sort_tiebreak", "sort_tiebreak")):
             if options.get(opt) is not None:
                 kwargs[key] = options[opt]
-        # Every node's reason for the pending containers (the contract), for every container with --explain.
-        full = "all" if options.get("explain") else "pending"
-        plan = rt_kube_vec.schedule(containers, nodes, rt_kube.RTKubeParams(**kwargs), full=full)
-        result = plan.to_dict()
-        if options.get("explain"):
-            result["explain"] = rt_kube.explain(plan)
-        return result
+        explain = _explained(options.get("explain"), [c.name for c in containers])
+        plan = rt_kube_vec.schedule(
+            containers, nodes, rt_kube.RTKubeParams(**kwargs), full=_full(options, len(nodes)), explain=explain
+        )
+        return _result(plan, options.get("explain"))
 
     def run_stored(self, **options: Any) -> dict:
         from apps.clusters.models import Cluster
@@ -88,23 +100,63 @@ class Command(EngineCommand):
         elif path:
             rtset = self.read_json(path)
         params = {k: options[k] for k in ("k", "b_score_argument", "sort_tiebreak") if options.get(k) is not None}
-        full = "all" if options.get("explain") else "pending"
-        plan = planning.whatif(cluster, rtset=rtset, params=params, with_bound=not options.get("fresh"), full=full)
-        result = plan.to_dict()
-        if options.get("explain"):
-            result["explain"] = rt_kube.explain(plan)
-        return result
+        full = _full(options, cluster.nodes.count())
+        explain = options.get("explain")
+        plan = planning.whatif(
+            cluster,
+            rtset=rtset,
+            params=params,
+            with_bound=not options.get("fresh"),
+            full=full,
+            explain=None if explain == EVERY else explain,
+        )
+        return _result(plan, options.get("explain"))
 
     def summary(self, result: dict) -> str:
         lines = [f"RT-Kube: {len(result['placements'])} placed, {len(result['pending'])} pending"]
         for p in result["placements"]:
             lines.append(f"  {p['container']:>24} -> {p['node']:<16} score {p['score']:.4f}")
         for p in result["pending"]:
+            counts = p.get("rejections")
             lines.append(f"  {p['container']:>24} pending:")
+            if counts:
+                lines.append(f"  {'':>26}" + ", ".join(f"{n} nodes: {f}" for f, n in counts.items()))
             for node, reason in p["reasons"].items():
-                lines.append(f"  {'':>26}{node}: {reason}")
+                lines.append(f"  {'':>26}{node}: {reason}" + (" (example)" if counts else ""))
         thresholds = result.get("thresholds", {})
         lines.append("utilization:")
         for node, u in result["utilization"].items():
             lines.append(f"  {node:<16} {u:.4f} of {thresholds.get(node, float('nan')):.4f}")
         return "\n".join(lines)
+
+
+#: ``--explain`` without a pod: every container.
+EVERY = "*"
+
+
+def _full(options: dict[str, Any], n_nodes: int) -> str:
+    """Every node's verdict for every container with a bare ``--explain``; for the pending ones on a small
+    cluster (the contract's ``reasons``); otherwise the bounded form, whose size does not grow with nodes."""
+    if options.get("explain") == EVERY:
+        return "all"
+    return "pending" if n_nodes <= rt_kube_vec.FULL_UP_TO else "none"
+
+
+def _explained(pod: str | None, names: list[str]) -> str | None:
+    if pod is None or pod == EVERY:
+        return None
+    if pod not in names:
+        raise InputError(f"--explain: no container named {pod!r} in the RT set", "explain")
+    return pod
+
+
+def _result(plan: Any, explain: str | None) -> dict:
+    result = plan.to_dict()
+    if explain == EVERY:
+        result["explain"] = rt_kube.explain(plan)
+    elif explain is not None:
+        decision = plan.decision(explain)
+        if decision is None:
+            raise InputError(f"--explain: no container named {explain!r} in the RT set", "explain")
+        result["explain"] = rt_kube.explain(type(plan)(plan.policy, [decision]))
+    return result

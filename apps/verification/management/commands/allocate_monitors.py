@@ -7,11 +7,12 @@ SMA filter averages them and the allocation is computed for the last one.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from continuum.commands import EngineCommand
 from continuum.engine.core.errors import InputError
-from continuum.engine.verification.monitor_milp import MonitorStats, StatsFilter, allocate
+from continuum.engine.verification.monitor_milp import DEFAULT_WORK_LIMIT, MonitorStats, StatsFilter, allocate
 
 
 class Command(EngineCommand):
@@ -22,7 +23,15 @@ class Command(EngineCommand):
         parser.add_argument("stats", nargs="+", help="continuum.monitorstats/v1 file(s), oldest first")
         parser.add_argument("--window", type=int, default=10, help="SMA filter window over the files (default 10)")
         parser.add_argument("--epsilon", type=float, default=1e-3, help="migration penalty (default 1e-3)")
-        parser.add_argument("--time-limit", type=float, default=10.0, help="solver time limit in seconds")
+        parser.add_argument(
+            "--work-limit",
+            type=int,
+            default=DEFAULT_WORK_LIMIT,
+            help="branch-and-bound nodes per solve (the same allocation under any load)",
+        )
+        parser.add_argument(
+            "--time-limit", type=float, default=None, help="optional wall-clock cap in seconds (load-dependent)"
+        )
         parser.add_argument("--literal-topic-coupling", action="store_true", help="Eq. 3.21 read literally")
         parser.add_argument("--max-candidates", type=int, default=None, help="candidate units per monitor")
 
@@ -41,7 +50,8 @@ class Command(EngineCommand):
             epsilon=options["epsilon"],
             literal_topic_coupling=options["literal_topic_coupling"],
             observed=observed,
-            time_limit=options["time_limit"],
+            time_limit=math.inf if options.get("time_limit") is None else options["time_limit"],
+            work_limit=_work_limit(options.get("work_limit")),
             max_candidates=options["max_candidates"],
         )
         return result.to_dict()
@@ -68,3 +78,11 @@ def _load(command: EngineCommand, path: str) -> MonitorStats:
         if str(exc).startswith(path):
             raise
         raise InputError(f"{path}: {exc}", field=exc.field) from None
+
+
+def _work_limit(value: int | None) -> int:
+    if value is None:
+        return DEFAULT_WORK_LIMIT
+    if value < 1:
+        raise InputError(f"--work-limit must be at least 1, got {value}", "work_limit")
+    return value

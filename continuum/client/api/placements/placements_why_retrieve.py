@@ -14,11 +14,14 @@ def _get_kwargs(
     id: int,
     *,
     container: str | Unset = UNSET,
+    full: bool | Unset = UNSET,
 ) -> dict[str, Any]:
 
     params: dict[str, Any] = {}
 
     params["container"] = container
+
+    params["full"] = full
 
     params = {k: v for k, v in params.items() if v is not UNSET and v is not None}
 
@@ -63,13 +66,17 @@ def sync_detailed(
     *,
     client: AuthenticatedClient,
     container: str | Unset = UNSET,
+    full: bool | Unset = UNSET,
 ) -> Response[PlacementsWhyRetrieveResponse200]:
     """Why each container went where it went: per node, the rejecting filter and reason, or each
-    scoring policy's score and the total (like kube-scheduler-simulator).
+    scoring policy's score and the total (like kube-scheduler-simulator). Stored bounded (the best
+    candidates, nodes per filter in ``rejections``, an example each); ``container`` with ``full=1``:
+    every node's verdict, recomputed from the placement's stored inputs.
 
     Args:
         id (int):
         container (str | Unset):
+        full (bool | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -82,6 +89,7 @@ def sync_detailed(
     kwargs = _get_kwargs(
         id=id,
         container=container,
+        full=full,
     )
 
     response = client.get_httpx_client().request(
@@ -96,13 +104,17 @@ def sync(
     *,
     client: AuthenticatedClient,
     container: str | Unset = UNSET,
+    full: bool | Unset = UNSET,
 ) -> PlacementsWhyRetrieveResponse200 | None:
     """Why each container went where it went: per node, the rejecting filter and reason, or each
-    scoring policy's score and the total (like kube-scheduler-simulator).
+    scoring policy's score and the total (like kube-scheduler-simulator). Stored bounded (the best
+    candidates, nodes per filter in ``rejections``, an example each); ``container`` with ``full=1``:
+    every node's verdict, recomputed from the placement's stored inputs.
 
     Args:
         id (int):
         container (str | Unset):
+        full (bool | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -116,6 +128,7 @@ def sync(
         id=id,
         client=client,
         container=container,
+        full=full,
     ).parsed
 
 
@@ -124,13 +137,17 @@ async def asyncio_detailed(
     *,
     client: AuthenticatedClient,
     container: str | Unset = UNSET,
+    full: bool | Unset = UNSET,
 ) -> Response[PlacementsWhyRetrieveResponse200]:
     """Why each container went where it went: per node, the rejecting filter and reason, or each
-    scoring policy's score and the total (like kube-scheduler-simulator).
+    scoring policy's score and the total (like kube-scheduler-simulator). Stored bounded (the best
+    candidates, nodes per filter in ``rejections``, an example each); ``container`` with ``full=1``:
+    every node's verdict, recomputed from the placement's stored inputs.
 
     Args:
         id (int):
         container (str | Unset):
+        full (bool | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -143,6 +160,7 @@ async def asyncio_detailed(
     kwargs = _get_kwargs(
         id=id,
         container=container,
+        full=full,
     )
 
     response = await client.get_async_httpx_client().request(**kwargs)
@@ -155,13 +173,17 @@ async def asyncio(
     *,
     client: AuthenticatedClient,
     container: str | Unset = UNSET,
+    full: bool | Unset = UNSET,
 ) -> PlacementsWhyRetrieveResponse200 | None:
     """Why each container went where it went: per node, the rejecting filter and reason, or each
-    scoring policy's score and the total (like kube-scheduler-simulator).
+    scoring policy's score and the total (like kube-scheduler-simulator). Stored bounded (the best
+    candidates, nodes per filter in ``rejections``, an example each); ``container`` with ``full=1``:
+    every node's verdict, recomputed from the placement's stored inputs.
 
     Args:
         id (int):
         container (str | Unset):
+        full (bool | Unset):
 
     Raises:
         errors.UnexpectedStatus: If the server returns an undocumented status code and Client.raise_on_unexpected_status is True.
@@ -176,5 +198,6 @@ async def asyncio(
             id=id,
             client=client,
             container=container,
+            full=full,
         )
     ).parsed

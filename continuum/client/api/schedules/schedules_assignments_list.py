@@ -16,6 +16,7 @@ from ...types import UNSET, Response, Unset
 def _get_kwargs(
     id: int,
     *,
+    cursor: str | Unset = UNSET,
     frame: int | Unset = UNSET,
     limit: int | Unset = UNSET,
     offset: int | Unset = UNSET,
@@ -25,6 +26,8 @@ def _get_kwargs(
 ) -> dict[str, Any]:
 
     params: dict[str, Any] = {}
+
+    params["cursor"] = cursor
 
     params["frame"] = frame
 
@@ -84,6 +87,7 @@ def sync_detailed(
     id: int,
     *,
     client: AuthenticatedClient,
+    cursor: str | Unset = UNSET,
     frame: int | Unset = UNSET,
     limit: int | Unset = UNSET,
     offset: int | Unset = UNSET,
@@ -98,6 +102,7 @@ def sync_detailed(
 
     Args:
         id (int):
+        cursor (str | Unset):
         frame (int | Unset):
         limit (int | Unset):
         offset (int | Unset):
@@ -115,6 +120,7 @@ def sync_detailed(
 
     kwargs = _get_kwargs(
         id=id,
+        cursor=cursor,
         frame=frame,
         limit=limit,
         offset=offset,
@@ -134,6 +140,7 @@ def sync(
     id: int,
     *,
     client: AuthenticatedClient,
+    cursor: str | Unset = UNSET,
     frame: int | Unset = UNSET,
     limit: int | Unset = UNSET,
     offset: int | Unset = UNSET,
@@ -148,6 +155,7 @@ def sync(
 
     Args:
         id (int):
+        cursor (str | Unset):
         frame (int | Unset):
         limit (int | Unset):
         offset (int | Unset):
@@ -166,6 +174,7 @@ def sync(
     return sync_detailed(
         id=id,
         client=client,
+        cursor=cursor,
         frame=frame,
         limit=limit,
         offset=offset,
@@ -179,6 +188,7 @@ async def asyncio_detailed(
     id: int,
     *,
     client: AuthenticatedClient,
+    cursor: str | Unset = UNSET,
     frame: int | Unset = UNSET,
     limit: int | Unset = UNSET,
     offset: int | Unset = UNSET,
@@ -193,6 +203,7 @@ async def asyncio_detailed(
 
     Args:
         id (int):
+        cursor (str | Unset):
         frame (int | Unset):
         limit (int | Unset):
         offset (int | Unset):
@@ -210,6 +221,7 @@ async def asyncio_detailed(
 
     kwargs = _get_kwargs(
         id=id,
+        cursor=cursor,
         frame=frame,
         limit=limit,
         offset=offset,
@@ -227,6 +239,7 @@ async def asyncio(
     id: int,
     *,
     client: AuthenticatedClient,
+    cursor: str | Unset = UNSET,
     frame: int | Unset = UNSET,
     limit: int | Unset = UNSET,
     offset: int | Unset = UNSET,
@@ -241,6 +254,7 @@ async def asyncio(
 
     Args:
         id (int):
+        cursor (str | Unset):
         frame (int | Unset):
         limit (int | Unset):
         offset (int | Unset):
@@ -260,6 +274,7 @@ async def asyncio(
         await asyncio_detailed(
             id=id,
             client=client,
+            cursor=cursor,
             frame=frame,
             limit=limit,
             offset=offset,
