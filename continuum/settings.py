@@ -445,6 +445,9 @@ CELERY_TASK_SOFT_TIME_LIMIT = int(os.environ.get("CONTINUUM_JOB_SOFT_TIME_LIMIT"
 CELERY_TASK_TIME_LIMIT = int(os.environ.get("CONTINUUM_JOB_TIME_LIMIT", CELERY_TASK_SOFT_TIME_LIMIT + 60))
 CELERY_WORKER_MAX_MEMORY_PER_CHILD = int(os.environ.get("CONTINUUM_WORKER_MAX_MEMORY_KIB", 2 * 1024 * 1024))
 # Address-space cap of each prefork worker child (MiB, 0: none): a job past it fails with that reason.
+# Monitor allocations stop on their work budget; this wall-clock cap (s) only catches a solve whose root work
+# the budget does not bound (apps/verification/services.py solve_budget). Below the job's soft time limit.
+CONTINUUM_MILP_SAFETY_CAP_S = float(os.environ.get("CONTINUUM_MILP_SAFETY_CAP_S", "300"))
 CONTINUUM_JOB_MEMORY_LIMIT_MIB = int(os.environ.get("CONTINUUM_JOB_MEMORY_LIMIT_MIB", 4096))
 
 LOGGING = {
