@@ -23,6 +23,7 @@ network namespace, the live server listens on loopback). Its own cluster of two 
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 import threading
@@ -51,6 +52,8 @@ HOG = "import time\nt = time.monotonic()\nwhile time.monotonic() - t < 900: pass
 #: lidar's work: a sleeper that uses microseconds of its 5 ms per 50 ms.
 SLEEPER = "import time\nwhile True:\n    time.sleep(0.05)\n"
 TIMINGS: dict[str, float] = {}
+#: ``CONTINUUM_RT_LOOP_JSON=FILE``: the run's figures written there as JSON (benchmarks/rt_real_nodes.py --loop).
+JSON_OUT = os.environ.get("CONTINUUM_RT_LOOP_JSON")
 
 
 def note(what: str, seconds: float) -> None:
@@ -240,6 +243,16 @@ def test_overruns_on_a_real_node_evict_the_victim_which_runs_elsewhere_without_m
         assert running_on(kube, ns)["slam"] == first
         assert max(r.missed_total for r in reports(rt_cluster, "slam", first)) > violation.missed_total
         assert sched.errors == 0, sched.last_error
+        if JSON_OUT:
+            slam_reports = reports(rt_cluster, "slam", first)
+            Path(JSON_OUT).write_text(json.dumps({
+                "stages_s": TIMINGS, "load": os.getloadavg(), "violator_node": first, "victim_new_node": other,
+                "threshold_report": {"missed_period": violation.missed_period, "missed_total": violation.missed_total},
+                "slam_overruns_counted": max(r.missed_total for r in slam_reports), "slam_reports": len(slam_reports),
+                "replacement_reports": [{"missed_total": r.missed_total, "startup_overruns": r.startup_overruns}
+                                        for r in later],
+                "eviction_ms": event.response, "eviction_response_ms": event.response_ms,
+            }, indent=2, default=str))  # fmt: skip
     except BaseException:
         for pod in kube.list_namespaced_pod(ns).items:  # what the agents said, for the failure's reader
             log = kube.read_namespaced_pod_log(pod.metadata.name, ns, tail_lines=20)
