@@ -38,7 +38,7 @@ from kubernetes import client, config
 from continuum.devcluster import DevCluster, DevClusterError, build_binaries, hollow_nodes
 from tests.kube.conftest import running_on, wait_for
 
-pytestmark = [pytest.mark.kube, pytest.mark.django_db(transaction=True)]
+pytestmark = [pytest.mark.kube, pytest.mark.root, pytest.mark.django_db(transaction=True)]
 
 ROOT = Path(__file__).resolve().parents[2]
 REAL = ("real-a", "real-b")
