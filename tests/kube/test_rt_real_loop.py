@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import sys
 import threading
 import time
@@ -93,8 +94,11 @@ def python_image(cluster):
     began = time.monotonic()
     built = imagebuild.build(plan, lambda p, m: None)
     ref = built["images"][-1]["reference"]
-    archive = imagebuild.export(ref, Path(f"/tmp/continuum-rtloop-image-{uuid.uuid4().hex[:6]}"))
-    cluster.import_image(archive)
+    exported = Path(f"/tmp/continuum-rtloop-image-{uuid.uuid4().hex[:6]}")
+    try:
+        cluster.import_image(imagebuild.export(ref, exported))
+    finally:
+        shutil.rmtree(exported, ignore_errors=True)  # the nodes' containerd holds the image now
     note("python3 image built and imported into both real nodes", time.monotonic() - began)
     yield f"docker.io/{ref}"
     imagebuild.remove(im["reference"] for im in built["images"])
