@@ -68,23 +68,45 @@ WEBGL_BARS = 2000
 #: Past this many bars in one SVG trace the white outline that separates neighbours is dropped: on bars a
 #: few pixels wide it covered the colour (bleached bars).
 OUTLINED_BARS = 300
+#: The tallest WebGL canvas Chromium draws correctly (its MAX_VIEWPORT_DIMS, 8192 in headless Chromium and on many
+#: GPUs). plotly.js sizes its WebGL canvas to the whole figure times ``plotGlPixelRatio`` (2 by default): past
+#: this many device pixels the bars were drawn shifted against their rows (issue 30: four rows of bars above the
+#: first label of a 4,550 px, 100-processor Gantt chart). :func:`gl_pixel_ratio` and :func:`gl_row_height` keep
+#: every WebGL figure within it.
+MAX_GL_PIXELS = 8192
 
 
 def to_html(fig: go.Figure, div_id: str | None = None) -> str:
     """The figure as a ``<div>`` plus the script that draws it; plotly.js itself comes from static files.
     A figure with WebGL Gantt bars gets the script that expands their facts (:data:`GL_GANTT_SCRIPT`)."""
     gl = any(isinstance(t.meta, dict) and "gantt" in t.meta for t in fig.data if hasattr(t, "meta"))
+    config = {
+        "displaylogo": False,
+        "responsive": True,
+        "modeBarButtonsToRemove": ["select2d", "lasso2d", "autoScale2d", "toggleSpikelines"],
+    }
+    if any(t.type.endswith("gl") for t in fig.data):
+        config["plotGlPixelRatio"] = gl_pixel_ratio(fig)
     return fig.to_html(
         post_script=GL_GANTT_SCRIPT if gl else None,
         full_html=False,
         include_plotlyjs=False,
         div_id=div_id,
-        config={
-            "displaylogo": False,
-            "responsive": True,
-            "modeBarButtonsToRemove": ["select2d", "lasso2d", "autoScale2d", "toggleSpikelines"],
-        },
+        config=config,
     )
+
+
+def gl_pixel_ratio(fig: go.Figure) -> int:
+    """plotly.js's ``plotGlPixelRatio`` for ``fig``: 2 (its default, sharp lines) while the WebGL canvas stays
+    within :data:`MAX_GL_PIXELS`, else 1."""
+    height = fig.layout.height or 450
+    return 2 if 2 * height <= MAX_GL_PIXELS else 1
+
+
+def gl_row_height(rows: int, wanted: float, fixed: float) -> float:
+    """The height of a Gantt row drawn with WebGL: ``wanted`` pixels unless the figure (``fixed`` pixels plus
+    ``rows`` rows) would pass :data:`MAX_GL_PIXELS`, then as much as fits."""
+    return min(wanted, (MAX_GL_PIXELS - fixed) / max(1, rows))
 
 
 def esc(value: object) -> str:
@@ -249,13 +271,15 @@ def gantt_figure(
     rows, row_of = gantt_rows(schedule, platform, lanes)
     nice = _nice_range([schedule]) if colour_by_niceness else None
     fig = go.Figure()
-    per_row = 30 if lanes else 44
+    per_row: float = 30 if lanes else 44
+    if nice is None and len(schedule.assignments) > WEBGL_BARS:
+        per_row = gl_row_height(len(rows), per_row, 150)
     for trace in gantt_traces(panel, unit, row_of=row_of, nice=nice, thickness=per_row * 0.75 * 0.8):
         fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
         _add_makespan_marker(fig, makespan)
-    base_layout(fig, height=max(260, 150 + per_row * len(rows)))
+    base_layout(fig, height=max(260, int(150 + per_row * len(rows))))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
         bargap=0.25,
@@ -301,7 +325,9 @@ def _gantt_axes(fig: go.Figure, unit: str, makespan: float, rows: Sequence[str])
         type="category",
         categoryorder="array",
         categoryarray=escs(rows),
-        autorange="reversed",
+        # An explicit reversed range, not autorange="reversed": autorange pads WebGL lines by 5 % of the rows,
+        # blank rows above the first processor and below the last.
+        range=[max(1, len(rows)) - 0.5, -0.5],
         title_text="processor",
         showgrid=False,
     )
@@ -322,8 +348,11 @@ def stacked_gantt_figure(
     legend entry (and colour bar) appears once."""
     layout = [gantt_rows(p.schedule, p.platform, lanes) for p in panels]
     heights = [max(2, len(rows)) for rows, _ in layout] or [1]
-    per_row = 28 if lanes else 40
-    height = sum(heights) * per_row + 95 * max(1, len(panels)) + 60
+    per_row: float = 28 if lanes else 40
+    fixed = 95 * max(1, len(panels)) + 60
+    if not colour_by_niceness and any(len(p.schedule.assignments) > WEBGL_BARS for p in panels):
+        per_row = gl_row_height(sum(heights), per_row, fixed)
+    height = int(sum(heights) * per_row + fixed)
     fig = make_subplots(
         rows=max(1, len(panels)),
         cols=1,
@@ -382,7 +411,7 @@ def _add_gantt_panel(
         type="category",
         categoryorder="array",
         categoryarray=escs(rows),
-        autorange="reversed",
+        range=[max(1, len(rows)) - 0.5, -0.5],  # explicit: see _gantt_axes
         showgrid=False,
         row=i,
         col=1,
