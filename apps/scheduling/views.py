@@ -28,7 +28,7 @@ from apps.jobs.services import start_job
 from apps.scheduling.forms import CompareForm, ScheduleForm
 from apps.scheduling.kinds import SchedulingJob
 from apps.ui import charts
-from apps.ui.helpers import paginate, scoped
+from apps.ui.helpers import paginate, scoped, search_q, search_term
 from apps.ui.links import register_result_page
 from apps.ui.panels import register_panel, render_panels
 from apps.workloads.models import Application
@@ -37,6 +37,7 @@ from continuum.engine.core.errors import InputError
 from continuum.engine.core.platform import Platform
 
 from . import charts as scheduling_charts
+from .api import COMPARISON_SEARCH, SCHEDULE_SEARCH
 from .models import Assignment, Comparison, Schedule
 from .serializers import AssignmentFilterSerializer
 
@@ -103,8 +104,14 @@ def application_compare(request: HttpRequest, pk: int) -> HttpResponse:
 # ---- schedules ----------------------------------------------------------------------------------------
 @login_required
 def schedule_list(request: HttpRequest) -> HttpResponse:
-    schedules = scoped(request, Schedule.objects.for_list()).order_by("-created", "-pk")
-    return render(request, "scheduling/schedule_list.html", {"page": paginate(request, schedules), "nav": "schedules"})
+    term = search_term(request)
+    schedules = scoped(request, Schedule.objects.for_list()).filter(search_q(term, SCHEDULE_SEARCH))
+    schedules = schedules.order_by("-created", "-pk")
+    return render(
+        request,
+        "scheduling/schedule_list.html",
+        {"page": paginate(request, schedules), "search": term, "nav": "schedules"},
+    )
 
 
 @login_required
@@ -334,9 +341,13 @@ def schedule_push(request: HttpRequest, pk: int) -> HttpResponse:
 # ---- comparisons ----------------------------------------------------------------------------------
 @login_required
 def comparison_list(request: HttpRequest) -> HttpResponse:
-    comparisons = scoped(request, Comparison.objects.for_list()).order_by("-created", "-pk")
+    term = search_term(request)
+    comparisons = scoped(request, Comparison.objects.for_list()).filter(search_q(term, COMPARISON_SEARCH))
+    comparisons = comparisons.order_by("-created", "-pk")
     return render(
-        request, "scheduling/comparison_list.html", {"page": paginate(request, comparisons), "nav": "comparisons"}
+        request,
+        "scheduling/comparison_list.html",
+        {"page": paginate(request, comparisons), "search": term, "nav": "comparisons"},
     )
 
 
