@@ -124,6 +124,31 @@ def fmt(x: float) -> str:
     return f"{x:.6g}"
 
 
+#: Seconds per time unit, for the plain-words duration beside a large time (:func:`quantity`).
+SECONDS_PER_UNIT = {"ns": 1e-9, "us": 1e-6, "µs": 1e-6, "ms": 1e-3, "s": 1.0, "min": 60.0, "h": 3600.0}
+
+
+def quantity(x: float, unit: str = "") -> str:
+    """A number for a title or label, with its unit: grouped digits, never an exponent for everyday sizes
+    (``1,794,780 ms (29.9 min)``, not ``1.79478e+06``, issue 30); a time of a minute or more also in minutes or
+    hours. Hover text keeps :func:`fmt`'s six significant digits."""
+    if not math.isfinite(x):
+        text = str(x)
+    elif abs(x) >= 1000:
+        text = f"{x:,.0f}"
+    elif abs(x) >= 0.001 or x == 0:
+        text = f"{x:.4g}" if abs(x) < 1 else f"{x:,.5g}"
+    else:
+        text = f"{x:.3g}"
+    out = f"{text} {esc(unit)}" if unit else text
+    seconds = x * SECONDS_PER_UNIT[unit] if unit in SECONDS_PER_UNIT and math.isfinite(x) else 0.0
+    if abs(seconds) >= 3600:
+        out += f" ({seconds / 3600:.1f} h)"
+    elif abs(seconds) >= 60 and unit != "min":
+        out += f" ({seconds / 60:.1f} min)"
+    return out
+
+
 def base_layout(fig: go.Figure, height: int) -> None:
     """The layout every dashboard figure shares: its height, margins, font and white background."""
     fig.update_layout(
@@ -278,7 +303,7 @@ def gantt_figure(
         fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
-        _add_makespan_marker(fig, makespan)
+        _add_makespan_marker(fig, makespan, unit)
     base_layout(fig, height=max(260, int(150 + per_row * len(rows))))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
@@ -294,7 +319,7 @@ def gantt_figure(
     return fig
 
 
-def _add_makespan_marker(fig: go.Figure, makespan: float) -> None:
+def _add_makespan_marker(fig: go.Figure, makespan: float, unit: str = "") -> None:
     """A dashed line at the makespan, labelled above the plot area (where the label cannot hide a bar)."""
     fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
     fig.add_annotation(
@@ -305,7 +330,7 @@ def _add_makespan_marker(fig: go.Figure, makespan: float) -> None:
         xanchor="right",
         yanchor="bottom",
         showarrow=False,
-        text=f"makespan {fmt(makespan)}",
+        text=f"makespan {quantity(makespan, unit)}",
         font={"size": 12, "color": "#323f4b"},
     )
 
@@ -359,7 +384,8 @@ def stacked_gantt_figure(
         shared_xaxes=True,
         vertical_spacing=min(0.3, 80 / height),
         row_heights=heights,
-        subplot_titles=[f"{esc(p.title)}{title_sep}makespan {fmt(p.schedule.makespan)}" for p in panels] or None,
+        subplot_titles=[f"{esc(p.title)}{title_sep}makespan {quantity(p.schedule.makespan, time_unit)}" for p in panels]
+        or None,
     )
     nice = _nice_range([p.schedule for p in panels]) if colour_by_niceness else None
     all_frames = [a.frame for p in panels for a in p.schedule.assignments]
