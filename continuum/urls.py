@@ -1,5 +1,8 @@
 from django.contrib import admin
 from django.contrib.auth import views as auth_views
+from django.contrib.auth.views import redirect_to_login
+from django.http import HttpRequest, HttpResponse, HttpResponseServerError
+from django.template import loader
 from django.urls import include, path
 from drf_spectacular.views import SpectacularAPIView, SpectacularRedocView, SpectacularSwaggerSplitView
 from rest_framework.routers import DefaultRouter
@@ -50,12 +53,38 @@ router.register("events", EventViewSet, basename="event")
 router.register("allocations", AllocationRunViewSet)
 router.register("migrations", MigrationEventViewSet)
 
+
+def browsable_docs(view):
+    """An API reference page for browsers: a visitor not logged in is sent to the login page and back (the
+    docs needed a session and answered a bare 401; a client with a token still reaches the view)."""
+
+    def docs(request: HttpRequest, *args, **kwargs) -> HttpResponse:
+        if not request.user.is_authenticated and "HTTP_AUTHORIZATION" not in request.META:
+            return redirect_to_login(request.get_full_path())
+        return view(request, *args, **kwargs)
+
+    return docs
+
+
+def server_error(request: HttpRequest) -> HttpResponse:
+    """The 500 page with the navigation when the request's user can still be read; without it when the error
+    is one that reading the user would repeat (the database gone)."""
+    template = loader.get_template("500.html")
+    try:
+        body = template.render({}, request)
+    except Exception:  # the page must render whatever broke the request
+        body = template.render({})
+    return HttpResponseServerError(body)
+
+
+handler500 = server_error
+
 urlpatterns = [
     path("api/v1/", include((router.urls, "api"))),
     path("api/schema/", SpectacularAPIView.as_view(), name="schema"),
     # The split view serves its start-up script as a file: no inline script (Content-Security-Policy).
-    path("api/docs/", SpectacularSwaggerSplitView.as_view(url_name="schema"), name="api-docs"),
-    path("api/redoc/", SpectacularRedocView.as_view(url_name="schema"), name="api-redoc"),
+    path("api/docs/", browsable_docs(SpectacularSwaggerSplitView.as_view(url_name="schema")), name="api-docs"),
+    path("api/redoc/", browsable_docs(SpectacularRedocView.as_view(url_name="schema")), name="api-redoc"),
     path("metrics", metrics_view, name="metrics"),
     path("admin/", admin.site.urls),
     path("login/", ThrottledLoginView.as_view(), name="login"),

@@ -7,6 +7,7 @@ from apps.tenancy.api import FleetScopedMixin
 
 from .liveness import recover_lost_jobs
 from .models import Job
+from .search import search_jobs
 from .serializers import JobDetailSerializer, JobSerializer
 from .services import JobActionRefused, cancel_job, retry_job
 
@@ -26,6 +27,12 @@ class JobViewSet(FleetScopedMixin, viewsets.ReadOnlyModelViewSet):
     serializer_class = JobSerializer
     filterset_fields = ["state", "kind", "fleet__slug"]
     ordering_fields = ["created", "finished"]
+
+    def filter_queryset(self, queryset):
+        """The filters, then ``?search=`` as the jobs list page does (apps/jobs/search.py): kind, state,
+        message, algorithm, and the names of the application or cluster a job works on."""
+        queryset = super().filter_queryset(queryset)
+        return search_jobs(queryset, self.request.query_params.get("search", "").strip()[:100])
 
     def get_serializer_class(self):
         return JobDetailSerializer if self.action in ("retrieve", "cancel", "retry") else JobSerializer

@@ -84,9 +84,8 @@ class Job(FleetOwned):
         return ""
 
     def retry_unavailable(self) -> str:
-        """Why this job cannot be retried ('' when it can): only a failed or cancelled job runs again."""
-        if self.state == self.State.SUCCEEDED:
-            return "the job succeeded: start a new one from the page of what it worked on"
+        """Why this job cannot be run again ('' when it can): a job that has ended (failed, cancelled, or
+        succeeded: a re-run with the same arguments, issue 30) runs again as a new job."""
         if not self.done:
             return f"the job is {self.state}: cancel it first, or wait for its end"
         return ""

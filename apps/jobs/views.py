@@ -11,12 +11,13 @@ from django.http import HttpRequest, HttpResponse
 from django.shortcuts import get_object_or_404, redirect, render
 from django.views.decorators.http import require_POST
 
-from apps.ui.helpers import paginate, scoped
-from apps.ui.links import object_page, result_page
+from apps.ui.helpers import paginate, scoped, search_term
+from apps.ui.links import object_names, object_page, result_page
 
 from . import joblog
 from .models import Job
 from .registry import kind_title
+from .search import search_jobs, with_subject
 from .services import JobActionRefused, cancel_job, retry_job
 
 
@@ -32,13 +33,17 @@ def job_result_link(job: Job) -> str:
 
 def argument_rows(arguments: dict[str, Any]) -> list[dict[str, Any]]:
     """A job's arguments as rows of (name, value, links): a row id (or a list of them) links to its page
-    where its app registered one (``apps.ui.links.register_object_page``); documents are shown as JSON."""
+    where its app registered one (``apps.ui.links.register_object_page``), named by the row's name where
+    its app registered its model (``register_object_names``; "application 2" otherwise); documents are
+    shown as JSON."""
     rows = []
     for name, value in (arguments or {}).items():
         values = value if isinstance(value, list) and value and len(value) <= 50 else [value]
         links = [(v, object_page(name, v)) for v in values]
         if all(url for _, url in links):
-            rows.append({"name": name, "links": links})
+            names = object_names(name, values)
+            labelled = [(v, url, names.get(v) or f"{name} {v}") for v, url in links]
+            rows.append({"name": name, "links": labelled})
         else:
             rows.append({"name": name, "value": value, "document": isinstance(value, dict | list)})
     return rows
@@ -55,11 +60,20 @@ def job_list(request: HttpRequest) -> HttpResponse:
     state = request.GET.get("state", "")
     if state in Job.State.values:
         jobs = jobs.filter(state=state)
+    term = search_term(request)
+    page = paginate(request, with_subject(search_jobs(jobs, term)))
+    names = object_names("application", [j.subject_application for j in page])
+    for job in page:
+        job.application_name = names.get(_int(job.subject_application))
     return render(
         request,
         "jobs/job_list.html",
-        {"page": paginate(request, jobs), "state": state, "states": Job.State.values, "nav": "jobs"},
+        {"page": page, "state": state, "states": Job.State.values, "search": term, "nav": "jobs"},
     )
+
+
+def _int(value: Any) -> int | None:
+    return int(value) if isinstance(value, str) and value.isdigit() else value if isinstance(value, int) else None
 
 
 @login_required

@@ -24,6 +24,10 @@ from .serializers import (
     ScheduleSerializer,
 )
 
+#: What ``?search=`` looks in, on the API and on the list pages alike (issue 30: it was silently ignored).
+SCHEDULE_SEARCH = ["application__name", "algorithm", "cluster__name"]
+COMPARISON_SEARCH = ["application__name", "cluster__name", "best"]
+
 
 class ScheduleViewSet(
     FleetScopedMixin, ExtensibleViewSetMixin, mixins.DestroyModelMixin, viewsets.ReadOnlyModelViewSet
@@ -34,6 +38,7 @@ class ScheduleViewSet(
 
     queryset = Schedule.objects.select_related("fleet")
     filterset_fields = ["application", "cluster", "algorithm"]
+    search_fields = SCHEDULE_SEARCH
     ordering_fields = ["created", "makespan"]
 
     def get_serializer_class(self):
@@ -134,6 +139,7 @@ class ComparisonViewSet(FleetScopedMixin, mixins.DestroyModelMixin, viewsets.Rea
 
     queryset = Comparison.objects.select_related("fleet")
     filterset_fields = ["application", "cluster", "best"]
+    search_fields = COMPARISON_SEARCH
     ordering_fields = ["created"]
 
     def get_queryset(self):

@@ -70,6 +70,12 @@ WEBGL_BARS = 2000
 #: Past this many bars in one SVG trace the white outline that separates neighbours is dropped: on bars a
 #: few pixels wide it covered the colour (bleached bars).
 OUTLINED_BARS = 300
+#: The tallest WebGL canvas Chromium draws correctly (its MAX_VIEWPORT_DIMS, 8192 in headless Chromium and on many
+#: GPUs). plotly.js sizes its WebGL canvas to the whole figure times ``plotGlPixelRatio`` (2 by default): past
+#: this many device pixels the bars were drawn shifted against their rows (issue 30: four rows of bars above the
+#: first label of a 4,550 px, 100-processor Gantt chart). :func:`gl_pixel_ratio` and :func:`gl_row_height` keep
+#: every WebGL figure within it.
+MAX_GL_PIXELS = 8192
 
 
 CONFIG = {
@@ -88,14 +94,30 @@ def to_html(fig: go.Figure, div_id: str | None = None) -> str:
     is marked ``data-gl-gantt``: charts.js then expands their facts (:func:`gl_gantt_facts`)."""
     gl = any(isinstance(t.meta, dict) and "gantt" in t.meta for t in fig.data if hasattr(t, "meta"))
     div_id = div_id or f"chart-{uuid.uuid4().hex}"
+    config: dict[str, object] = dict(CONFIG)
+    if any(t.type.endswith("gl") for t in fig.data):
+        config["plotGlPixelRatio"] = gl_pixel_ratio(fig)
     figure = pio.to_json(fig, validate=False, engine="json")  # {"data": ..., "layout": ...}
-    payload = (figure.rstrip()[:-1] + ',"config":' + json.dumps(CONFIG) + "}").translate(_DATA_BLOCK_ESCAPES)
+    payload = (figure.rstrip()[:-1] + ',"config":' + json.dumps(config) + "}").translate(_DATA_BLOCK_ESCAPES)
     marker = " data-gl-gantt" if gl else ""
     return (
         f'<div class="plotly-chart" id="{html.escape(div_id)}" data-figure="{html.escape(div_id)}-figure"{marker}'
         f' style="height:100%; width:100%;"></div>'
         f'<script type="application/json" id="{html.escape(div_id)}-figure">{payload}</script>'
     )
+
+
+def gl_pixel_ratio(fig: go.Figure) -> int:
+    """plotly.js's ``plotGlPixelRatio`` for ``fig``: 2 (its default, sharp lines) while the WebGL canvas stays
+    within :data:`MAX_GL_PIXELS`, else 1."""
+    height = fig.layout.height or 450
+    return 2 if 2 * height <= MAX_GL_PIXELS else 1
+
+
+def gl_row_height(rows: int, wanted: float, fixed: float) -> float:
+    """The height of a Gantt row drawn with WebGL: ``wanted`` pixels unless the figure (``fixed`` pixels plus
+    ``rows`` rows) would pass :data:`MAX_GL_PIXELS`, then as much as fits."""
+    return min(wanted, (MAX_GL_PIXELS - fixed) / max(1, rows))
 
 
 def esc(value: object) -> str:
@@ -111,6 +133,31 @@ def escs(values: Iterable[object]) -> list[str]:
 def fmt(x: float) -> str:
     """A number in hover text: six significant digits."""
     return f"{x:.6g}"
+
+
+#: Seconds per time unit, for the plain-words duration beside a large time (:func:`quantity`).
+SECONDS_PER_UNIT = {"ns": 1e-9, "us": 1e-6, "µs": 1e-6, "ms": 1e-3, "s": 1.0, "min": 60.0, "h": 3600.0}
+
+
+def quantity(x: float, unit: str = "") -> str:
+    """A number for a title or label, with its unit: grouped digits, never an exponent for everyday sizes
+    (``1,794,780 ms (29.9 min)``, not ``1.79478e+06``, issue 30); a time of a minute or more also in minutes or
+    hours. Hover text keeps :func:`fmt`'s six significant digits."""
+    if not math.isfinite(x):
+        text = str(x)
+    elif abs(x) >= 1000:
+        text = f"{x:,.0f}"
+    elif abs(x) >= 0.001 or x == 0:
+        text = f"{x:.4g}" if abs(x) < 1 else f"{x:,.5g}"
+    else:
+        text = f"{x:.3g}"
+    out = f"{text} {esc(unit)}" if unit else text
+    seconds = x * SECONDS_PER_UNIT[unit] if unit in SECONDS_PER_UNIT and math.isfinite(x) else 0.0
+    if abs(seconds) >= 3600:
+        out += f" ({seconds / 3600:.1f} h)"
+    elif abs(seconds) >= 60 and unit != "min":
+        out += f" ({seconds / 60:.1f} min)"
+    return out
 
 
 def base_layout(fig: go.Figure, height: int) -> None:
@@ -260,13 +307,15 @@ def gantt_figure(
     rows, row_of = gantt_rows(schedule, platform, lanes)
     nice = _nice_range([schedule]) if colour_by_niceness else None
     fig = go.Figure()
-    per_row = 30 if lanes else 44
+    per_row: float = 30 if lanes else 44
+    if nice is None and len(schedule.assignments) > WEBGL_BARS:
+        per_row = gl_row_height(len(rows), per_row, 150)
     for trace in gantt_traces(panel, unit, row_of=row_of, nice=nice, thickness=per_row * 0.75 * 0.8):
         fig.add_trace(trace)
     makespan = schedule.makespan
     if schedule.assignments:
-        _add_makespan_marker(fig, makespan)
-    base_layout(fig, height=max(260, 150 + per_row * len(rows)))
+        _add_makespan_marker(fig, makespan, unit)
+    base_layout(fig, height=max(260, int(150 + per_row * len(rows))))
     fig.update_layout(
         barmode="overlay",  # bars of both traces share a row's full height instead of splitting it
         bargap=0.25,
@@ -281,7 +330,7 @@ def gantt_figure(
     return fig
 
 
-def _add_makespan_marker(fig: go.Figure, makespan: float) -> None:
+def _add_makespan_marker(fig: go.Figure, makespan: float, unit: str = "") -> None:
     """A dashed line at the makespan, labelled above the plot area (where the label cannot hide a bar)."""
     fig.add_vline(x=makespan, line={"dash": "dash", "color": "#52606d", "width": 1})
     fig.add_annotation(
@@ -292,7 +341,7 @@ def _add_makespan_marker(fig: go.Figure, makespan: float) -> None:
         xanchor="right",
         yanchor="bottom",
         showarrow=False,
-        text=f"makespan {fmt(makespan)}",
+        text=f"makespan {quantity(makespan, unit)}",
         font={"size": 12, "color": "#323f4b"},
     )
 
@@ -312,7 +361,9 @@ def _gantt_axes(fig: go.Figure, unit: str, makespan: float, rows: Sequence[str])
         type="category",
         categoryorder="array",
         categoryarray=escs(rows),
-        autorange="reversed",
+        # An explicit reversed range, not autorange="reversed": autorange pads WebGL lines by 5 % of the rows,
+        # blank rows above the first processor and below the last.
+        range=[max(1, len(rows)) - 0.5, -0.5],
         title_text="processor",
         showgrid=False,
     )
@@ -333,15 +384,19 @@ def stacked_gantt_figure(
     legend entry (and colour bar) appears once."""
     layout = [gantt_rows(p.schedule, p.platform, lanes) for p in panels]
     heights = [max(2, len(rows)) for rows, _ in layout] or [1]
-    per_row = 28 if lanes else 40
-    height = sum(heights) * per_row + 95 * max(1, len(panels)) + 60
+    per_row: float = 28 if lanes else 40
+    fixed = 95 * max(1, len(panels)) + 60
+    if not colour_by_niceness and any(len(p.schedule.assignments) > WEBGL_BARS for p in panels):
+        per_row = gl_row_height(sum(heights), per_row, fixed)
+    height = int(sum(heights) * per_row + fixed)
     fig = make_subplots(
         rows=max(1, len(panels)),
         cols=1,
         shared_xaxes=True,
         vertical_spacing=min(0.3, 80 / height),
         row_heights=heights,
-        subplot_titles=[f"{esc(p.title)}{title_sep}makespan {fmt(p.schedule.makespan)}" for p in panels] or None,
+        subplot_titles=[f"{esc(p.title)}{title_sep}makespan {quantity(p.schedule.makespan, time_unit)}" for p in panels]
+        or None,
     )
     nice = _nice_range([p.schedule for p in panels]) if colour_by_niceness else None
     all_frames = [a.frame for p in panels for a in p.schedule.assignments]
@@ -393,7 +448,7 @@ def _add_gantt_panel(
         type="category",
         categoryorder="array",
         categoryarray=escs(rows),
-        autorange="reversed",
+        range=[max(1, len(rows)) - 0.5, -0.5],  # explicit: see _gantt_axes
         showgrid=False,
         row=i,
         col=1,
@@ -767,9 +822,9 @@ def dag_figure(dag: TaskGraph) -> go.Figure:
         large=len(dag.tasks) > LARGE_GRAPH,  # with the tasks: SVG edges under SVG tasks draw in order
     )
     labelled = len(dag.tasks) <= MAX_LABELLED_TASKS
-    fig.add_trace(_dag_task_trace(dag, pos, labelled))
     if len(dag.edges) <= MAX_ARROWS:
         _add_dag_arrows(fig, dag, pos)
+    fig.add_trace(_dag_task_trace(dag, pos, labelled))  # last: tasks over edges and arrow heads
     _dag_axes(fig, pos, labelled)
     return fig
 
@@ -829,25 +884,34 @@ def _dag_task_hover(dag: TaskGraph, pos: Mapping[str, tuple[float, float]], task
 
 
 def _add_dag_arrows(fig: go.Figure, dag: TaskGraph, pos: Mapping[str, tuple[float, float]]) -> None:
-    """An arrow head on every edge, 82 % of the way to its destination (clear of the task's marker)."""
+    """An arrow head on every edge, 82 % of the way to its destination (clear of the task's marker), all in
+    one marker trace: a point at each edge's source (size 0) then one at its head, an ``arrow`` symbol turned
+    by ``angleref="previous"`` along the line from the point before it, in screen space, so it follows the
+    edge at any zoom. One annotation per edge cost the server 17 ms each (plotly validates and copies the
+    whole layout per ``add_annotation``: 1.85 s of CPU for a 58-task, 107-edge DAG, issue 30)."""
+    xs: list[float] = []
+    ys: list[float] = []
     for e in dag.edges:
         (x0, y0), (x1, y1) = pos[e.src], pos[e.dst]
-        fig.add_annotation(
-            x=x0 + 0.82 * (x1 - x0),
-            y=y0 + 0.82 * (y1 - y0),
-            ax=x0,
-            ay=y0,
-            xref="x",
-            yref="y",
-            axref="x",
-            ayref="y",
-            showarrow=True,
-            arrowhead=2,
-            arrowsize=1.2,
-            arrowwidth=1.2,
-            arrowcolor=EDGE_COLOUR,
-            text="",
+        xs += [x0, x0 + 0.82 * (x1 - x0)]
+        ys += [y0, y0 + 0.82 * (y1 - y0)]
+    fig.add_trace(
+        go.Scatter(
+            x=xs,
+            y=ys,
+            mode="markers",
+            marker={
+                "symbol": "arrow",
+                "angleref": "previous",
+                "size": [0, 10] * len(dag.edges),
+                "color": EDGE_COLOUR,
+                "line": {"width": 0},
+            },
+            hoverinfo="skip",
+            name="edge directions",
+            showlegend=False,
         )
+    )
 
 
 def _dag_axes(fig: go.Figure, pos: Mapping[str, tuple[float, float]], labelled: bool) -> None:

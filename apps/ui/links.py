@@ -9,9 +9,10 @@ the remap page wins). A job may also name its page itself (``{"page": "/ros/clus
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
+from django.db.models import Model
 from django.urls import reverse
 
 #: Where a job's own ``page`` comes among the registered keys.
@@ -53,3 +54,30 @@ def object_page(key: str, value: Any) -> str | None:
     if not url_name or not isinstance(value, int) or isinstance(value, bool):
         return None
     return reverse(url_name, args=[value])
+
+
+#: Models whose rows a job's arguments name by pk (``{"application": 3}``), by argument name: shown and searched by
+#: their ``name`` (the job pages, below the apps, import none of them).
+_OBJECT_MODELS: dict[str, type[Model]] = {}
+
+
+def register_object_names(key: str, model: type[Model]) -> None:
+    """An integer ``key`` in a job's arguments is the pk of a ``model`` row with a ``name``."""
+    _OBJECT_MODELS[key] = model
+
+
+def object_names(key: str, ids: Iterable[Any]) -> dict[int, str]:
+    """The names of the rows argument ``key`` names, by pk (empty when none is registered)."""
+    model = _OBJECT_MODELS.get(key)
+    pks = {int(i) for i in ids if isinstance(i, int | str) and str(i).isdigit()}
+    if model is None or not pks:
+        return {}
+    return dict(model._default_manager.filter(pk__in=pks).values_list("pk", "name"))
+
+
+def objects_named(key: str, word: str, limit: int = 1000) -> list[int]:
+    """The pks of argument ``key``'s rows whose name contains ``word`` (for a search over jobs)."""
+    model = _OBJECT_MODELS.get(key)
+    if model is None:
+        return []
+    return list(model._default_manager.filter(name__icontains=word).values_list("pk", flat=True)[:limit])

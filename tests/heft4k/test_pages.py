@@ -206,7 +206,7 @@ def test_stacked_gantt_shares_the_time_axis_and_colours_by_niceness():
     assert [t.showlegend for t in drawn] == [True, True, False, False]  # one legend entry per kind
     outlined = [t for t in drawn if t.name == "critical path"]
     assert all(t.marker.line.color == charts.CRITICAL_COLOUR and t.marker.line.width == 3 for t in outlined)
-    assert "plan · makespan 27" in [a.text for a in fig.layout.annotations]
+    assert "plan · makespan 27 ms" in [a.text for a in fig.layout.annotations]
 
 
 def test_gantt_hover_shows_niceness_and_notes_only_when_there_are_some():

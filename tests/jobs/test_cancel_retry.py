@@ -82,8 +82,12 @@ def test_retry_runs_a_cancelled_or_failed_job_again_with_its_arguments(fleet, ap
 
     good = schedule_job(fleet, app)
     good = wait_for(good.pk, lambda j: j.done)
-    refused = api.post(f"/api/v1/jobs/{good.pk}/retry/")
-    assert refused.status_code == 409 and "succeeded" in refused.data["detail"]
     refused = api.post(f"/api/v1/jobs/{good.pk}/cancel/")
     assert refused.status_code == 409 and "succeeded" in refused.data["detail"]
-    assert Job.objects.filter(retry_of=good).count() == 0
+    # A succeeded job runs again (issue 30): a new job, same arguments, the original untouched.
+    rerun = api.post(f"/api/v1/jobs/{good.pk}/retry/")
+    assert rerun.status_code == 202, rerun.data
+    again = wait_for(rerun.data["id"], lambda j: j.done)
+    assert again.pk != good.pk and again.retry_of_id == good.pk and again.arguments == good.arguments
+    assert again.state == Job.State.SUCCEEDED and again.result["schedule"] != good.result["schedule"]
+    assert Job.objects.get(pk=good.pk).state == Job.State.SUCCEEDED

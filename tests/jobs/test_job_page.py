@@ -23,9 +23,9 @@ def test_a_finished_job_says_what_it_was_for_and_what_happened(member, fleet, op
 
     html = member.get(f"/jobs/{job.pk}/").content.decode()
     assert "Schedule an application&#x27;s DAG" in html
-    assert f'href="/applications/{app.pk}/">application {app.pk}</a>' in html
+    assert f'href="/applications/{app.pk}/">{app.name}</a>' in html  # named, not "application 1" (issue 30)
     assert 'id="job-cancel" disabled title="the job has succeeded"' in html
-    assert 'id="job-retry" disabled' in html and "start a new one from the page" in html
+    assert 'id="job-retry">Run again</button>' in html  # a succeeded job runs again (issue 30)
     assert "queued by operator" in html
     listed = member.get("/jobs/").content.decode()
     assert "Schedule an application&#x27;s DAG" in listed

@@ -132,3 +132,15 @@ def test_charts():
     assert charts.summary([]) == {"n": 0, "mean": None, "p50": None, "p99": None, "max": None}
     s = charts.summary(list(range(1, 101)))
     assert s["p50"] == pytest.approx(50.5) and s["p99"] == pytest.approx(99.01) and s["max"] == 100
+
+
+def test_a_whatif_job_page_opens_the_plan_page_not_its_api_json(api, member, rt_cluster):
+    """Issue 30: a what-if run through a worker (the job page shown while it runs) linked its result to
+    /api/v1/rt-plans/<id>/, raw JSON; the link is the plan's page."""
+    make_rt(rt_cluster, "arm", "C", 8.33, 8, {"node2": 3.8})
+    job = api.post("/api/v1/rt-plans/whatif/", {"cluster": rt_cluster.pk}, format="json").data
+    plan = RTPlan.objects.get(job_id=job["id"])
+    page = member.get(reverse("jobs:job", args=[job["id"]]))
+    assert page.context["result_link"] == reverse("realtime:plan", args=[plan.pk]) == f"/realtime/plans/{plan.pk}/"
+    assert f'id="job-result" href="/realtime/plans/{plan.pk}/"' in page.content.decode()
+    assert member.get(page.context["result_link"]).status_code == 200

@@ -295,7 +295,7 @@ def test_comparison_figure_stacks_one_chart_per_algorithm_on_a_shared_time_axis(
         drawn = [t for t in fig.data if t.type == "bar" and t.yaxis == axis]
         assert sum(len(t.x) for t in drawn) == len(schedule.assignments) == 16
     titles = [a.text for a in layout.annotations]
-    assert titles[:3] == ["HEFT: makespan 50", "XEFT: makespan 34", "GFL: makespan 44"]
+    assert titles[:3] == ["HEFT: makespan 50 ms", "XEFT: makespan 34 ms", "GFL: makespan 44 ms"]
     # Frames coloured the same in every chart, each legend entry shown once.
     frame1 = [t for t in fig.data if t.name == "frame 1"]
     assert len(frame1) == 3 and {t.marker.color for t in frame1} == {charts.FRAME_COLOURS[1]}
