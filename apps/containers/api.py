@@ -12,7 +12,7 @@ from rest_framework.response import Response
 from apps.containers.kinds import ContainersJob
 from apps.jobs.serializers import JobSerializer
 from apps.jobs.services import start_job
-from apps.tenancy.api import FleetScopedMixin
+from apps.tenancy.api import FleetScopedMixin, ScopedSerializer
 from apps.tenancy.bounds import SafeFormParser, SafeMultiPartParser
 from continuum.engine.core.errors import InputError
 
@@ -77,7 +77,7 @@ class RosGraphViewSet(
         )
 
 
-class BuildImagesRequestSerializer(serializers.Serializer):
+class BuildImagesRequestSerializer(ScopedSerializer):
     export = serializers.BooleanField(
         required=False, default=False, help_text="also write docker-archives for scripts/cluster import-image"
     )

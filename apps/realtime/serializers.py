@@ -334,7 +334,7 @@ class NodeAdmissionSerializer(ScopedModelSerializer):
         read_only_fields = fields
 
 
-class AdmissionReportSerializer(serializers.Serializer):
+class AdmissionReportSerializer(ScopedSerializer):
     """What ``python -m continuum.agent admission`` posts."""
 
     cluster = serializers.IntegerField(required=False, help_text="default: the fleet's only cluster")

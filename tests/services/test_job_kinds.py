@@ -23,7 +23,7 @@ DECLARED = [*SchedulingJob, *ClusterJob, *ContainersJob, *Heft4kJob, *RealtimeJo
 STORED = {
     "schedule", "compare", "push_schedule", "sync_cluster", "cluster_ros", "place", "push_placement", "remap",
     "remap_apply", "heft4k_simulate", "rt_whatif", "rt_sync", "rt_push", "rt_delete", "rt_reports", "allocate_monitors",
-    "verification_simulation",
+    "verification_simulation", "build_images",
 }  # fmt: skip
 
 

@@ -1,5 +1,6 @@
 """Contains all the data models used in inputs/outputs"""
 
+from .admission_report_request import AdmissionReportRequest
 from .advice_request_request import AdviceRequestRequest
 from .algorithm_enum import AlgorithmEnum
 from .allocation_request_request import AllocationRequestRequest
@@ -19,6 +20,7 @@ from .assertion_request import AssertionRequest
 from .assignment import Assignment
 from .b_score_argument_enum import BScoreArgumentEnum
 from .blank_enum import BlankEnum
+from .build_images_request_request import BuildImagesRequestRequest
 from .capacity_source_enum import CapacitySourceEnum
 from .cluster import Cluster
 from .cluster_document_link_request import ClusterDocumentLinkRequest
@@ -82,6 +84,7 @@ from .monitoring import Monitoring
 from .monitoring_report import MonitoringReport
 from .monitoring_report_source_enum import MonitoringReportSourceEnum
 from .monitors_list_verdict import MonitorsListVerdict
+from .node_admission import NodeAdmission
 from .node_taint import NodeTaint
 from .node_verdict import NodeVerdict
 from .node_verdict_scores import NodeVerdictScores
@@ -107,6 +110,7 @@ from .paginated_monitor_list import PaginatedMonitorList
 from .paginated_monitor_verdict_list import PaginatedMonitorVerdictList
 from .paginated_monitoring_list import PaginatedMonitoringList
 from .paginated_monitoring_report_list import PaginatedMonitoringReportList
+from .paginated_node_admission_list import PaginatedNodeAdmissionList
 from .paginated_node_taint_list import PaginatedNodeTaintList
 from .paginated_placement_list_list import PaginatedPlacementListList
 from .paginated_real_time_list import PaginatedRealTimeList
@@ -216,6 +220,7 @@ from .what_if_request_params import WhatIfRequestParams
 from .why_not import WhyNot
 
 __all__ = (
+    "AdmissionReportRequest",
     "AdviceRequestRequest",
     "AlgorithmEnum",
     "AllocationRequestRequest",
@@ -235,6 +240,7 @@ __all__ = (
     "Assignment",
     "BScoreArgumentEnum",
     "BlankEnum",
+    "BuildImagesRequestRequest",
     "CapacitySourceEnum",
     "Cluster",
     "ClusterDocumentLinkRequest",
@@ -298,6 +304,7 @@ __all__ = (
     "MonitoringReport",
     "MonitoringReportSourceEnum",
     "MonitorsListVerdict",
+    "NodeAdmission",
     "NodeTaint",
     "NodeVerdict",
     "NodeVerdictScores",
@@ -323,6 +330,7 @@ __all__ = (
     "PaginatedMonitorVerdictList",
     "PaginatedMonitoringList",
     "PaginatedMonitoringReportList",
+    "PaginatedNodeAdmissionList",
     "PaginatedNodeTaintList",
     "PaginatedPlacementListList",
     "PaginatedRTDecisionList",

@@ -47,8 +47,11 @@ class JobDetail:
             next step)
         cancel_unavailable (str): why POST .../cancel/ would be refused now ('' when the job can be cancelled)
         retry_unavailable (str): why POST .../retry/ would be refused now ('' when the job can be retried)
+        waiting_notice (str): a pending job no worker has picked up for a minute: how long, and what is ahead of it (''
+            else)
         retry_of (None | UUID): the job this one runs again, with the same arguments
         created (datetime.datetime):
+        queued (datetime.datetime | None): when the job's message was last sent to the workers' queue
         started (datetime.datetime | None):
         finished (datetime.datetime | None):
         duration (float | None):
@@ -75,8 +78,10 @@ class JobDetail:
     cancel_requested: datetime.datetime | None
     cancel_unavailable: str
     retry_unavailable: str
+    waiting_notice: str
     retry_of: UUID | None
     created: datetime.datetime
+    queued: datetime.datetime | None
     started: datetime.datetime | None
     finished: datetime.datetime | None
     duration: float | None
@@ -129,10 +134,15 @@ class JobDetail:
 
         retry_unavailable = self.retry_unavailable
 
+        waiting_notice = self.waiting_notice
+
         retry_of: str | None
         retry_of = str(self.retry_of) if isinstance(self.retry_of, UUID) else self.retry_of
 
         created = self.created.isoformat()
+
+        queued: str | None
+        queued = self.queued.isoformat() if isinstance(self.queued, datetime.datetime) else self.queued
 
         started: str | None
         started = self.started.isoformat() if isinstance(self.started, datetime.datetime) else self.started
@@ -172,8 +182,10 @@ class JobDetail:
                 "cancel_requested": cancel_requested,
                 "cancel_unavailable": cancel_unavailable,
                 "retry_unavailable": retry_unavailable,
+                "waiting_notice": waiting_notice,
                 "retry_of": retry_of,
                 "created": created,
+                "queued": queued,
                 "started": started,
                 "finished": finished,
                 "duration": duration,
@@ -254,6 +266,8 @@ class JobDetail:
 
         retry_unavailable = d.pop("retry_unavailable")
 
+        waiting_notice = d.pop("waiting_notice")
+
         def _parse_retry_of(data: object) -> UUID | None:
             if data is None:
                 return data
@@ -270,6 +284,21 @@ class JobDetail:
         retry_of = _parse_retry_of(d.pop("retry_of"))
 
         created = datetime.datetime.fromisoformat(d.pop("created"))
+
+        def _parse_queued(data: object) -> datetime.datetime | None:
+            if data is None:
+                return data
+            try:
+                if not isinstance(data, str):
+                    raise TypeError()
+                queued_type_0 = datetime.datetime.fromisoformat(data)
+
+                return queued_type_0
+            except (TypeError, ValueError, AttributeError, KeyError):
+                pass
+            return cast(datetime.datetime | None, data)
+
+        queued = _parse_queued(d.pop("queued"))
 
         def _parse_started(data: object) -> datetime.datetime | None:
             if data is None:
@@ -336,8 +365,10 @@ class JobDetail:
             cancel_requested=cancel_requested,
             cancel_unavailable=cancel_unavailable,
             retry_unavailable=retry_unavailable,
+            waiting_notice=waiting_notice,
             retry_of=retry_of,
             created=created,
+            queued=queued,
             started=started,
             finished=finished,
             duration=duration,

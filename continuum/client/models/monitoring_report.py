@@ -32,6 +32,7 @@ class MonitoringReport:
         source (MonitoringReportSourceEnum): * `rest` - Rest
             * `kube` - custom object
         report_id (None | str):
+        startup_overruns (int):
     """
 
     id: int
@@ -48,6 +49,7 @@ class MonitoringReport:
     received_at: datetime.datetime
     source: MonitoringReportSourceEnum
     report_id: str | None
+    startup_overruns: int
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
@@ -82,6 +84,8 @@ class MonitoringReport:
         report_id: str | None
         report_id = self.report_id
 
+        startup_overruns = self.startup_overruns
+
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update(
@@ -100,6 +104,7 @@ class MonitoringReport:
                 "received_at": received_at,
                 "source": source,
                 "report_id": report_id,
+                "startup_overruns": startup_overruns,
             }
         )
 
@@ -167,6 +172,8 @@ class MonitoringReport:
 
         report_id = _parse_report_id(d.pop("report_id"))
 
+        startup_overruns = d.pop("startup_overruns")
+
         monitoring_report = cls(
             id=id,
             cluster=cluster,
@@ -182,6 +189,7 @@ class MonitoringReport:
             received_at=received_at,
             source=source,
             report_id=report_id,
+            startup_overruns=startup_overruns,
         )
 
         monitoring_report.additional_properties = d

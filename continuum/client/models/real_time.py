@@ -2,7 +2,7 @@ from __future__ import annotations
 
 import datetime
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 from attrs import define as _attrs_define
 from attrs import field as _attrs_field
@@ -47,6 +47,8 @@ class RealTime:
         stateless (bool | Unset): may be evicted and re-created elsewhere
         cpu (float | Unset): CPU request, cores
         memory_mib (float | Unset): memory request, MiB
+        warmup_ms (float | None | Unset): ms after exec whose overruns are start-up, not misses (null: the agent's
+            default, 20 periods)
     """
 
     id: int
@@ -67,6 +69,7 @@ class RealTime:
     stateless: bool | Unset = UNSET
     cpu: float | Unset = UNSET
     memory_mib: float | Unset = UNSET
+    warmup_ms: float | Unset | None = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
@@ -109,6 +112,9 @@ class RealTime:
 
         memory_mib = self.memory_mib
 
+        warmup_ms: float | Unset | None
+        warmup_ms = UNSET if isinstance(self.warmup_ms, Unset) else self.warmup_ms
+
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update(
@@ -137,6 +143,8 @@ class RealTime:
             field_dict["cpu"] = cpu
         if memory_mib is not UNSET:
             field_dict["memory_mib"] = memory_mib
+        if warmup_ms is not UNSET:
+            field_dict["warmup_ms"] = warmup_ms
 
         return field_dict
 
@@ -187,6 +195,15 @@ class RealTime:
 
         memory_mib = d.pop("memory_mib", UNSET)
 
+        def _parse_warmup_ms(data: object) -> float | Unset | None:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(float | Unset | None, data)
+
+        warmup_ms = _parse_warmup_ms(d.pop("warmup_ms", UNSET))
+
         real_time = cls(
             id=id,
             cluster=cluster,
@@ -206,6 +223,7 @@ class RealTime:
             stateless=stateless,
             cpu=cpu,
             memory_mib=memory_mib,
+            warmup_ms=warmup_ms,
         )
 
         real_time.additional_properties = d

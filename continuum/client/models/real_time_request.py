@@ -1,7 +1,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 from attrs import define as _attrs_define
 from attrs import field as _attrs_field
@@ -34,6 +34,8 @@ class RealTimeRequest:
         stateless (bool | Unset): may be evicted and re-created elsewhere
         cpu (float | Unset): CPU request, cores
         memory_mib (float | Unset): memory request, MiB
+        warmup_ms (float | None | Unset): ms after exec whose overruns are start-up, not misses (null: the agent's
+            default, 20 periods)
     """
 
     cluster: int
@@ -46,6 +48,7 @@ class RealTimeRequest:
     stateless: bool | Unset = UNSET
     cpu: float | Unset = UNSET
     memory_mib: float | Unset = UNSET
+    warmup_ms: float | Unset | None = UNSET
     additional_properties: dict[str, Any] = _attrs_field(init=False, factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
@@ -72,6 +75,9 @@ class RealTimeRequest:
 
         memory_mib = self.memory_mib
 
+        warmup_ms: float | Unset | None
+        warmup_ms = UNSET if isinstance(self.warmup_ms, Unset) else self.warmup_ms
+
         field_dict: dict[str, Any] = {}
         field_dict.update(self.additional_properties)
         field_dict.update(
@@ -92,6 +98,8 @@ class RealTimeRequest:
             field_dict["cpu"] = cpu
         if memory_mib is not UNSET:
             field_dict["memory_mib"] = memory_mib
+        if warmup_ms is not UNSET:
+            field_dict["warmup_ms"] = warmup_ms
 
         return field_dict
 
@@ -125,6 +133,15 @@ class RealTimeRequest:
 
         memory_mib = d.pop("memory_mib", UNSET)
 
+        def _parse_warmup_ms(data: object) -> float | Unset | None:
+            if data is None:
+                return data
+            if isinstance(data, Unset):
+                return data
+            return cast(float | Unset | None, data)
+
+        warmup_ms = _parse_warmup_ms(d.pop("warmup_ms", UNSET))
+
         real_time_request = cls(
             cluster=cluster,
             name=name,
@@ -136,6 +153,7 @@ class RealTimeRequest:
             stateless=stateless,
             cpu=cpu,
             memory_mib=memory_mib,
+            warmup_ms=warmup_ms,
         )
 
         real_time_request.additional_properties = d
