@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import subprocess
 import sys
 import time
 import venv
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 from urllib.parse import urlsplit, urlunsplit
@@ -83,6 +85,24 @@ def drop_database(url: str) -> None:
     parts = urlsplit(url)
     with psycopg.connect(urlunsplit(parts._replace(path="/postgres")), autocommit=True) as conn:
         conn.execute(f'DROP DATABASE IF EXISTS "{parts.path.lstrip("/")}" WITH (FORCE)')
+
+
+@contextlib.contextmanager
+def throwaway_database(suffix: str) -> Iterator[str]:
+    """A fresh PostgreSQL database named after ``$DATABASE_URL``'s plus ``suffix``, made the process's
+    ``DATABASE_URL`` (Django settings not yet loaded) and dropped at the end; yields its URL."""
+    base = os.environ.get("DATABASE_URL", "postgres://postgres@127.0.0.1:5432/continuum")
+    parts = urlsplit(base)
+    url = recreate_database(urlunsplit(parts._replace(path=f"/{parts.path.lstrip('/')}{suffix}")))
+    os.environ["DATABASE_URL"] = url
+    os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
+    try:
+        yield url
+    finally:
+        from django.db import connections
+
+        connections.close_all()
+        drop_database(url)
 
 
 def print_top(stats: Any, title: str, orders: Sequence[str] = ("cumulative", "tottime"), n: int = 25) -> None:

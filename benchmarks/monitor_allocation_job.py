@@ -16,15 +16,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import sys
 import time
 from pathlib import Path
-from urllib.parse import urlsplit, urlunsplit
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from benchmarks._bench import drop_database, loadavg, recreate_database, table
+from benchmarks._bench import loadavg, table, throwaway_database
 from benchmarks.milp_scaling import fleet
 
 
@@ -42,19 +40,8 @@ def main() -> None:
     p.add_argument("--repeat", type=int, default=1, help="extra runs of the job on the same statistics")
     p.add_argument("--fleets", default="robot-local,cross-robot", help="which fleets (comma-separated)")
     args = p.parse_args()
-    base = os.environ.get("DATABASE_URL", "postgres://postgres@127.0.0.1:5432/continuum")
-    parts = urlsplit(base)
-    url = urlunsplit(parts._replace(path=f"/{parts.path.lstrip('/')}_alloc_bench"))
-    recreate_database(url)
-    os.environ["DATABASE_URL"] = url
-    os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
-    try:
+    with throwaway_database("_alloc_bench"):
         run(args)
-    finally:
-        from django.db import connections
-
-        connections.close_all()
-        drop_database(url)
 
 
 def run(args: argparse.Namespace) -> None:

@@ -22,17 +22,15 @@ import argparse
 import cProfile
 import io
 import json
-import os
 import pstats
 import resource
 import sys
 import time
 from pathlib import Path
-from urllib.parse import urlsplit, urlunsplit
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from benchmarks._bench import drop_database, loadavg, recreate_database, table
+from benchmarks._bench import loadavg, table, throwaway_database
 
 GOAL_S, GOAL_MIB = 5.0, 1024.0
 
@@ -62,19 +60,8 @@ def main() -> None:
     p.add_argument("--profile", action="store_true", help="cProfile the job and the page")
     p.add_argument("--reference", type=int, default=1000, help="containers for the old full-verdict store (0: skip)")
     args = p.parse_args()
-    base = os.environ.get("DATABASE_URL", "postgres://postgres@127.0.0.1:5432/continuum")
-    parts = urlsplit(base)
-    url = urlunsplit(parts._replace(path=f"/{parts.path.lstrip('/')}_placement_bench"))
-    recreate_database(url)
-    os.environ["DATABASE_URL"] = url
-    os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
-    try:
+    with throwaway_database("_placement_bench"):
         run(args)
-    finally:
-        from django.db import connections
-
-        connections.close_all()
-        drop_database(url)
 
 
 def run(args: argparse.Namespace) -> None:

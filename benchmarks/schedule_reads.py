@@ -13,15 +13,13 @@ one streamed response, CSV and JSON lines, in rows/s against the goal of 50,000;
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from pathlib import Path
-from urllib.parse import urlsplit, urlunsplit
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from benchmarks._bench import drop_database, loadavg, recreate_database, table
+from benchmarks._bench import loadavg, table, throwaway_database
 
 GOAL_ROWS_S = 50_000
 
@@ -37,19 +35,8 @@ def main() -> None:
     p.add_argument("--rows", type=int, default=100_000)
     p.add_argument("--page", type=int, default=1000)
     args = p.parse_args()
-    base = os.environ.get("DATABASE_URL", "postgres://postgres@127.0.0.1:5432/continuum")
-    parts = urlsplit(base)
-    url = urlunsplit(parts._replace(path=f"/{parts.path.lstrip('/')}_reads_bench"))
-    recreate_database(url)
-    os.environ["DATABASE_URL"] = url
-    os.environ.setdefault("DJANGO_SETTINGS_MODULE", "continuum.settings")
-    try:
+    with throwaway_database("_reads_bench"):
         run(args)
-    finally:
-        from django.db import connections
-
-        connections.close_all()
-        drop_database(url)
 
 
 def run(args: argparse.Namespace) -> None:
