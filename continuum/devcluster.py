@@ -542,8 +542,8 @@ class DevCluster:
             argv.append(f"--register-with-taints={','.join(node.taints)}")
         if os.geteuid() == 0 and shutil.which("unshare"):
             # kubemark's hollow kubelet serves /logs/ (the host's /var/log) to anyone who reaches its port
-            # (anonymous, AlwaysAllow; kubemark has no flag for it): in a mount namespace of its own, its /var/log is
-            # an empty tmpfs (where it also makes its pods' log directories, instead of on the host).
+            # (anonymous, every request authorized; no kubemark flag changes it): in a mount namespace of its own, its
+            # /var/log is an empty tmpfs (where it also makes its pods' log directories, instead of on the host).
             script = 'mount -t tmpfs -o size=16m,mode=0755 continuum-hollow-log /var/log && exec "$@"'
             argv = ["unshare", "--mount", "--propagation", "private", "--", "sh", "-c", script, "sh", *argv]
         self._spawn(f"node/{node.name}", argv, {"TMPDIR": str(tmp)})

@@ -157,6 +157,7 @@ def leave(state_dir: Path) -> None:
         (REGISTRY / f"cluster-{cluster_id(state_dir)}").unlink(missing_ok=True)
         others = [v for v in _members().values() if v != str(state_dir) and _running(v)]
         if others:
+            _rebalance_if_unpartitioned()
             return
         baseline = REGISTRY / "baseline.json"
         try:
@@ -184,6 +185,14 @@ def restore(doc: dict[str, Any]) -> None:
         _restore_firewall(tool, doc.get("firewall", {}).get(tool, ""))
     if doc.get("netns_mount") is False and _is_mount(NETNS) and not any(NETNS.iterdir()):
         subprocess.run(["umount", str(NETNS)], capture_output=True, check=False)
+
+
+def _rebalance_if_unpartitioned() -> None:
+    """With no real node's partition left, the root cpuset balances again even while other (hollow) clusters run:
+    left off, each CPU stays a root domain of its own, and a container over both CPUs is refused SCHED_DEADLINE."""
+    balance = CPUSET_ROOT / "cpuset.sched_load_balance"
+    if CPUSET_ROOT.is_dir() and not _exclusive_children() and _read(balance) == "0":
+        _write(balance, "1")
 
 
 def _exclusive_children() -> list[Path]:

@@ -18,8 +18,6 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from .admission import measure
-from .metrics import AgentCollector
-from .metrics import serve as serve_metrics
 from .privileges import User, default_user, drop_for_agent, parse_user
 from .report import Reporter, Target, http_problem, urlopen
 from .sched import DeadlineParams, refusal
@@ -327,7 +325,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None, info: dict[str, Any]) -> int:
     reporter = Reporter(target, interval=args.interval, max_backoff=args.max_backoff)
     child = {"pid": 0}
-    collector = AgentCollector(reporter, info.get("node") or "", info.get("container") or "")
+    collector: Any = None
+    if args.metrics_port is not None:
+        # prometheus_client only when metrics are asked for: the agent otherwise needs the standard library alone
+        # (it runs with a node's or an image's own Python).
+        from .metrics import AgentCollector
+
+        collector = AgentCollector(reporter, info.get("node") or "", info.get("container") or "")
     exposed: list[Any] = []
 
     def expose() -> None:
@@ -335,6 +339,8 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         if args.metrics_port is None or exposed:
             return
         try:
+            from .metrics import serve as serve_metrics
+
             server, port = serve_metrics(collector, args.metrics_port, args.metrics_addr)
         except OSError as exc:
             print(f"{PROG}: cannot serve metrics on {args.metrics_addr}:{args.metrics_port}: {exc}", file=sys.stderr)
@@ -404,7 +410,8 @@ def run(args: argparse.Namespace, params: DeadlineParams, target: Target | None,
         status, text = refusal(outcome.refused)
         reason = f"{text} ({errno.errorcode.get(outcome.refused, outcome.refused)})"
         if outcome.refused == errno.EBUSY:
-            collector.rejected = True
+            if collector is not None:
+                collector.rejected = True
             reporter.kernel_rejected(reason)
         reporter.start()
         print(f"{PROG}: {reason}", file=sys.stderr)
