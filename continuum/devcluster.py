@@ -431,7 +431,9 @@ class DevCluster:
                 ("etcd-server", "etcd", "serverAuth,clientAuth"),
                 ("etcd-peer", "etcd-peer", "serverAuth,clientAuth"),
                 ("apiserver-etcd-client", "kube-apiserver", "clientAuth"),
-                ("apiserver-kubelet-client", "kube-apiserver-kubelet-client", "clientAuth"),
+                # A real kubelet asks the API server (webhook, under RBAC) whether this client may read logs, exec,
+                # ...: the group system:masters answers yes, as kubeadm's certificate of the same name did.
+                ("apiserver-kubelet-client", "kube-apiserver-kubelet-client/O=system:masters", "clientAuth"),
             )
             for name, cn, usage in issued:
                 _issue(certs, name, cn, usage)
