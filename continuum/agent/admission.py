@@ -27,6 +27,7 @@ import platform
 import re
 import signal
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -81,9 +82,9 @@ def fair_servers(cpus: list[int], root: Path = FAIR_SERVER) -> dict[str, float] 
     return out
 
 
-def _admit_and_hold(bandwidth: float) -> int | None:
-    """A child that is a deadline task of ``bandwidth``, asleep until killed: its pid, or None if the kernel
-    refused it (the child has then exited)."""
+def hold_reservation(params: DeadlineParams, before: Callable[[], object] | None = None) -> int | None:
+    """A child that is a deadline task of ``params`` (after ``before``, e.g. joining a cgroup), asleep until killed:
+    its pid, or None if the kernel refused it (the child has then exited)."""
     r, w = os.pipe()
     pid = os.fork()
     if pid == 0:  # the child: ask for the bandwidth, say whether it got it, then hold it (asleep) until killed
@@ -91,8 +92,9 @@ def _admit_and_hold(bandwidth: float) -> int | None:
         try:
             os.close(r)
             signal.signal(signal.SIGINT, signal.SIG_DFL)
-            set_deadline(DeadlineParams(max(1024, round(bandwidth * PROBE_PERIOD_NS)), PROBE_PERIOD_NS,
-                                        PROBE_PERIOD_NS), flags=0)  # fmt: skip
+            if before is not None:
+                before()
+            set_deadline(params, flags=0)
             os.write(w, b"y")
             os.close(w)
             code = 0
@@ -109,6 +111,11 @@ def _admit_and_hold(bandwidth: float) -> int | None:
         return pid
     os.waitpid(pid, 0)
     return None
+
+
+def _admit_and_hold(bandwidth: float) -> int | None:
+    return hold_reservation(DeadlineParams(max(1024, round(bandwidth * PROBE_PERIOD_NS)), PROBE_PERIOD_NS,
+                                           PROBE_PERIOD_NS))  # fmt: skip
 
 
 def _release(pid: int) -> None:

@@ -20,8 +20,8 @@ from pathlib import Path
 
 import pytest
 
-from continuum.agent.admission import FAIR_SERVER_SINCE, kernel_version
-from continuum.agent.sched import DeadlineParams, rt_bandwidth, set_deadline
+from continuum.agent.admission import FAIR_SERVER_SINCE, hold_reservation, kernel_version
+from continuum.agent.sched import DeadlineParams, rt_bandwidth
 from continuum.engine.rtkube import rt_kube
 from continuum.engine.rtkube.rt_model import cluster_from_dict, rtset_from_dict
 from tests.agent.test_agent import ROOT
@@ -90,29 +90,7 @@ def _enter(d: Path):
 def hold(d: Path, runtime_ms: float, period_ms: float) -> int | None:
     """A process in partition ``d`` that asks the kernel for this deadline reservation and sleeps holding it:
     its pid, or None when the kernel refused it."""
-    r, w = os.pipe()
-    pid = os.fork()
-    if pid == 0:
-        code = 1
-        try:
-            os.close(r)
-            (d / "cgroup.procs").write_text(str(os.getpid()))
-            set_deadline(DeadlineParams.from_ms(runtime_ms, period_ms, period_ms), flags=0)
-            os.write(w, b"y")
-            code = 0
-            while True:
-                signal.pause()
-        except OSError:
-            pass
-        finally:
-            os._exit(code)
-    os.close(w)
-    got = os.read(r, 1)
-    os.close(r)
-    if got == b"y":
-        return pid
-    os.waitpid(pid, 0)
-    return None
+    return hold_reservation(DeadlineParams.from_ms(runtime_ms, period_ms, period_ms), before=_enter(d))
 
 
 def release(pids: list[int]) -> None:
